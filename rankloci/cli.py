@@ -1,0 +1,225 @@
+"""The ``rankloci`` command line.
+
+This module is the only place that prints, writes files, reads the clock
+and chooses exit codes: 0 success, 1 a check failed, 2 bad input.
+Heavy libraries (sympy, numpy, matplotlib) are imported inside the
+subcommands so that ``rankloci --help`` stays fast.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import warnings
+
+__all__ = ["main"]
+
+EXIT_OK, EXIT_FAILED, EXIT_USAGE = 0, 1, 2
+
+
+class _UsageError(Exception):
+    pass
+
+
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line and an exception, not an exit."""
+
+    def error(self, message):
+        raise _UsageError(message)
+
+
+def _fmt_warning(message, category, filename, lineno, file=None, line=None):
+    return f"rankloci: warning: {message}\n"
+
+
+# --- subcommands ------------------------------------------------------------
+
+def cmd_models(args) -> int:
+    import tomllib
+
+    from .io import builtin_models, models_dir
+
+    rows = []
+    for name in builtin_models():
+        with open(models_dir() / f"{name}.toml", "rb") as fh:
+            data = tomllib.load(fh)
+        joints = data.get("joint", [])
+        if "matrix" in data:
+            shape = f"{len(data['matrix'])}x{len(data['matrix'][0])}"
+        else:
+            from .model import task_rows
+            spec = data.get("rows", data.get("task", "full"))
+            shape = f"{len(task_rows(spec)) + len(data.get('augment', []))}x{len(joints)}"
+        source = " ".join(str(data.get("source", "")).split())
+        rows.append((name, str(len(joints)), shape, source))
+    if args.format == "json":
+        print(json.dumps([dict(zip(("name", "joints", "shape", "source"), r)) for r in rows], indent=2))
+        return EXIT_OK
+    width = max(len(r[0]) for r in rows) if rows else 4
+    print(f"{'name':<{width}}  joints  shape  source")
+    for name, n, shape, source in rows:
+        if len(source) > 70:
+            source = source[:67] + "..."
+        print(f"{name:<{width}}  {n:>6}  {shape:>5}  {source}")
+    return EXIT_OK
+
+
+def _frame_arg(text):
+    if text in ("base", "tool"):
+        return text
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not 'base', 'tool' or a link number") from None
+
+
+def _task_arg(text):
+    from .model import TASKS
+    if text in TASKS:
+        return text
+    try:
+        rows = [int(x) for x in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not one of {', '.join(TASKS)} or a comma-separated row list like 0,1,5"
+        ) from None
+    from .model import task_rows
+    try:
+        return list(task_rows(rows))
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+
+
+def _load_task_matrix(args, progress=None):
+    from .io import load_model
+    from .matrix import parse_constraints, task_matrix
+
+    model = load_model(args.model, base_link=getattr(args, "base_link", None),
+                       tip_link=getattr(args, "tip_link", None))
+    extra = parse_constraints(model, args.augment or ())
+    if progress:
+        progress(f"building the symbolic matrix of {model.name}")
+    tm = task_matrix(model, task=args.task, frame=args.frame,
+                     point=getattr(args, "point", "tool"), augment=extra,
+                     numeric=getattr(args, "numeric", False))
+    return model, tm
+
+
+def cmd_jacobian(args) -> int:
+    import sympy as sp
+
+    from .model import RobotModel
+
+    model, tm = _load_task_matrix(args)
+    if isinstance(model, RobotModel) is False and args.point != "tool":
+        raise _UsageError("--point applies to robot models only")
+    J = tm.matrix
+    if args.format == "json":
+        out = {
+            "schema": "rankloci.jacobian/1",
+            "model": tm.name,
+            "variables": [v.name for v in tm.variables],
+            "parameters": {k.name: float(v) for k, v in tm.parameters.items()},
+            "rows": list(tm.row_labels),
+            "matrix": [[sp.sstr(J[i, j]) for j in range(J.cols)] for i in range(J.rows)],
+        }
+        print(json.dumps(out, indent=2))
+    elif args.format == "latex":
+        print(r"\begin{bmatrix}")
+        for i in range(J.rows):
+            print(" & ".join(sp.latex(J[i, j]) for j in range(J.cols)) + (r" \\" if i < J.rows - 1 else ""))
+        print(r"\end{bmatrix}")
+    else:
+        print(f"# {tm.name}: {J.rows}x{J.cols} matrix in {', '.join(v.name for v in tm.variables)}")
+        if tm.parameters:
+            print("# parameters: " + ", ".join(f"{k} = {float(v):g}" for k, v in tm.parameters.items()))
+        for i in range(J.rows):
+            for j in range(J.cols):
+                print(f"J[{tm.row_labels[i]}, {tm.variables[j]}] = {sp.sstr(J[i, j])}")
+    return EXIT_OK
+
+
+# --- parser -----------------------------------------------------------------
+
+_EPILOG_JACOBIAN = """examples:
+  rankloci jacobian planar2r
+  rankloci jacobian puma560 --frame tool --format latex
+  rankloci jacobian ssrms --augment q3 --numeric --format json
+  rankloci jacobian my_robot.urdf --tip tool0
+"""
+
+_EPILOG_MODELS = """examples:
+  rankloci models
+  rankloci models --format json
+"""
+
+
+def _model_args(p):
+    p.add_argument("model", metavar="MODEL|FILE",
+                   help="a built-in model name (see 'rankloci models') or a .toml/.urdf file")
+    p.add_argument("--task", type=_task_arg, default=None,
+                   help="rows of the 6-row Jacobian: full, position, orientation, planar, or e.g. 0,1,5")
+    p.add_argument("--frame", type=_frame_arg, default=None,
+                   help="frame the Jacobian is expressed in: base, tool, or a link number 0..n")
+    p.add_argument("--augment", action="append", metavar="EXPR",
+                   help="constraint function g(q) whose gradient is stacked under J (repeatable)")
+    p.add_argument("--base-link", dest="base_link", help="URDF only: first link of the chain")
+    p.add_argument("--tip", dest="tip_link", help="URDF only: last link of the chain")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(
+        prog="rankloci",
+        description="Closed-form rank-deficiency (singularity) loci of robot Jacobians "
+                    "and symbolic matrices.",
+        epilog="examples:\n  rankloci models\n  rankloci jacobian puma560\n"
+               "\nrun 'rankloci COMMAND --help' for the options of a command.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+
+    p = sub.add_parser("models", help="list the built-in models", epilog=_EPILOG_MODELS,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--format", choices=("text", "json"), default="text")
+    p.set_defaults(func=cmd_models)
+
+    p = sub.add_parser("jacobian", help="print the symbolic Jacobian of a model",
+                       epilog=_EPILOG_JACOBIAN, formatter_class=argparse.RawDescriptionHelpFormatter)
+    _model_args(p)
+    p.add_argument("--point", type=_frame_arg, default="tool",
+                   help="reference point: origin of base, tool, or link frame 0..n (default tool)")
+    p.add_argument("--numeric", action="store_true", help="replace parameters by their values")
+    p.add_argument("--format", choices=("text", "latex", "json"), default="text")
+    p.set_defaults(func=cmd_jacobian)
+    return parser
+
+
+def main(argv=None) -> int:
+    """Run the command line; return the exit code."""
+    from .errors import RanklociError
+
+    warnings.showwarning = lambda *a, **k: sys.stderr.write(_fmt_warning(*a[:4]))
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+        if not getattr(args, "command", None):
+            parser.print_help()
+            return EXIT_USAGE
+        return args.func(args)
+    except _UsageError as e:
+        print(f"rankloci: error: {e}", file=sys.stderr)
+        return EXIT_USAGE
+    except RanklociError as e:
+        print(f"rankloci: error: {e}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        print("rankloci: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        return EXIT_OK
+
+
+def main_exit() -> None:
+    """Console-script entry point: run :func:`main` and exit with its code."""
+    sys.exit(main())

@@ -1,0 +1,79 @@
+"""Exceptions raised by rankloci.
+
+Every error that bad input can cause is a :class:`RanklociError`.  The command
+line turns one into a single line on stderr and exit code 2.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "RanklociError",
+    "ModelError",
+    "ExpressionError",
+    "ShapeError",
+    "LocusError",
+]
+
+
+class RanklociError(Exception):
+    """Base class of every error rankloci raises on bad input."""
+
+
+class ExpressionError(RanklociError):
+    """An expression string could not be parsed, or uses a forbidden construct."""
+
+    def __init__(self, text: str, reason: str):
+        self.text = text
+        self.reason = reason
+        super().__init__(f"cannot parse {text!r}: {reason}")
+
+
+class ModelError(RanklociError):
+    """A model file is malformed.
+
+    Parameters
+    ----------
+    message : str
+        What is wrong.
+    file : str, optional
+        File name (without directories) the error was found in.
+    joint : int, optional
+        1-based joint index.
+    field : str, optional
+        Name of the offending field.
+    """
+
+    def __init__(self, message: str, *, file: str | None = None,
+                 joint: int | None = None, field: str | None = None):
+        self.message = message
+        self.file = file
+        self.joint = joint
+        self.field = field
+        super().__init__(message)
+
+    def located(self, *, file: str | None = None, joint: int | None = None,
+                field: str | None = None) -> "ModelError":
+        """Return a copy with missing location fields filled in."""
+        return ModelError(self.message,
+                          file=self.file or file,
+                          joint=self.joint if self.joint is not None else joint,
+                          field=self.field or field)
+
+    def __str__(self) -> str:
+        parts = []
+        if self.file:
+            parts.append(self.file)
+        if self.joint is not None:
+            parts.append(f"joint {self.joint}")
+        if self.field:
+            parts.append(f"field {self.field!r}")
+        parts.append(self.message)
+        return ": ".join(parts)
+
+
+class ShapeError(RanklociError):
+    """A matrix or vector has the wrong shape."""
+
+
+class LocusError(RanklociError):
+    """A locus computation cannot be carried out on this input."""

@@ -1,0 +1,122 @@
+"""The symbolic matrix whose rank is studied, built from any model.
+
+:func:`task_matrix` turns a :class:`RobotModel` (through its geometric
+Jacobian) or a :class:`MatrixModel` into a :class:`TaskMatrix`, optionally
+augmented with the gradients of constraint functions g(q) and with the
+parameters replaced by their numeric values.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Mapping, Sequence
+
+import sympy as sp
+
+from .errors import ExpressionError, ModelError
+from .expr import parse_expression
+from .kinematics import augmented_rows, geometric_jacobian
+from .model import MatrixModel, RobotModel, task_rows
+
+__all__ = ["TaskMatrix", "task_matrix", "parse_constraints"]
+
+_ROW_NAMES = ("vx", "vy", "vz", "wx", "wy", "wz")
+
+
+@dataclass(frozen=True)
+class TaskMatrix:
+    """A symbolic matrix with what is needed to study its rank.
+
+    Attributes
+    ----------
+    name : str
+        Model name.
+    matrix : sympy.ImmutableMatrix
+    variables : tuple of Symbol
+        Column variables (joint variables).
+    angles : tuple of Symbol
+        The variables that enter only through sin and cos.
+    parameters : dict
+        Symbol -> numeric value, for the parameters still symbolic in ``matrix``.
+    row_labels : tuple of str
+        What each row is (``vx``, ``wz``, or the name of a constraint).
+    n_constraint_rows : int
+        How many trailing rows are constraint gradients.
+    """
+
+    name: str
+    matrix: sp.ImmutableMatrix
+    variables: tuple[sp.Symbol, ...]
+    angles: tuple[sp.Symbol, ...]
+    parameters: Mapping[sp.Symbol, sp.Expr] = field(default_factory=dict)
+    row_labels: tuple[str, ...] = ()
+    n_constraint_rows: int = 0
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return self.matrix.shape
+
+    def numeric_parameters(self) -> "TaskMatrix":
+        """The same matrix with every parameter replaced by its value."""
+        if not self.parameters:
+            return self
+        return TaskMatrix(self.name, sp.ImmutableMatrix(self.matrix.subs(self.parameters)),
+                          self.variables, self.angles, {}, self.row_labels, self.n_constraint_rows)
+
+
+def parse_constraints(model, texts: Sequence[str]) -> tuple[tuple[str, sp.Expr], ...]:
+    """Parse ``--augment`` expressions in the model's variables and parameters."""
+    names = {v.name: v for v in model.variables} | {p.name: p for p in model.parameters}
+    out = []
+    for t in texts:
+        try:
+            out.append((t, parse_expression(t, names)))
+        except ExpressionError as e:
+            raise ModelError(f"--augment: {e}") from None
+    return tuple(out)
+
+
+def task_matrix(model, *, task=None, frame=None, point="tool", augment: Sequence = (),
+                use_model_augment: bool = True, numeric: bool = False) -> TaskMatrix:
+    """Build the matrix to study from a model.
+
+    Parameters
+    ----------
+    model : RobotModel or MatrixModel
+    task, frame, point
+        Passed to :func:`~rankloci.kinematics.geometric_jacobian` (robots only).
+    augment : sequence of (name, expr)
+        Extra constraint functions; their gradients are stacked under J.
+    use_model_augment : bool, default True
+        Also stack the model's own ``[[augment]]`` rows.
+    numeric : bool, default False
+        Replace the parameters by their numeric values.
+
+    Examples
+    --------
+    >>> from rankloci.io import load_model
+    >>> tm = task_matrix(load_model("planar2r"))
+    >>> tm.shape, tm.row_labels
+    ((2, 2), ('vx', 'vy'))
+    """
+    constraints = (tuple(model.augment) if use_model_augment else ()) + tuple(augment)
+    if isinstance(model, RobotModel):
+        J = geometric_jacobian(model, frame=frame, point=point, task=task)
+        rows = model.task if task is None else task_rows(task)
+        labels = tuple(_ROW_NAMES[r] for r in rows)
+        angles = model.angle_variables
+    elif isinstance(model, MatrixModel):
+        if task is not None or frame is not None:
+            raise ModelError("--task and --frame apply to robot models, not to a raw matrix",
+                             file=model.name)
+        J = sp.Matrix(model.matrix)
+        labels = tuple(f"row{i + 1}" for i in range(J.rows))
+        angles = model.angle_variables
+    else:
+        raise TypeError(f"model must be a RobotModel or MatrixModel, got {type(model).__name__}")
+    if constraints:
+        J = J.col_join(augmented_rows(model, [g for _, g in constraints]))
+        labels += tuple(name for name, _ in constraints)
+    tm = TaskMatrix(model.name, sp.ImmutableMatrix(J), tuple(model.variables), angles,
+                    dict(model.parameters), labels, len(constraints))
+    return tm.numeric_parameters() if numeric else tm
