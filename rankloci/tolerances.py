@@ -39,3 +39,47 @@ ANGLE_SNAP_ATOL = 1e-12
 #: component within this of 0, +-1/2, +-sqrt(2)/2, +-sqrt(3)/2 or +-1, is taken
 #: as that exact value when a URDF is read.
 URDF_ANGLE_SNAP_ATOL = 1e-5
+
+# ---------------------------------------------------------------------------
+# FSP reducer (rankloci.numeric.fsp)
+#
+# The thresholds of ReduceA and mat_null in K. A. Morgansen, F. G. Pin,
+# "Enhanced Code for the Full Space Parameterization Approach to Solving
+# Underspecified Systems of Algebraic Equations", ORNL/TM-12816 (1995),
+# section 4 and the listings FSP.h / FSP.c / matrix.c of appendix B.  They are
+# the report's values, not derived from RANK_RTOL: the reducer is a faithful
+# port, and with these values it reproduces the report's examples 6.1-6.4.
+# ---------------------------------------------------------------------------
+
+#: ReduceA's zero threshold is SMALL = FSP_SMALL_FRACTION * max|A_ij|: an entry
+#: with |A_ij| <= SMALL counts as zero ("This value is then divided by 1000").
+FSP_SMALL_FRACTION = 1e-3
+
+#: matrix.c SV_SMALL: mat_null counts a singular value below it as zero.  An
+#: absolute threshold, as in the listing; section 4 quotes 1.0e-5 for the
+#: examples, but the listing that produced them has 1.0e-4.
+FSP_SV_SMALL = 1e-4
+
+#: Condition number s_max/s_min above which mat_null also counts the smallest
+#: singular value as zero.  The listing tests s_min/s_max < SV_SMALL, i.e. this
+#: bound is 1/SV_SMALL.
+FSP_NULL_K2_BND = 1.0 / FSP_SV_SMALL
+
+#: FSP.h K2_BND: the largest condition number of an acceptable square
+#: submatrix in the FSP solution search (section 4: "set to a value of 10").
+#: Not the reducer's bound: the Jacobian of example 6.1 has condition number
+#: 12.5, and with 10 the reducer would call one of its rows dependent, which
+#: the report says it is not.
+FSP_K2_BND = 10.0
+
+#: ReduceA's N_BND = FSP_N_BND_NUMERATOR / (N + 1), N the number of rows of A:
+#: a null vector's first component at least this large names a dependent row.
+FSP_N_BND_NUMERATOR = 0.9
+
+#: A polynomial counts as vanishing at a point when its value is at most
+#: ZERO_RTOL times the value of the same polynomial with every coefficient and
+#: every variable replaced by its absolute value (the size of its terms).
+#: Points of a branch are accurate to ROOT_XTOL, and the polynomials that are
+#: tested have at most a few thousand terms, so a vanishing polynomial stays
+#: below ~1e-11 of its term size; 1e-9 leaves a margin of two orders.
+ZERO_RTOL = 1e-9
