@@ -1,0 +1,512 @@
+"""What every locus method shares: the ring, numeric probes, the tree, the result.
+
+The methods only decide *which* polynomial conditions to branch on.  This
+module turns the leaves of their branch trees into a :class:`Locus`:
+readable equations, solved forms, dimensions, rank drops, lost directions,
+duplicates and contained components removed.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import networkx as nx
+import numpy as np
+import sympy as sp
+
+from ..algebra import PolyRing, homogeneous_det, irreducible_factors
+from ..branch import Branch, BranchSampler
+from ..errors import LocusError
+from ..kinematics import trig_normal
+from ..locus import Component, Locus
+from ..tolerances import RANK_RTOL, ZERO_RTOL
+
+__all__ = ["Context", "LocusTimeout", "finalize"]
+
+
+class LocusTimeout(LocusError):
+    """The computation was stopped because its time budget ran out."""
+
+
+class Context:
+    """State of one locus computation."""
+
+    def __init__(self, tm, *, method, rng=None, progress=None, should_stop=None):
+        self.tm = tm
+        self.method = method
+        angles = tuple(tm.angles)
+        others = tuple(v for v in tm.variables if v not in angles)
+        used = set().union(*(e.free_symbols for e in tm.matrix)) if len(tm.matrix) else set()
+        params = tuple(sorted((p for p in tm.parameters if p in used), key=lambda s: s.name))
+        unknown = used - set(tm.variables) - set(params)
+        if unknown:
+            raise LocusError(f"the matrix uses symbols that are neither variables nor parameters: "
+                             f"{', '.join(sorted(map(str, unknown)))}")
+        self.ring = PolyRing(angles, others, params)
+        self.M = self.ring.from_sympy_rows(sp.Matrix(tm.matrix))
+        self.shape = tm.matrix.shape
+        self.rng = rng if rng is not None else np.random.default_rng(0)
+        actual = {p: float(tm.parameters[p]) for p in params}
+        # Zero tests in the tree use generic parameter values, so that a
+        # polynomial is "zero" only when it is zero for all parameters; the
+        # model's own values are used for the samples reported to the user.
+        generic = {p: _generic_value(v, self.rng) for p, v in actual.items()}
+        self.sampler = BranchSampler(self.ring, generic, self.rng)
+        self.model_sampler = BranchSampler(self.ring, actual, self.rng) if params else self.sampler
+        self.tree = nx.DiGraph()
+        self.leaves: list[tuple[Branch, int]] = []
+        self.progress = progress or (lambda msg: None)
+        self.should_stop = should_stop or (lambda: False)
+        self._compiled = {}
+
+    # --- bookkeeping --------------------------------------------------------
+
+    def tick(self):
+        if self.should_stop():
+            raise LocusTimeout(
+                f"the {self.method} computation did not finish within its time budget "
+                f"({self.tree.number_of_nodes()} branches explored)")
+
+    def add_node(self, parent, branch: Branch, **attrs) -> int:
+        node = self.tree.number_of_nodes()
+        cond = branch.conditions[-1] if branch.conditions else None
+        label = sp.sstr(self.ring.to_sympy(cond)) if cond is not None else "(all configurations)"
+        self.tree.add_node(node, condition=label, depth=len(branch.conditions), **attrs)
+        if parent is not None:
+            self.tree.add_edge(parent, node)
+        return node
+
+    def leaf(self, branch: Branch, node: int, outcome: str):
+        """Record a terminal branch, if the whole matrix really loses rank on it.
+
+        A branch of J-dagger where the chosen null vectors vanish is no
+        component: J has full rank at its generic points, and those points
+        are covered by the sub-branch on which the null vectors degenerate.
+        """
+        pts = self.sampler.points(branch)
+        full = min(len(self.M), len(self.M[0]))
+        if pts and self.generic_rank(self.M, pts) == full:
+            self.tree.nodes[node]["outcome"] = "null vectors vanish (covered by its own branch)"
+            return
+        self.tree.nodes[node]["outcome"] = outcome
+        self.leaves.append((branch, node))
+        self.progress(f"component found at branch {node} ({outcome}): "
+                      f"{', '.join(sp.sstr(self.ring.to_sympy(c)) for c in branch.conditions)}")
+
+    # --- numeric probes -----------------------------------------------------
+
+    def numeric(self, M, g) -> np.ndarray:
+        flat = [p for row in M for p in row]
+        key = tuple(id(p) for p in flat)
+        ev = self._compiled.get(key)
+        if ev is None:
+            ev = self.ring.compile(flat)
+            self._compiled = {key: ev} if len(self._compiled) > 256 else {**self._compiled, key: ev}
+        return ev(g).reshape(len(M), len(M[0]))
+
+    def rank_at(self, M, g) -> int:
+        A = self.numeric(M, g)
+        norms = np.linalg.norm(A, axis=1)
+        nz = norms > 0
+        if not np.any(nz):
+            return 0
+        A = A[nz] / norms[nz, None]
+        s = np.linalg.svd(A, compute_uv=False)
+        return int(np.sum(s > RANK_RTOL * s[0]))
+
+    def generic_rank(self, M, points) -> int:
+        return max(self.rank_at(M, g) for g in points)
+
+    def vanishes(self, p, points) -> bool:
+        """Does ``p`` vanish at every point (relative to the size of its terms)?"""
+        if p.is_zero():
+            return True
+        val = self.ring.compile([p])
+        scale = self.ring.compile([_abs_poly(p, self.ring)])
+        return all(abs(val(g)[0]) <= ZERO_RTOL * max(scale(np.abs(g))[0], 1e-300) for g in points)
+
+    def children(self, branch: Branch, f) -> list[Branch]:
+        """Branches covering ``branch`` intersected with {f = 0}."""
+        child, exceptional = branch.with_condition(f, self.ring)
+        out = [child]
+        for conds in exceptional:
+            b = branch
+            for c in conds:
+                c = b.reduce(c, self.ring)
+                if c.is_zero():
+                    continue
+                if c.is_constant():
+                    b = None
+                    break
+                b, more = b.with_condition(c, self.ring)
+                if more:  # nested exceptional pieces: keep them implicit to stay finite
+                    pass
+            if b is not None:
+                out.append(b)
+        return out
+
+    def factors(self, p):
+        return irreducible_factors(p, self.ring)
+
+    def choose_columns(self, M, points) -> list[int]:
+        """n columns whose square block is regular at the points, smallest first."""
+        n, m = len(M), len(M[0])
+        size = [sum(len(M[i][j].monoms()) for i in range(n)) for j in range(m)]
+        combos = itertools.combinations(range(m), n)
+        if math.comb(m, n) > 5000:
+            combos = itertools.islice(combos, 5000)
+        ranked = sorted(combos, key=lambda cs: sum(size[c] for c in cs))
+        for cols in ranked:
+            sub = [[row[c] for c in cols] for row in M]
+            if all(self.rank_at(sub, g) == n for g in points[:1]) and self.rank_at(sub, points[-1]) == n:
+                return list(cols)
+        raise LocusError("no regular square block found although the matrix has full rank")
+
+    def choose_block(self, A, r, points):
+        """Rows and columns of an r x r block of ``A`` regular at the points."""
+        from scipy.linalg import qr
+
+        N = self.numeric(A, points[0])
+        norms = np.linalg.norm(N, axis=1)
+        N = N / np.where(norms > 0, norms, 1.0)[:, None]
+        _, _, piv = qr(N, pivoting=True)
+        cols = sorted(piv[:r].tolist())
+        _, _, piv2 = qr(N[:, cols].T, pivoting=True)
+        rows = sorted(piv2[:r].tolist())
+        return rows, cols
+
+
+def _generic_value(value: float, rng) -> float:
+    """A random value near ``value`` that satisfies no special relation."""
+    scale = abs(value) if value else 1.0
+    return float(np.sign(value or 1.0) * scale * rng.uniform(0.6, 1.4))
+
+
+def transpose(M):
+    return [list(col) for col in zip(*M)]
+
+
+def left_null_vectors(ctx: Context, A, rank, points):
+    """Left null vectors of ``A`` (n x n, rank ``rank`` on the branch), fraction free.
+
+    Returns the vectors and the polynomial ``d`` (the determinant of the
+    regular block used): the vectors are independent wherever d != 0.
+    """
+    n = len(A)
+    rows, cols = ctx.choose_block(A, rank, points)
+    block = [[A[i][j] for j in cols] for i in rows]
+    d = homogeneous_det(block, ctx.ring) if rank else ctx.ring.ctx.constant(1)
+    vectors = []
+    zero = ctx.ring.ctx.constant(0)
+    for i in range(n):
+        if i in rows:
+            continue
+        order = rows + [i]
+        u = [zero] * n
+        for t, r in enumerate(order):
+            rest = [order[s] for s in range(len(order)) if s != t]
+            if rest:
+                minor = homogeneous_det([[A[x][j] for j in cols] for x in rest], ctx.ring)
+            else:
+                minor = ctx.ring.ctx.constant(1)
+            u[r] = minor if t % 2 == 0 else -minor
+        vectors.append(u)
+    return vectors, d
+
+
+def _abs_poly(p, ring):
+    return ring.ctx.from_dict({m: abs(c) for m, c in zip(p.monoms(), p.coeffs())})
+
+
+# --- from leaves to components ---------------------------------------------
+
+def _q_values(ring: PolyRing, g) -> dict:
+    out = {}
+    for i, q in enumerate(ring.angles):
+        v = 2.0 * math.atan2(g[2 * i + 1], g[2 * i])
+        out[q] = math.remainder(v, 2 * math.pi)
+    for j, x in enumerate(ring.others):
+        out[x] = g[2 * ring.n_angles + j]
+    return out
+
+
+def _param_values(ring: PolyRing, g) -> dict:
+    base = 2 * ring.n_angles + len(ring.others)
+    return {p: g[base + j] for j, p in enumerate(ring.params)}
+
+
+def _solved_value(e, q):
+    """Values of q on {e = 0} when e depends on q alone and is a half-angle line."""
+    if e.free_symbols != {q}:
+        return None
+    C, S = sp.Dummy("C"), sp.Dummy("S")
+    h = e.subs({sp.cos(q / 2): C, sp.sin(q / 2): S})
+    if h.has(q):
+        # full angles: sin(q), cos(q) in the equation
+        h2 = sp.expand(e.subs({sp.cos(q): C ** 2 - S ** 2, sp.sin(q): 2 * C * S}))
+        if h2.has(q):
+            return None
+        h = h2
+    try:
+        poly = sp.Poly(h, C, S)
+    except sp.PolynomialError:
+        return None
+    if not poly.is_homogeneous:
+        return None
+    vals = []
+    for f, _ in sp.factor_list(h)[1]:
+        fp = sp.Poly(f, C, S)
+        if fp.total_degree() != 1:
+            return None
+        a, b = fp.coeff_monomial(C), fp.coeff_monomial(S)
+        # a C + b S = 0  ->  (C, S) ~ (b, -a)  ->  q = 2 atan2(-a, b), taken in (-pi, pi]
+        v = sp.nsimplify(2 * sp.atan2(-a, b))
+        v = sp.simplify(v - 2 * sp.pi * sp.floor((v + sp.pi) / (2 * sp.pi))) if v.is_number else v
+        if v == -sp.pi:
+            v = sp.pi
+        vals.append(v)
+    return tuple(sorted(set(vals), key=lambda x: float(x))) if vals else None
+
+
+def _readable_equations(eqs, variables):
+    """Substitute each solved variable into the other equations; return eqs and solved."""
+    solved = {}
+    eqs = list(eqs)
+    changed = True
+    while changed:
+        changed = False
+        for i, e in enumerate(eqs):
+            for q in variables:
+                if q in solved:
+                    continue
+                vals = _solved_value(e, q)
+                if vals is None or len(vals) != 1:
+                    continue
+                solved[q] = vals
+                rest = []
+                for j, f in enumerate(eqs):
+                    if j == i:
+                        continue
+                    g = trig_normal(f.subs(q, vals[0]))
+                    if g != 0:
+                        rest.append(g)
+                eqs = [e] + rest
+                changed = True
+                break
+            if changed:
+                break
+    out = []
+    for e in eqs:
+        if e.is_number:
+            continue
+        if e.could_extract_minus_sign():
+            e = -e
+        if e not in out:
+            out.append(e)
+    for q in variables:
+        if q not in solved:
+            for e in out:
+                vals = _solved_value(e, q)
+                if vals:
+                    solved[q] = vals
+    return out, solved
+
+
+def _equation_functions(ring, equations, tm):
+    """Numeric functions of (q, params) for sympy equations."""
+    syms = list(tm.variables) + list(ring.params)
+    return sp.lambdify(syms, list(equations), modules="numpy"), syms
+
+
+def finalize(ctx: Context, *, seconds_start=None) -> list[Component]:
+    """Components from the leaves: readable, deduplicated, none inside another."""
+    ring, tm = ctx.ring, ctx.tm
+    raw = []
+    for branch, node in ctx.leaves:
+        pts = ctx.sampler.points(branch)
+        if not pts:
+            ctx.tree.nodes[node]["outcome"] += " (no real point)"
+            continue
+        eqs = []
+        for c in branch.conditions:
+            e = ring.to_sympy(c)
+            if e != 0 and e not in eqs and -e not in eqs:
+                eqs.append(e)
+        raw.append((eqs, branch, pts, node))
+    comps = [_component(ctx, eqs, branch, pts) for eqs, branch, pts, _ in raw]
+    comps = _merge_zero_pi(comps)
+    comps = _remove_contained(ctx, comps)
+    comps.sort(key=lambda c: (len(c.parameter_conditions) > 0, -c.dimension, c.rank_drop,
+                              [sp.sstr(e) for e in c.equations]))
+    return comps
+
+
+def _component(ctx: Context, eqs, branch, pts) -> Component:
+    ring, tm = ctx.ring, ctx.tm
+    model_pts = ctx.model_sampler.points(branch) if ctx.model_sampler is not ctx.sampler else pts
+    for_model = bool(model_pts)
+    g = model_pts[0] if model_pts else pts[0]
+    qv = _q_values(ring, g)
+    pv = _param_values(ring, g)
+    joint = set(tm.variables)
+    param_conds = tuple(e for e in eqs if not (e.free_symbols & joint))
+    eqs_j = tuple(e for e in eqs if e.free_symbols & joint)
+    used = set().union(*(e.free_symbols for e in eqs_j)) if eqs_j else set()
+    free = tuple(v for v in tm.variables if v not in used)
+    eqs_j, solved = _readable_equations(eqs_j, tm.variables)
+    eqs_j = tuple(eqs_j)
+    used = set().union(*(e.free_symbols for e in eqs_j)) if eqs_j else set()
+    free = tuple(v for v in tm.variables if v not in used)
+    # dimension: joint variables minus the rank of the equations' gradient
+    dim = len(tm.variables)
+    if eqs_j:
+        f, syms = _equation_functions(ring, eqs_j, tm)
+        x0 = np.array([qv[v] for v in tm.variables] + [pv[p] for p in ring.params], dtype=float)
+        h = 1e-6
+        grads = []
+        for j in range(len(tm.variables)):
+            xp, xm = x0.copy(), x0.copy()
+            xp[j] += h
+            xm[j] -= h
+            grads.append((np.array(f(*xp), dtype=float) - np.array(f(*xm), dtype=float)) / (2 * h))
+        G = np.array(grads).T
+        s = np.linalg.svd(G, compute_uv=False)
+        dim = len(tm.variables) - int(np.sum(s > 1e-7 * max(s[0], 1e-300)))
+    # rank drop and lost directions at the sample point
+    A = ctx.numeric(ctx.M, g)
+    n, m = A.shape
+    U, s, Vt = np.linalg.svd(A)
+    rank = int(np.sum(s > RANK_RTOL * s[0])) if s[0] > 0 else 0
+    drop = min(n, m) - rank
+    if n <= m:
+        dirs = tuple(tuple(float(x) for x in U[:, rank + i]) for i in range(drop))
+    else:
+        dirs = tuple(tuple(float(x) for x in Vt[rank + i, :]) for i in range(drop))
+    direction = _symbolic_direction(ctx, branch, model_pts or pts, drop)
+    sample = {str(v): float(qv[v]) for v in tm.variables}
+    for p in ring.params:
+        if any(p in e.free_symbols for e in param_conds):
+            sample[str(p)] = float(pv[p])
+    return Component(equations=eqs_j + param_conds,
+                     solved=solved, free=free, dimension=dim, rank_drop=drop,
+                     direction=direction, direction_at_sample=dirs, sample=sample,
+                     parameter_conditions=param_conds, for_model=for_model)
+
+
+MAX_DIRECTION_TERMS = 400
+
+
+def _symbolic_direction(ctx, branch, pts, drop):
+    """Null vectors of the whole matrix on the branch as expressions, if small."""
+    if drop != 1:
+        return ()
+    M = branch.reduce_matrix(ctx.M, ctx.ring)
+    if len(M) > len(M[0]):
+        M = transpose(M)
+    n = len(M)
+    vecs, _ = left_null_vectors(ctx, M, n - 1, pts)
+    if not vecs:
+        return ()
+    u = vecs[0]
+    if sum(len(p.monoms()) for p in u) > MAX_DIRECTION_TERMS:
+        return ()
+    nonzero = [p for p in u if not p.is_zero()]
+    if not nonzero:
+        return ()
+    from functools import reduce
+    common = reduce(lambda a, b: a.gcd(b), nonzero)
+    if not common.is_constant():
+        u = [p / common if not p.is_zero() else p for p in u]
+    return (tuple(ctx.ring.to_sympy(p) if not p.is_zero() else sp.Integer(0) for p in u),)
+
+
+def _merge_zero_pi(comps: list[Component]) -> list[Component]:
+    """Join the components q = 0 and q = pi that agree elsewhere into sin(q) = 0."""
+    eq_strings = {}
+
+    def strings(c):
+        key = id(c)
+        if key not in eq_strings:
+            eq_strings[key] = [(e, sp.sstr(e)) for e in c.equations]
+        return eq_strings[key]
+
+    def key_without(c, q):
+        rest = tuple(sorted(t for e, t in strings(c) if q not in e.free_symbols))
+        solved = tuple(sorted((str(k), tuple(map(str, v))) for k, v in c.solved.items() if k != q))
+        return (str(q), rest, solved, c.rank_drop, tuple(map(str, c.parameter_conditions)))
+
+    changed = True
+    while changed:
+        changed = False
+        groups = {}
+        for i, c in enumerate(comps):
+            for q, vals in c.solved.items():
+                if len(vals) == 1 and vals[0] in (sp.Integer(0), sp.pi):
+                    groups.setdefault(key_without(c, q), {}).setdefault(vals[0], i)
+        for key, by_value in groups.items():
+            if len(by_value) != 2:
+                continue
+            a, b = by_value[sp.Integer(0)], by_value[sp.pi]
+            A, B = comps[a], comps[b]
+            q = next(k for k in A.solved if str(k) == key[0])
+            solved = dict(A.solved)
+            solved[q] = (sp.Integer(0), sp.pi)
+            merged = Component(
+                equations=(sp.sin(q),) + tuple(e for e in A.equations if q not in e.free_symbols),
+                solved=solved, free=A.free, dimension=A.dimension, rank_drop=A.rank_drop,
+                direction=A.direction, direction_at_sample=A.direction_at_sample,
+                sample=A.sample, parameter_conditions=A.parameter_conditions,
+                for_model=A.for_model or B.for_model)
+            comps = [c for i, c in enumerate(comps) if i not in (a, b)] + [merged]
+            changed = True
+            break
+    return comps
+
+
+def _vanish_at(comp_eqs, syms, points) -> bool:
+    f = sp.lambdify(syms, list(comp_eqs), modules="numpy")
+    for x in points:
+        vals = np.abs(np.array(f(*x), dtype=float))
+        if np.any(vals > 1e-7):
+            return False
+    return True
+
+
+def _remove_contained(ctx: Context, comps: list[Component]) -> list[Component]:
+    """Drop duplicates and components contained in another one."""
+    tm, ring = ctx.tm, ctx.ring
+    syms = list(tm.variables) + list(ring.params)
+    pvals = {p: float(tm.parameters[p]) for p in ring.params}
+
+    def pts_of(c):
+        x = [c.sample[str(v)] for v in tm.variables]
+        x += [c.sample.get(str(p), pvals[p]) for p in ring.params]
+        return [np.array(x)]
+
+    # more points per component: rotate the free variables
+    def probe(c):
+        base = pts_of(c)[0]
+        out = [base]
+        for k in range(1, 3):
+            x = base.copy()
+            for i, v in enumerate(tm.variables):
+                if v in c.free:
+                    x[i] = ((base[i] + 1.3 * k + np.pi) % (2 * np.pi)) - np.pi
+            out.append(x)
+        return out
+
+    keep = []
+    order = sorted(range(len(comps)), key=lambda i: (-comps[i].dimension, len(comps[i].equations)))
+    for i in order:
+        c = comps[i]
+        contained = False
+        for k in keep:
+            if _vanish_at(k.equations, syms, probe(c)) if k.equations else True:
+                if k.parameter_conditions and not c.parameter_conditions:
+                    continue
+                contained = True
+                break
+        if not contained:
+            keep.append(c)
+    return keep

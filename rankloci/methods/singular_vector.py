@@ -1,0 +1,113 @@
+"""The singular vector method (Dupuis) as a recursive branch tree.
+
+For an n x m matrix with n < m (more columns than rows):
+
+1. choose n columns as J_sq, the others form J_r;
+2. for every irreducible factor f of det J_sq, on the branch {f = 0}, find
+   the k left null vectors U* of J_sq (fraction-free, from cofactors of a
+   regular block);
+3. form J-dagger = U*^T J_r and recurse on it;
+4. stop when J-dagger has no rank-deficiency locus on the branch (the
+   branch is empty), when k exceeds the number of redundant columns (the
+   whole branch is in the locus), or when no redundant column is left (the
+   square case: the factors of the determinant are the locus).
+
+The chosen null vectors are independent only where the determinant d of
+the regular block is nonzero; the points of the branch where d = 0 are
+analysed again, on their own sub-branch, with the matrix of that level.
+A matrix with more rows than columns is handled through its transpose
+(right null vectors).
+"""
+
+from __future__ import annotations
+
+from ..algebra import homogeneous_det
+from ._common import Context, left_null_vectors, transpose
+
+__all__ = ["singular_vector_tree"]
+
+
+def singular_vector_tree(ctx: Context) -> bool:
+    """Grow the branch tree in ``ctx``; return True if the matrix is degenerate."""
+    from ..branch import Branch
+
+    root = Branch()
+    pts = ctx.sampler.points(root)
+    M = ctx.M if len(ctx.M) <= len(ctx.M[0]) else transpose(ctx.M)
+    if ctx.generic_rank(M, pts) < len(M):
+        node = ctx.add_node(None, root, shape=_shape(M), k=len(M) - ctx.generic_rank(M, pts))
+        ctx.leaf(root, node, "degenerate")
+        return True
+    _svm(ctx, M, root, None, level=0)
+    return False
+
+
+def _shape(M):
+    return f"{len(M)}x{len(M[0])}"
+
+
+def _svm(ctx: Context, M, branch, parent, level):
+    ctx.tick()
+    if len(M) > len(M[0]):
+        M = transpose(M)
+    n, m = len(M), len(M[0])
+    pts = ctx.sampler.points(branch)
+    if not pts:
+        node = ctx.add_node(parent, branch, shape=_shape(M), outcome="empty")
+        return
+    rank = ctx.generic_rank(M, pts)
+    if rank < n:
+        node = ctx.add_node(parent, branch, shape=_shape(M), k=n - rank)
+        ctx.leaf(branch, node, "k > redundant columns")
+        return
+    cols = ctx.choose_columns(M, pts)
+    rest = [c for c in range(m) if c not in cols]
+    node = ctx.add_node(parent, branch, shape=_shape(M), columns=[c + 1 for c in cols],
+                        outcome="refined", level=level)
+    ctx.progress(f"branch {node}: {n}x{m} matrix, determinant of columns {[c + 1 for c in cols]}")
+    D = homogeneous_det([[row[c] for c in cols] for row in M], ctx.ring)
+    for f in ctx.factors(D):
+        for child in ctx.children(branch, f):
+            ctx.tick()
+            if not rest:
+                cpts = ctx.sampler.points(child)
+                cnode = ctx.add_node(node, child, shape=_shape(M), k=1)
+                if cpts:
+                    ctx.leaf(child, cnode, "no redundant column")
+                else:
+                    ctx.tree.nodes[cnode]["outcome"] = "empty"
+                continue
+            _reduce(ctx, M, cols, rest, child, node, level)
+
+
+def _reduce(ctx: Context, M, cols, rest, branch, parent, level):
+    """On a branch of det J_sq = 0: null vectors, J-dagger, recursion."""
+    n = len(M)
+    pts = ctx.sampler.points(branch)
+    if not pts:
+        ctx.add_node(parent, branch, outcome="empty")
+        return
+    Mb = branch.reduce_matrix(M, ctx.ring)
+    Jsq = [[row[c] for c in cols] for row in Mb]
+    Jr = [[row[c] for c in rest] for row in Mb]
+    r = ctx.generic_rank(Jsq, pts)
+    k = n - r
+    if k == 0:
+        # the factor has real points but J_sq is regular there: not a branch
+        ctx.add_node(parent, branch, outcome="empty", k=0)
+        return
+    if k > len(rest):
+        node = ctx.add_node(parent, branch, k=k)
+        ctx.leaf(branch, node, "k > redundant columns")
+        return
+    U, d = left_null_vectors(ctx, Jsq, r, pts)
+    Jdag = [[sum((u[j] * Jr[j][c] for j in range(n) if not u[j].is_zero() and not Jr[j][c].is_zero()),
+                 ctx.ring.ctx.constant(0)) for c in range(len(rest))] for u in U]
+    node = ctx.add_node(parent, branch, k=k, outcome="refined", shape=f"{k}x{len(rest)}")
+    _svm(ctx, Jdag, branch, node, level + 1)
+    # where the null vectors degenerate, analyse this level's matrix again
+    if not d.is_constant():
+        for g in ctx.factors(branch.reduce(d, ctx.ring)):
+            for child in ctx.children(branch, g):
+                sub = ctx.add_node(node, child, outcome="refined", note="null vectors degenerate")
+                _svm(ctx, M, child, sub, level)

@@ -1,0 +1,68 @@
+"""The subdeterminant method: the common zeros of all maximal minors.
+
+The locus of an n x m matrix (n <= m) is the set where every n x n minor
+vanishes.  Their greatest common divisor gives the components of
+codimension one; the rest is found by branching on the factors of one minor
+that does not vanish on the current branch, until every minor vanishes.
+It is independent of the singular vector method (it uses no null vectors)
+and serves as its symbolic cross-check; it grows as C(m, n).
+"""
+
+from __future__ import annotations
+
+import itertools
+from functools import reduce
+
+from ..algebra import homogeneous_det
+from ._common import Context, transpose
+
+__all__ = ["subdeterminant_tree"]
+
+
+def subdeterminant_tree(ctx: Context) -> bool:
+    from ..branch import Branch
+
+    M = ctx.M if len(ctx.M) <= len(ctx.M[0]) else transpose(ctx.M)
+    n, m = len(M), len(M[0])
+    minors = []
+    for cols in itertools.combinations(range(m), n):
+        ctx.tick()
+        minors.append(homogeneous_det([[row[c] for c in cols] for row in M], ctx.ring))
+    ctx.progress(f"{len(minors)} maximal minors computed")
+    nonzero = [p for p in minors if not p.is_zero()]
+    root = Branch()
+    if not nonzero:
+        node = ctx.add_node(None, root, outcome="degenerate", minors=len(minors))
+        ctx.leaf(root, node, "degenerate")
+        return True
+    g = reduce(lambda a, b: a.gcd(b), nonzero)
+    node = ctx.add_node(None, root, outcome="refined", minors=len(minors))
+    if not g.is_constant():
+        for f in ctx.factors(g):
+            for child in ctx.children(root, f):
+                cnode = ctx.add_node(node, child, outcome="refined")
+                if ctx.sampler.points(child):
+                    ctx.leaf(child, cnode, "all minors vanish")
+                else:
+                    ctx.tree.nodes[cnode]["outcome"] = "empty"
+    rest = [p / g for p in nonzero]
+    _branch(ctx, rest, root, node)
+    return False
+
+
+def _branch(ctx: Context, minors, branch, parent):
+    ctx.tick()
+    pts = ctx.sampler.points(branch)
+    if not pts:
+        ctx.tree.nodes[parent]["outcome"] = "empty"
+        return
+    reduced = [branch.reduce(p, ctx.ring) for p in minors]
+    alive = [p for p in reduced if not ctx.vanishes(p, pts)]
+    if not alive:
+        ctx.leaf(branch, parent, "all minors vanish")
+        return
+    pick = min(alive, key=lambda p: len(p.monoms()))
+    for f in ctx.factors(pick):
+        for child in ctx.children(branch, f):
+            node = ctx.add_node(parent, child, outcome="refined")
+            _branch(ctx, alive, child, node)
