@@ -220,21 +220,24 @@ class PolyRing:
 
     def compile(self, polys):
         """Vectorised evaluator of several polynomials at numeric generator values."""
-        data = []
-        for p in polys:
-            mons = np.array(p.monoms(), dtype=np.int64).reshape(-1, len(self.names))
-            coeffs = np.array([float(c) for c in p.coeffs()], dtype=float)
-            data.append((mons, coeffs))
+        nv = len(self.names)
+        mons, coeffs, owner = [], [], []
+        for i, p in enumerate(polys):
+            ms = p.monoms()
+            mons.extend(ms)
+            coeffs.extend(float(c) for c in p.coeffs())
+            owner.extend([i] * len(ms))
+        mons = np.array(mons, dtype=np.int64).reshape(-1, nv)
+        coeffs = np.array(coeffs, dtype=float)
+        owner = np.array(owner, dtype=np.int64)
+        used = np.flatnonzero(mons.any(axis=0)) if len(mons) else np.array([], dtype=np.int64)
+        mons = mons[:, used]
+        npoly = len(polys)
 
         def evaluate(x):
-            x = np.asarray(x, dtype=float)
-            out = np.empty(len(data))
-            for i, (mons, coeffs) in enumerate(data):
-                if len(coeffs) == 0:
-                    out[i] = 0.0
-                else:
-                    out[i] = float(np.dot(coeffs, np.prod(x[None, :] ** mons, axis=1)))
-            return out
+            x = np.asarray(x, dtype=float)[used]
+            terms = coeffs * np.prod(x[None, :] ** mons, axis=1) if len(used) else coeffs.copy()
+            return np.bincount(owner, weights=terms, minlength=npoly) if len(owner) else np.zeros(npoly)
 
         return evaluate
 

@@ -157,6 +157,7 @@ class BranchSampler:
     rng: np.random.Generator
     n_starts: int = 40
     cache: dict = field(default_factory=dict)
+    _sub_eval: dict = field(default_factory=dict)
 
     def points(self, branch: Branch, count: int = 3) -> list[np.ndarray]:
         """Up to ``count`` generator vectors of real points of ``branch``."""
@@ -207,8 +208,11 @@ class BranchSampler:
             k += 1
         # substitutions, last first: each expresses generators in later-solved ones
         for sub in reversed(branch.substitutions):
-            ev = ring.compile(list(sub.values))
-            vals = ev(g)
+            got = self._sub_eval.get(id(sub))
+            if got is None or got[0] is not sub:
+                got = (sub, ring.compile(list(sub.values)))
+                self._sub_eval[id(sub)] = got
+            vals = got[1](g)
             if sub.kind == "linear":
                 g[sub.index] = vals[0]
             else:
@@ -227,7 +231,7 @@ class BranchSampler:
         nx = len(angles) + len(others) + len(params)
         eqs = list(branch.implicit)
         ev = self.ring.compile(eqs) if eqs else None
-        scales = [self.ring.compile([_abs_poly(e, self.ring)]) for e in eqs]
+        scale_ev = self.ring.compile([_abs_poly(e, self.ring) for e in eqs]) if eqs else None
         found = []
 
         def residual(x):
@@ -235,8 +239,7 @@ class BranchSampler:
             if g is None:
                 return np.full(len(eqs), 1e3)
             vals = ev(g)
-            absg = np.abs(g)
-            sc = np.array([s(absg)[0] for s in scales])
+            sc = scale_ev(np.abs(g))
             return vals / np.maximum(sc, 1e-300)
 
         starts = self.n_starts if eqs else count

@@ -100,7 +100,8 @@ def _load_task_matrix(args, progress=None):
     extra = parse_constraints(model, args.augment or ())
     if progress:
         progress(f"building the symbolic matrix of {model.name}")
-    tm = task_matrix(model, task=args.task, frame=args.frame,
+    frame = args.frame if args.frame is not None else getattr(args, "frame_default", None)
+    tm = task_matrix(model, task=args.task, frame=frame,
                      point=getattr(args, "point", "tool"), augment=extra,
                      numeric=getattr(args, "numeric", False))
     return model, tm
@@ -140,6 +141,91 @@ def cmd_jacobian(args) -> int:
     return EXIT_OK
 
 
+def _progress_printer(quiet: bool):
+    if quiet:
+        return None
+
+    def progress(msg):
+        print(f"rankloci: {msg}", file=sys.stderr, flush=True)
+
+    return progress
+
+
+def _deadline(seconds):
+    import time
+
+    if seconds is None or seconds <= 0:
+        return None
+    end = time.monotonic() + seconds
+    return lambda: time.monotonic() > end
+
+
+def _write_atomic(path, text):
+    """Write ``text`` to ``path`` through a temporary file: never half-written."""
+    import os
+    import tempfile
+    from pathlib import Path
+
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(dir=path.parent if str(path.parent) else ".", prefix=f".{path.name}.")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+
+
+def cmd_locus(args) -> int:
+    import time
+    from pathlib import Path
+
+    import numpy as np
+
+    from .methods import compute_locus
+    from .methods._common import LocusTimeout
+    from .render_text import locus_json, locus_latex, locus_text, tree_dot, tree_json, tree_text
+
+    if args.tree and Path(args.tree).suffix not in (".dot", ".json", ".txt"):
+        raise _UsageError(f"--tree {args.tree!r}: the file must end in .dot, .json or .txt")
+    if args.tree and not Path(args.tree).resolve().parent.is_dir():
+        raise _UsageError(f"--tree {args.tree!r}: directory does not exist")
+    progress = _progress_printer(args.quiet)
+    model, tm = _load_task_matrix(args, progress)
+    method = args.method
+    if method is None:
+        method = "determinant" if tm.shape[0] == tm.shape[1] else "svm"
+    if method == "determinant" and tm.shape[0] != tm.shape[1]:
+        raise _UsageError(f"--method determinant needs a square matrix; this one is "
+                          f"{tm.shape[0]}x{tm.shape[1]}")
+    if progress:
+        progress(f"{tm.name}: {tm.shape[0]}x{tm.shape[1]} matrix, method {method}, seed {args.seed}")
+    try:
+        locus = compute_locus(tm, method, rng=np.random.default_rng(args.seed), progress=progress,
+                              should_stop=_deadline(args.timeout), clock=time.perf_counter)
+    except LocusTimeout as e:
+        print(f"rankloci: error: {e}; raise --timeout (now {args.timeout:g} s) or try "
+              f"--numeric-parameters", file=sys.stderr)
+        return EXIT_FAILED
+    if args.tree:
+        text = {".dot": tree_dot, ".json": tree_json, ".txt": tree_text}[Path(args.tree).suffix](locus.tree)
+        _write_atomic(args.tree, text + "\n")
+    if args.format == "json":
+        print(locus_json(locus, rows=list(tm.row_labels), seed=args.seed))
+    elif args.format == "latex":
+        print(locus_latex(locus))
+    else:
+        print(locus_text(locus, row_labels=tm.row_labels))
+        if args.show_tree:
+            print()
+            print(tree_text(locus.tree))
+    return EXIT_OK
+
+
 # --- parser -----------------------------------------------------------------
 
 _EPILOG_JACOBIAN = """examples:
@@ -147,6 +233,16 @@ _EPILOG_JACOBIAN = """examples:
   rankloci jacobian puma560 --frame tool --format latex
   rankloci jacobian ssrms --augment q3 --numeric --format json
   rankloci jacobian my_robot.urdf --tip tool0
+"""
+
+_EPILOG_LOCUS = """examples:
+  rankloci locus puma560
+  rankloci locus ssrms --numeric-parameters --format json > ssrms.json
+  rankloci locus planar4r --augment "q1 + q2 + q3 + q4" --tree tree.dot
+  rankloci locus my_matrix.toml --method subdeterminant --show-tree
+
+The locus is printed as components: equations that vanish on each, the solved
+form where there is one, dimension, rank drop and the lost task direction.
 """
 
 _EPILOG_MODELS = """examples:
@@ -192,6 +288,23 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--numeric", action="store_true", help="replace parameters by their values")
     p.add_argument("--format", choices=("text", "latex", "json"), default="text")
     p.set_defaults(func=cmd_jacobian)
+
+    p = sub.add_parser("locus", help="compute the rank-deficiency (singularity) locus",
+                       epilog=_EPILOG_LOCUS, formatter_class=argparse.RawDescriptionHelpFormatter)
+    _model_args(p)
+    p.add_argument("--method", choices=("svm", "subdeterminant", "determinant"), default=None,
+                   help="svm (default) or subdeterminant; determinant for a square matrix "
+                        "(the default when the matrix is square)")
+    p.add_argument("--numeric-parameters", dest="numeric", action="store_true",
+                   help="replace the geometric parameters by their values before the algebra")
+    p.add_argument("--format", choices=("text", "json", "latex"), default="text")
+    p.add_argument("--tree", metavar="FILE", help="write the branch tree to FILE.dot, FILE.json or FILE.txt")
+    p.add_argument("--show-tree", action="store_true", help="also draw the branch tree in the terminal")
+    p.add_argument("--seed", type=int, default=0, help="seed of the numeric probes (default 0)")
+    p.add_argument("--timeout", type=float, default=600.0,
+                   help="give up after this many seconds (default 600; 0 = never)")
+    p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
+    p.set_defaults(func=cmd_locus, frame_default="auto")
     return parser
 
 

@@ -64,6 +64,23 @@ class TaskMatrix:
                           self.variables, self.angles, {}, self.row_labels, self.n_constraint_rows)
 
 
+def _small_frame(model: RobotModel, rows, point):
+    """A frame (and point) in which the Jacobian has the smallest entries, same rank.
+
+    A rotation of the frame multiplies the linear and the angular rows by the
+    same invertible matrix, so it keeps the rank for the full, position and
+    orientation tasks; moving the reference point adds angular rows to linear
+    ones, which keeps the rank only for the full task.  A middle link's frame
+    halves the length of the chains of transforms on either side.
+    """
+    middle = model.dof // 2
+    if tuple(rows) == (0, 1, 2, 3, 4, 5):
+        return middle, middle
+    if tuple(rows) in ((0, 1, 2), (3, 4, 5)):
+        return middle, point
+    return model.frame, point
+
+
 def parse_constraints(model, texts: Sequence[str]) -> tuple[tuple[str, sp.Expr], ...]:
     """Parse ``--augment`` expressions in the model's variables and parameters."""
     names = {v.name: v for v in model.variables} | {p.name: p for p in model.parameters}
@@ -85,6 +102,8 @@ def task_matrix(model, *, task=None, frame=None, point="tool", augment: Sequence
     model : RobotModel or MatrixModel
     task, frame, point
         Passed to :func:`~rankloci.kinematics.geometric_jacobian` (robots only).
+        ``frame="auto"`` picks a frame (and, for the full task, a reference
+        point) in which the entries are small and the rank is the same.
     augment : sequence of (name, expr)
         Extra constraint functions; their gradients are stacked under J.
     use_model_augment : bool, default True
@@ -101,12 +120,14 @@ def task_matrix(model, *, task=None, frame=None, point="tool", augment: Sequence
     """
     constraints = (tuple(model.augment) if use_model_augment else ()) + tuple(augment)
     if isinstance(model, RobotModel):
-        J = geometric_jacobian(model, frame=frame, point=point, task=task)
         rows = model.task if task is None else task_rows(task)
+        if frame == "auto":
+            frame, point = _small_frame(model, rows, point)
+        J = geometric_jacobian(model, frame=frame, point=point, task=task)
         labels = tuple(_ROW_NAMES[r] for r in rows)
         angles = model.angle_variables
     elif isinstance(model, MatrixModel):
-        if task is not None or frame is not None:
+        if task is not None or frame not in (None, "auto"):
             raise ModelError("--task and --frame apply to robot models, not to a raw matrix",
                              file=model.name)
         J = sp.Matrix(model.matrix)

@@ -62,4 +62,4 @@ def compute_locus(tm, method: str = "svm", *, frame_choice=None, rng=None, progr
     return Locus(model=tm.name, variables=tm.variables, parameters=dict(tm.parameters),
                  shape=tm.matrix.shape, method=method, components=tuple(components),
                  degenerate=degenerate, tree=ctx.tree,
-                 seconds=(clock() - t0) if clock else 0.0)
+                 seconds=(clock() - t0) if clock else 0.0, notes=tuple(ctx.notes))

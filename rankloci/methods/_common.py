@@ -56,6 +56,8 @@ class Context:
         self.model_sampler = BranchSampler(self.ring, actual, self.rng) if params else self.sampler
         self.tree = nx.DiGraph()
         self.leaves: list[tuple[Branch, int]] = []
+        self.notes: list[str] = []
+        self._actual = actual
         self.progress = progress or (lambda msg: None)
         self.should_stop = should_stop or (lambda: False)
         self._compiled = {}
@@ -148,6 +150,42 @@ class Context:
 
     def factors(self, p):
         return irreducible_factors(p, self.ring)
+
+    def parameter_only(self, f) -> bool:
+        """Does ``f`` involve parameters only (no joint variable)?"""
+        joint = 2 * self.ring.n_angles + len(self.ring.others)
+        return all(i >= joint for i in self.ring.variable_indices(f))
+
+    def special_parameters(self, f, where: str):
+        """Note a parameter-only factor that is not analysed further."""
+        text = sp.sstr(self.ring.to_sympy(f))
+        vals = np.array([0.0] * len(self.ring.names))
+        base = 2 * self.ring.n_angles + len(self.ring.others)
+        for j, p in enumerate(self.ring.params):
+            vals[base + j] = self._actual[p]
+        if self.vanishes(f, [vals]):
+            note = (f"the model's parameter values satisfy {text} = 0, a special case of the "
+                    f"symbolic analysis ({where}); rerun with --numeric-parameters")
+        else:
+            note = f"for parameters with {text} = 0 the analysis differs ({where}); not pursued"
+        if note not in self.notes:
+            self.notes.append(note)
+
+    def known(self, branch: Branch) -> bool:
+        """Is every sample point of ``branch`` on a component already found?"""
+        if not self.leaves:
+            return False
+        pts = self.sampler.points(branch)
+        if not pts:
+            return False
+        for leaf, _ in self.leaves:
+            if leaf is branch or not leaf.conditions:
+                continue
+            if len(leaf.conditions) > len(branch.conditions):
+                continue
+            if all(self.vanishes(c, pts) for c in leaf.conditions):
+                return True
+        return False
 
     def choose_columns(self, M, points) -> list[int]:
         """n columns whose square block is regular at the points, smallest first."""
@@ -261,7 +299,7 @@ def _solved_value(e, q):
             return None
         a, b = fp.coeff_monomial(C), fp.coeff_monomial(S)
         # a C + b S = 0  ->  (C, S) ~ (b, -a)  ->  q = 2 atan2(-a, b), taken in (-pi, pi]
-        v = sp.nsimplify(2 * sp.atan2(-a, b))
+        v = 2 * sp.atan2(-a, b)
         v = sp.simplify(v - 2 * sp.pi * sp.floor((v + sp.pi) / (2 * sp.pi))) if v.is_number else v
         if v == -sp.pi:
             v = sp.pi

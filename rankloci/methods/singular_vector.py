@@ -55,6 +55,9 @@ def _svm(ctx: Context, M, branch, parent, level):
     if not pts:
         node = ctx.add_node(parent, branch, shape=_shape(M), outcome="empty")
         return
+    if ctx.known(branch):
+        ctx.add_node(parent, branch, shape=_shape(M), outcome="inside a component already found")
+        return
     rank = ctx.generic_rank(M, pts)
     if rank < n:
         node = ctx.add_node(parent, branch, shape=_shape(M), k=n - rank)
@@ -67,6 +70,9 @@ def _svm(ctx: Context, M, branch, parent, level):
     ctx.progress(f"branch {node}: {n}x{m} matrix, determinant of columns {[c + 1 for c in cols]}")
     D = homogeneous_det([[row[c] for c in cols] for row in M], ctx.ring)
     for f in ctx.factors(D):
+        if rest and ctx.parameter_only(f):
+            ctx.special_parameters(f, f"det of columns {[c + 1 for c in cols]} at branch {node}")
+            continue
         for child in ctx.children(branch, f):
             ctx.tick()
             if not rest:
@@ -86,6 +92,9 @@ def _reduce(ctx: Context, M, cols, rest, branch, parent, level):
     pts = ctx.sampler.points(branch)
     if not pts:
         ctx.add_node(parent, branch, outcome="empty")
+        return
+    if ctx.known(branch):
+        ctx.add_node(parent, branch, outcome="inside a component already found")
         return
     Mb = branch.reduce_matrix(M, ctx.ring)
     Jsq = [[row[c] for c in cols] for row in Mb]
@@ -108,6 +117,9 @@ def _reduce(ctx: Context, M, cols, rest, branch, parent, level):
     # where the null vectors degenerate, analyse this level's matrix again
     if not d.is_constant():
         for g in ctx.factors(branch.reduce(d, ctx.ring)):
+            if ctx.parameter_only(g):
+                ctx.special_parameters(g, f"null vectors at branch {node}")
+                continue
             for child in ctx.children(branch, g):
                 sub = ctx.add_node(node, child, outcome="refined", note="null vectors degenerate")
                 _svm(ctx, M, child, sub, level)

@@ -56,6 +56,9 @@ def _branch(ctx: Context, minors, branch, parent):
     if not pts:
         ctx.tree.nodes[parent]["outcome"] = "empty"
         return
+    if ctx.known(branch):
+        ctx.tree.nodes[parent]["outcome"] = "inside a component already found"
+        return
     reduced = [branch.reduce(p, ctx.ring) for p in minors]
     alive = [p for p in reduced if not ctx.vanishes(p, pts)]
     if not alive:
@@ -63,6 +66,9 @@ def _branch(ctx: Context, minors, branch, parent):
         return
     pick = min(alive, key=lambda p: len(p.monoms()))
     for f in ctx.factors(pick):
+        if ctx.parameter_only(f) and branch.conditions:
+            ctx.special_parameters(f, "a minor on a branch")
+            continue
         for child in ctx.children(branch, f):
             node = ctx.add_node(parent, child, outcome="refined")
             _branch(ctx, alive, child, node)

@@ -1,0 +1,123 @@
+"""Plain-text, JSON and LaTeX renderings of a locus and its branch tree (pure)."""
+
+from __future__ import annotations
+
+import json
+
+import sympy as sp
+
+__all__ = ["locus_text", "locus_json", "locus_latex", "tree_text", "tree_dot", "tree_json",
+           "solved_text"]
+
+
+def solved_text(comp) -> str:
+    parts = []
+    for q, vals in comp.solved.items():
+        vs = ", ".join(sp.pretty(v, use_unicode=True) for v in vals)
+        parts.append(f"{q} ∈ {{{vs}}}" if len(vals) > 1 else f"{q} = {vs}")
+    return "; ".join(parts)
+
+
+def _vector(vec, digits=3) -> str:
+    return "[" + ", ".join(f"{x:+.{digits}f}" for x in vec) + "]"
+
+
+def locus_text(locus, *, row_labels=()) -> str:
+    """A human-readable summary of a locus."""
+    rows, cols = locus.shape
+    lines = [f"{locus.model}: {rows}x{cols} matrix, method {locus.method}, "
+             f"{locus.seconds:.2f} s"]
+    if locus.degenerate:
+        lines.append("the matrix is rank deficient at every configuration (degenerate design)")
+    main = [c for c in locus.components if not c.parameter_conditions and c.for_model]
+    special = [c for c in locus.components if c.parameter_conditions or not c.for_model]
+    lines.append(f"{len(main)} component(s) of the rank-deficiency locus:")
+    for i, c in enumerate(main, 1):
+        lines.extend(_component_lines(i, c, row_labels))
+    if special:
+        lines.append("")
+        lines.append("only for special parameter values (not this model's):")
+        for i, c in enumerate(special, 1):
+            lines.extend(_component_lines(i, c, row_labels))
+    for note in locus.notes:
+        lines.append(f"note: {note}")
+    return "\n".join(lines)
+
+
+def _component_lines(i, c, row_labels):
+    eqs = ",  ".join(f"{sp.sstr(e)} = 0" for e in c.equations) or "(no equation)"
+    out = [f"{i:>3}. {eqs}"]
+    if c.solved:
+        out.append(f"     solved: {solved_text(c)}")
+    free = " ".join(map(str, c.free)) or "none"
+    out.append(f"     dimension {c.dimension}, rank drop {c.rank_drop}, free: {free}")
+    if c.parameter_conditions:
+        out.append("     parameters: " + ", ".join(f"{sp.sstr(e)} = 0" for e in c.parameter_conditions))
+    for vec in c.direction:
+        out.append("     lost direction: (" + ", ".join(sp.sstr(x) for x in vec) + ")")
+    for vec in c.direction_at_sample:
+        lab = f" over ({', '.join(row_labels)})" if row_labels and len(row_labels) == len(vec) else ""
+        out.append(f"     at the sample point: {_vector(vec)}{lab}")
+    sample = ", ".join(f"{k}={v:+.4f}" for k, v in c.sample.items())
+    out.append(f"     sample point: {sample}")
+    return out
+
+
+def locus_json(locus, **extra) -> str:
+    data = locus.to_dict()
+    data.update(extra)
+    return json.dumps(data, indent=2)
+
+
+def locus_latex(locus) -> str:
+    """The components as an amsmath ``align*`` block per component."""
+    out = [f"% rank-deficiency locus of {locus.model} ({locus.shape[0]}x{locus.shape[1]}), "
+           f"method {locus.method}"]
+    for i, c in enumerate(locus.components, 1):
+        tag = " (special parameters)" if c.parameter_conditions or not c.for_model else ""
+        out.append(f"% component {i}: dimension {c.dimension}, rank drop {c.rank_drop}{tag}")
+        out.append(r"\begin{align*}")
+        eqs = [sp.latex(e) + " &= 0" for e in c.equations]
+        out.append(" \\\\\n".join(eqs))
+        out.append(r"\end{align*}")
+    return "\n".join(out)
+
+
+def _node_label(data) -> str:
+    bits = [data.get("condition", "")]
+    if "columns" in data:
+        bits.append(f"cols {data['columns']}")
+    if "k" in data:
+        bits.append(f"k={data['k']}")
+    if "shape" in data:
+        bits.append(data["shape"])
+    bits.append(f"[{data.get('outcome', '')}]")
+    return "  ".join(b for b in bits if b)
+
+
+def tree_text(tree) -> str:
+    import networkx as nx
+
+    lines = []
+    labelled = nx.relabel_nodes(tree, {n: f"{n}: {_node_label(d)}" for n, d in tree.nodes(data=True)})
+    nx.write_network_text(labelled, path=lines.append, ascii_only=False)
+    return "\n".join(line.rstrip("\n") for line in lines)
+
+
+def tree_dot(tree) -> str:
+    def esc(s):
+        return s.replace("\\", "\\\\").replace('"', '\\"')
+
+    out = ["digraph branch_tree {", '  node [shape=box, fontname="Helvetica"];']
+    for n, d in tree.nodes(data=True):
+        out.append(f'  n{n} [label="{esc(_node_label(d))}"];')
+    for a, b in tree.edges():
+        out.append(f"  n{a} -> n{b};")
+    out.append("}")
+    return "\n".join(out)
+
+
+def tree_json(tree) -> str:
+    import networkx as nx
+
+    return json.dumps(nx.node_link_data(tree, edges="edges"), indent=2, default=str)
