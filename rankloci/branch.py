@@ -155,7 +155,7 @@ class BranchSampler:
     ring: PolyRing
     param_values: dict
     rng: np.random.Generator
-    n_starts: int = 40
+    n_starts: int = 24
     cache: dict = field(default_factory=dict)
     _sub_eval: dict = field(default_factory=dict)
 

@@ -36,23 +36,21 @@ def _fmt_warning(message, category, filename, lineno, file=None, line=None):
 # --- subcommands ------------------------------------------------------------
 
 def cmd_models(args) -> int:
-    import tomllib
-
     from .io import builtin_models, models_dir
+    from .io.toml_model import read_model
+    from .model import RobotModel
 
     rows = []
     for name in builtin_models():
-        with open(models_dir() / f"{name}.toml", "rb") as fh:
-            data = tomllib.load(fh)
-        joints = data.get("joint", [])
-        if "matrix" in data:
-            shape = f"{len(data['matrix'])}x{len(data['matrix'][0])}"
+        model = read_model(models_dir() / f"{name}.toml", require_source=True)
+        if isinstance(model, RobotModel):
+            joints = model.dof
+            shape = f"{len(model.task) + len(model.augment)}x{joints}"
         else:
-            from .model import task_rows
-            spec = data.get("rows", data.get("task", "full"))
-            shape = f"{len(task_rows(spec)) + len(data.get('augment', []))}x{len(joints)}"
-        source = " ".join(str(data.get("source", "")).split())
-        rows.append((name, str(len(joints)), shape, source))
+            joints = len(model.variables)
+            shape = f"{model.matrix.rows + len(model.augment)}x{model.matrix.cols}"
+        source = " ".join(model.source.split())
+        rows.append((name, str(joints), shape, source))
     if args.format == "json":
         print(json.dumps([dict(zip(("name", "joints", "shape", "source"), r)) for r in rows], indent=2))
         return EXIT_OK
@@ -320,7 +318,7 @@ def main(argv=None) -> int:
             parser.print_help()
             return EXIT_USAGE
         return args.func(args)
-    except _UsageError as e:
+    except (_UsageError, ValueError) as e:  # ValueError: a bad --frame/--point index for this model
         print(f"rankloci: error: {e}", file=sys.stderr)
         return EXIT_USAGE
     except RanklociError as e:

@@ -60,6 +60,7 @@ class Component:
     sample: dict = field(default_factory=dict)
     parameter_conditions: tuple = ()
     for_model: bool = True
+    _branch: object = field(default=None, repr=False, compare=False)
 
     def to_dict(self) -> dict:
         return {

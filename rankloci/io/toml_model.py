@@ -26,8 +26,8 @@ MAX_FILE_BYTES = 1_000_000
 MAX_JOINTS = 64
 MAX_MATRIX_ENTRIES = 4096
 
-_NAME_RE = re.compile(r"^[a-z0-9][a-z0-9_-]{0,63}$")
-_IDENT_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]{0,31}$")
+_NAME_RE = re.compile(r"^[a-z0-9][a-z0-9_-]{0,63}\Z")
+_IDENT_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]{0,31}\Z")
 _ROBOT_KEYS = {"name", "title", "source", "notes", "convention", "task", "rows", "frame",
                "parameters", "base", "tool", "joint", "augment"}
 _MATRIX_KEYS = {"name", "title", "source", "notes", "variables", "parameters", "matrix", "augment"}

@@ -101,11 +101,14 @@ class Context:
     def numeric(self, M, g) -> np.ndarray:
         flat = [p for row in M for p in row]
         key = tuple(id(p) for p in flat)
-        ev = self._compiled.get(key)
-        if ev is None:
-            ev = self.ring.compile(flat)
-            self._compiled = {key: ev} if len(self._compiled) > 256 else {**self._compiled, key: ev}
-        return ev(g).reshape(len(M), len(M[0]))
+        got = self._compiled.get(key)
+        # the cached entry keeps its polynomials alive, so their ids cannot be reused
+        if got is None or any(a is not b for a, b in zip(got[0], flat)):
+            got = (flat, self.ring.compile(flat))
+            if len(self._compiled) > 256:
+                self._compiled.clear()
+            self._compiled[key] = got
+        return got[1](g).reshape(len(M), len(M[0]))
 
     def rank_at(self, M, g) -> int:
         A = self.numeric(M, g)
@@ -375,6 +378,7 @@ def finalize(ctx: Context, *, seconds_start=None) -> list[Component]:
     comps = [_component(ctx, eqs, branch, pts) for eqs, branch, pts, _ in raw]
     comps = _merge_zero_pi(comps)
     comps = _remove_contained(ctx, comps)
+    comps = [_with_direction(ctx, c) for c in comps]
     comps.sort(key=lambda c: (len(c.parameter_conditions) > 0, -c.dimension, c.rank_drop,
                               [sp.sstr(e) for e in c.equations]))
     return comps
@@ -421,18 +425,27 @@ def _component(ctx: Context, eqs, branch, pts) -> Component:
         dirs = tuple(tuple(float(x) for x in U[:, rank + i]) for i in range(drop))
     else:
         dirs = tuple(tuple(float(x) for x in Vt[rank + i, :]) for i in range(drop))
-    direction = _symbolic_direction(ctx, branch, model_pts or pts, drop)
     sample = {str(v): float(qv[v]) for v in tm.variables}
     for p in ring.params:
         if any(p in e.free_symbols for e in param_conds):
             sample[str(p)] = float(pv[p])
     return Component(equations=eqs_j + param_conds,
                      solved=solved, free=free, dimension=dim, rank_drop=drop,
-                     direction=direction, direction_at_sample=dirs, sample=sample,
-                     parameter_conditions=param_conds, for_model=for_model)
+                     direction=(), direction_at_sample=dirs, sample=sample,
+                     parameter_conditions=param_conds, for_model=for_model,
+                     _branch=(branch, model_pts or pts))
 
 
 MAX_DIRECTION_TERMS = 400
+
+
+def _with_direction(ctx, c: Component) -> Component:
+    import dataclasses
+
+    if c._branch is None:
+        return c
+    branch, pts = c._branch
+    return dataclasses.replace(c, direction=_symbolic_direction(ctx, branch, pts, c.rank_drop))
 
 
 def _symbolic_direction(ctx, branch, pts, drop):

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 from ..algebra import homogeneous_det
 from ._common import Context, left_null_vectors, transpose
+from .subdeterminant import maximal_minors, minors_branch
 
 __all__ = ["singular_vector_tree"]
 
@@ -58,6 +59,7 @@ def _svm(ctx: Context, M, branch, parent, level):
     if ctx.known(branch):
         ctx.add_node(parent, branch, shape=_shape(M), outcome="inside a component already found")
         return
+    M = branch.reduce_matrix(M, ctx.ring)
     rank = ctx.generic_rank(M, pts)
     if rank < n:
         node = ctx.add_node(parent, branch, shape=_shape(M), k=n - rank)
@@ -112,14 +114,20 @@ def _reduce(ctx: Context, M, cols, rest, branch, parent, level):
     U, d = left_null_vectors(ctx, Jsq, r, pts)
     Jdag = [[sum((u[j] * Jr[j][c] for j in range(n) if not u[j].is_zero() and not Jr[j][c].is_zero()),
                  ctx.ring.ctx.constant(0)) for c in range(len(rest))] for u in U]
-    node = ctx.add_node(parent, branch, k=k, outcome="refined", shape=f"{k}x{len(rest)}")
+    node = ctx.add_node(parent, branch, k=k, outcome="refined", shape=f"{k}x{len(rest)}",
+                        columns=[c + 1 for c in cols])
     _svm(ctx, Jdag, branch, node, level + 1)
-    # where the null vectors degenerate, analyse this level's matrix again
+    # Where the null vectors degenerate (d = 0) they prove nothing; there the
+    # matrix of this level is rank deficient exactly where all its maximal
+    # minors vanish, which is decided on its own sub-branch.
     if not d.is_constant():
+        minors = None
         for g in ctx.factors(branch.reduce(d, ctx.ring)):
             if ctx.parameter_only(g):
                 ctx.special_parameters(g, f"null vectors at branch {node}")
                 continue
             for child in ctx.children(branch, g):
+                if minors is None:
+                    minors = maximal_minors(ctx, M)
                 sub = ctx.add_node(node, child, outcome="refined", note="null vectors degenerate")
-                _svm(ctx, M, child, sub, level)
+                minors_branch(ctx, minors, child, sub)

@@ -22,12 +22,7 @@ __all__ = ["subdeterminant_tree"]
 def subdeterminant_tree(ctx: Context) -> bool:
     from ..branch import Branch
 
-    M = ctx.M if len(ctx.M) <= len(ctx.M[0]) else transpose(ctx.M)
-    n, m = len(M), len(M[0])
-    minors = []
-    for cols in itertools.combinations(range(m), n):
-        ctx.tick()
-        minors.append(homogeneous_det([[row[c] for c in cols] for row in M], ctx.ring))
+    minors = maximal_minors(ctx, ctx.M)
     ctx.progress(f"{len(minors)} maximal minors computed")
     nonzero = [p for p in minors if not p.is_zero()]
     root = Branch()
@@ -46,11 +41,24 @@ def subdeterminant_tree(ctx: Context) -> bool:
                 else:
                     ctx.tree.nodes[cnode]["outcome"] = "empty"
     rest = [p / g for p in nonzero]
-    _branch(ctx, rest, root, node)
+    minors_branch(ctx, rest, root, node)
     return False
 
 
-def _branch(ctx: Context, minors, branch, parent):
+def maximal_minors(ctx: Context, M) -> list:
+    """All maximal minors of a matrix of polynomials."""
+    if len(M) > len(M[0]):
+        M = transpose(M)
+    n, m = len(M), len(M[0])
+    out = []
+    for cols in itertools.combinations(range(m), n):
+        ctx.tick()
+        out.append(homogeneous_det([[row[c] for c in cols] for row in M], ctx.ring))
+    return out
+
+
+def minors_branch(ctx: Context, minors, branch, parent):
+    """Branch until every minor vanishes on the branch (a component) or the branch is empty."""
     ctx.tick()
     pts = ctx.sampler.points(branch)
     if not pts:
@@ -71,4 +79,4 @@ def _branch(ctx: Context, minors, branch, parent):
             continue
         for child in ctx.children(branch, f):
             node = ctx.add_node(parent, child, outcome="refined")
-            _branch(ctx, alive, child, node)
+            minors_branch(ctx, alive, child, node)
