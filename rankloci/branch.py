@@ -106,7 +106,7 @@ def solve_condition(f, ring: PolyRing):
             return Substitution("pi", i, (zero, one)), []
         if a.is_zero() and b.is_constant():
             return Substitution("zero", i, (one, zero)), []
-        size = len(a.monoms()) + len(b.monoms())
+        size = len(a) + len(b)
         if best is None or size < best[0]:
             best = (size, i, a, b)
     for g in sorted(used):
@@ -223,8 +223,6 @@ class BranchSampler:
         return g
 
     def _solve(self, branch: Branch, count: int):
-        from scipy.optimize import least_squares
-
         from .tolerances import ROOT_XTOL
 
         angles, others, params = self._unknowns(branch)
@@ -250,12 +248,8 @@ class BranchSampler:
                 self.rng.uniform(-2.0, 2.0, len(params)),
             ])
             if eqs:
-                try:
-                    sol = least_squares(residual, x0, xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=200 * (nx + 1))
-                except (ValueError, FloatingPointError):
-                    continue
-                x = sol.x
-                if not np.all(np.isfinite(x)) or np.max(np.abs(residual(x))) > ROOT_XTOL:
+                x = gauss_newton(residual, x0)
+                if x is None or np.max(np.abs(residual(x))) > ROOT_XTOL:
                     continue
             else:
                 x = x0
@@ -266,6 +260,39 @@ class BranchSampler:
             if len(found) >= count:
                 break
         return found
+
+
+def gauss_newton(residual, x0, *, max_iter: int = 60, h: float = 1e-7):
+    """Minimum-norm Gauss-Newton for an under- or well-determined system.
+
+    Each step solves J dx = -r in the least-squares, minimum-norm sense
+    (forward-difference J), with step halving when the residual grows.
+    Returns the final point, or None if it is not finite.
+    """
+    x = np.array(x0, dtype=float)
+    r = residual(x)
+    norm = np.linalg.norm(r)
+    for _ in range(max_iter):
+        if norm < 1e-14:
+            break
+        J = np.empty((len(r), len(x)))
+        for j in range(len(x)):
+            xp = x.copy()
+            xp[j] += h
+            J[:, j] = (residual(xp) - r) / h
+        dx = np.linalg.lstsq(J, -r, rcond=None)[0]
+        step = 1.0
+        while step > 1e-4:
+            xn = x + step * dx
+            rn = residual(xn)
+            nn = np.linalg.norm(rn)
+            if np.isfinite(nn) and nn < norm:
+                break
+            step /= 2
+        else:
+            return x if np.all(np.isfinite(x)) else None
+        x, r, norm = xn, rn, nn
+    return x if np.all(np.isfinite(x)) else None
 
 
 def _abs_poly(p, ring):

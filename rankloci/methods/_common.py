@@ -88,6 +88,9 @@ class Context:
         """
         pts = self.sampler.points(branch)
         full = min(len(self.M), len(self.M[0]))
+        if self.known(branch):
+            self.tree.nodes[node]["outcome"] = "inside a component already found"
+            return
         if pts and self.generic_rank(self.M, pts) == full:
             self.tree.nodes[node]["outcome"] = "null vectors vanish (covered by its own branch)"
             return
@@ -193,7 +196,7 @@ class Context:
     def choose_columns(self, M, points) -> list[int]:
         """n columns whose square block is regular at the points, smallest first."""
         n, m = len(M), len(M[0])
-        size = [sum(len(M[i][j].monoms()) for i in range(n)) for j in range(m)]
+        size = [sum(len(M[i][j]) for i in range(n)) for j in range(m)]
         combos = itertools.combinations(range(m), n)
         if math.comb(m, n) > 5000:
             combos = itertools.islice(combos, 5000)
@@ -206,16 +209,26 @@ class Context:
 
     def choose_block(self, A, r, points):
         """Rows and columns of an r x r block of ``A`` regular at the points."""
-        from scipy.linalg import qr
-
         N = self.numeric(A, points[0])
         norms = np.linalg.norm(N, axis=1)
         N = N / np.where(norms > 0, norms, 1.0)[:, None]
-        _, _, piv = qr(N, pivoting=True)
-        cols = sorted(piv[:r].tolist())
-        _, _, piv2 = qr(N[:, cols].T, pivoting=True)
-        rows = sorted(piv2[:r].tolist())
+        cols = sorted(_pivots(N, r))
+        rows = sorted(_pivots(N[:, cols].T, r))
         return rows, cols
+
+
+def _pivots(N, r):
+    """Indices of r columns of N chosen greedily by largest remaining norm (pivoted QR)."""
+    R = N.astype(float).copy()
+    chosen = []
+    for _ in range(r):
+        norms = np.linalg.norm(R, axis=0)
+        norms[chosen] = -1.0
+        j = int(np.argmax(norms))
+        chosen.append(j)
+        v = R[:, j] / max(np.linalg.norm(R[:, j]), 1e-300)
+        R = R - np.outer(v, v @ R)
+    return chosen
 
 
 def _generic_value(value: float, rng) -> float:
@@ -303,9 +316,10 @@ def _solved_value(e, q):
         a, b = fp.coeff_monomial(C), fp.coeff_monomial(S)
         # a C + b S = 0  ->  (C, S) ~ (b, -a)  ->  q = 2 atan2(-a, b), taken in (-pi, pi]
         v = 2 * sp.atan2(-a, b)
-        v = sp.simplify(v - 2 * sp.pi * sp.floor((v + sp.pi) / (2 * sp.pi))) if v.is_number else v
-        if v == -sp.pi:
-            v = sp.pi
+        if float(v) > math.pi + 1e-12:
+            v = v - 2 * sp.pi
+        elif float(v) <= -math.pi + 1e-12:
+            v = v + 2 * sp.pi
         vals.append(v)
     return tuple(sorted(set(vals), key=lambda x: float(x))) if vals else None
 
@@ -460,7 +474,7 @@ def _symbolic_direction(ctx, branch, pts, drop):
     if not vecs:
         return ()
     u = vecs[0]
-    if sum(len(p.monoms()) for p in u) > MAX_DIRECTION_TERMS:
+    if sum(len(p) for p in u) > MAX_DIRECTION_TERMS:
         return ()
     nonzero = [p for p in u if not p.is_zero()]
     if not nonzero:

@@ -71,21 +71,34 @@ def _svm(ctx: Context, M, branch, parent, level):
                         outcome="refined", level=level)
     ctx.progress(f"branch {node}: {n}x{m} matrix, determinant of columns {[c + 1 for c in cols]}")
     D = homogeneous_det([[row[c] for c in cols] for row in M], ctx.ring)
+    children = []
     for f in ctx.factors(D):
         if rest and ctx.parameter_only(f):
             ctx.special_parameters(f, f"det of columns {[c + 1 for c in cols]} at branch {node}")
             continue
-        for child in ctx.children(branch, f):
+        children.extend(ctx.children(branch, f))
+    if not rest:
+        for child in children:
             ctx.tick()
-            if not rest:
-                cpts = ctx.sampler.points(child)
-                cnode = ctx.add_node(node, child, shape=_shape(M), k=1)
-                if cpts:
-                    ctx.leaf(child, cnode, "no redundant column")
-                else:
-                    ctx.tree.nodes[cnode]["outcome"] = "empty"
-                continue
-            _reduce(ctx, M, cols, rest, child, node, level)
+            cnode = ctx.add_node(node, child, shape=_shape(M), k=1)
+            if ctx.sampler.points(child):
+                ctx.leaf(child, cnode, "no redundant column")
+            else:
+                ctx.tree.nodes[cnode]["outcome"] = "empty"
+        return
+    # Branches on which the whole matrix is rank deficient first: they are the
+    # largest components, and everything inside them is pruned afterwards.
+    pending = []
+    for child in children:
+        cpts = ctx.sampler.points(child)
+        if cpts and ctx.generic_rank(child.reduce_matrix(M, ctx.ring), cpts) < n:
+            cnode = ctx.add_node(node, child, k=n - ctx.generic_rank(child.reduce_matrix(M, ctx.ring), cpts))
+            ctx.leaf(child, cnode, "k > redundant columns")
+        else:
+            pending.append(child)
+    for child in pending:
+        ctx.tick()
+        _reduce(ctx, M, cols, rest, child, node, level)
 
 
 def _reduce(ctx: Context, M, cols, rest, branch, parent, level):

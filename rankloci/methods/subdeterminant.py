@@ -72,7 +72,7 @@ def minors_branch(ctx: Context, minors, branch, parent):
     if not alive:
         ctx.leaf(branch, parent, "all minors vanish")
         return
-    pick = min(alive, key=lambda p: len(p.monoms()))
+    pick = min(alive, key=len)
     for f in ctx.factors(pick):
         if ctx.parameter_only(f) and branch.conditions:
             ctx.special_parameters(f, "a minor on a branch")
