@@ -193,19 +193,35 @@ class Context:
                 return True
         return False
 
-    def choose_columns(self, M, points) -> list[int]:
-        """n columns whose square block is regular at the points, smallest first."""
+    def choose_columns(self, M, points, candidates: int = 12):
+        """n columns whose square block is regular at the points, and its determinant.
+
+        Among up to ``candidates`` regular blocks (smallest entries first) the
+        one with the fewest determinant terms wins: its factors, and so the
+        branches below it, are the simplest.
+        """
         n, m = len(M), len(M[0])
         size = [sum(len(M[i][j]) for i in range(n)) for j in range(m)]
         combos = itertools.combinations(range(m), n)
         if math.comb(m, n) > 5000:
             combos = itertools.islice(combos, 5000)
         ranked = sorted(combos, key=lambda cs: sum(size[c] for c in cs))
+        best = None
+        tried = 0
         for cols in ranked:
             sub = [[row[c] for c in cols] for row in M]
-            if all(self.rank_at(sub, g) == n for g in points[:1]) and self.rank_at(sub, points[-1]) == n:
-                return list(cols)
-        raise LocusError("no regular square block found although the matrix has full rank")
+            if any(self.rank_at(sub, g) < n for g in points[:2]):
+                continue
+            self.tick()
+            D = homogeneous_det(sub, self.ring)
+            if best is None or len(D) < len(best[1]):
+                best = (list(cols), D)
+            tried += 1
+            if tried >= candidates:
+                break
+        if best is None:
+            raise LocusError("no regular square block found although the matrix has full rank")
+        return best
 
     def choose_block(self, A, r, points):
         """Rows and columns of an r x r block of ``A`` regular at the points."""

@@ -65,12 +65,11 @@ def _svm(ctx: Context, M, branch, parent, level):
         node = ctx.add_node(parent, branch, shape=_shape(M), k=n - rank)
         ctx.leaf(branch, node, "k > redundant columns")
         return
-    cols = ctx.choose_columns(M, pts)
+    cols, D = ctx.choose_columns(M, pts)
     rest = [c for c in range(m) if c not in cols]
     node = ctx.add_node(parent, branch, shape=_shape(M), columns=[c + 1 for c in cols],
                         outcome="refined", level=level)
     ctx.progress(f"branch {node}: {n}x{m} matrix, determinant of columns {[c + 1 for c in cols]}")
-    D = homogeneous_det([[row[c] for c in cols] for row in M], ctx.ring)
     children = []
     for f in ctx.factors(D):
         if rest and ctx.parameter_only(f):
