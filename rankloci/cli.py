@@ -209,6 +209,17 @@ def cmd_locus(args) -> int:
         print(f"rankloci: error: {e}; raise --timeout (now {args.timeout:g} s) or try "
               f"--numeric-parameters", file=sys.stderr)
         return EXIT_FAILED
+    from .directions import directions_in_model_frame
+
+    locus = directions_in_model_frame(locus, model, tm)
+    if tm.frame is not None and (tm.frame, tm.point) != (getattr(model, "frame", None), "tool"):
+        import dataclasses
+
+        where = f"link frame {tm.frame}" if isinstance(tm.frame, int) else f"the {tm.frame} frame"
+        about = f", about the origin of link frame {tm.point}" if isinstance(tm.point, int) else ""
+        locus = dataclasses.replace(locus, notes=locus.notes + (
+            f"J was computed in {where}{about} (same rank); symbolic lost directions are "
+            f"expressed there, the directions at the sample points in the model's frame",))
     if args.tree:
         text = {".dot": tree_dot, ".json": tree_json, ".txt": tree_text}[Path(args.tree).suffix](locus.tree)
         _write_atomic(args.tree, text + "\n")

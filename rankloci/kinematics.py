@@ -226,3 +226,43 @@ def augmented_rows(model, constraints) -> sp.Matrix:
     q = list(model.variables)
     rows = [[sp.diff(g, v) for v in q] for g in constraints]
     return sp.Matrix(rows) if rows else sp.zeros(0, len(q))
+
+
+def numeric_frames(model: RobotModel, q, params=None):
+    """Numeric poses (4x4 arrays, in the world frame) at every factor position.
+
+    ``q`` maps joint variables to values; ``params`` maps parameter symbols
+    to values (default: the model's).  Entry ``p`` matches
+    :func:`relative_transforms` with ``frame="base"``.
+    """
+    import numpy as np
+
+    params = dict(model.parameters if params is None else params)
+    subs = {**{k: float(v) for k, v in params.items()}, **{k: float(v) for k, v in q.items()}}
+    poses = [np.eye(4)]
+    for F in _factors(model):
+        A = np.array(sp.Matrix(F).evalf(subs=subs), dtype=float)
+        poses.append(poses[-1] @ A)
+    return poses
+
+
+def velocity_map(model: RobotModel, q, frame, point, params=None):
+    """6x6 matrix A with J(frame, point) = A @ J(base, tool) at configuration ``q``.
+
+    Rows are linear velocity, then angular.  Left null vectors map back by
+    ``u_base = A.T @ u``.
+    """
+    import numpy as np
+
+    poses = numeric_frames(model, q, params)
+    R = poses[frame_position(model, frame)][:3, :3]
+    p_point = poses[frame_position(model, point)][:3, 3]
+    p_tool = poses[frame_position(model, "tool")][:3, 3]
+    r = p_point - p_tool
+    S = np.array([[0, -r[2], r[1]], [r[2], 0, -r[0]], [-r[1], r[0], 0]])
+    shift = np.eye(6)
+    shift[:3, 3:] = -S
+    rot = np.zeros((6, 6))
+    rot[:3, :3] = R.T
+    rot[3:, 3:] = R.T
+    return rot @ shift

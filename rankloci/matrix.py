@@ -51,6 +51,9 @@ class TaskMatrix:
     parameters: Mapping[sp.Symbol, sp.Expr] = field(default_factory=dict)
     row_labels: tuple[str, ...] = ()
     n_constraint_rows: int = 0
+    frame: object = None     # frame and reference point the Jacobian rows use
+    point: object = None
+    rows: tuple = ()         # the selected rows of the 6-row Jacobian
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -60,8 +63,10 @@ class TaskMatrix:
         """The same matrix with every parameter replaced by its value."""
         if not self.parameters:
             return self
-        return TaskMatrix(self.name, sp.ImmutableMatrix(self.matrix.subs(self.parameters)),
-                          self.variables, self.angles, {}, self.row_labels, self.n_constraint_rows)
+        import dataclasses
+
+        return dataclasses.replace(self, matrix=sp.ImmutableMatrix(self.matrix.subs(self.parameters)),
+                                   parameters={})
 
 
 def _small_frame(model: RobotModel, rows, point):
@@ -123,6 +128,7 @@ def task_matrix(model, *, task=None, frame=None, point="tool", augment: Sequence
         rows = model.task if task is None else task_rows(task)
         if frame == "auto":
             frame, point = _small_frame(model, rows, point)
+        frame = model.frame if frame is None else frame
         J = geometric_jacobian(model, frame=frame, point=point, task=task)
         labels = tuple(_ROW_NAMES[r] for r in rows)
         angles = model.angle_variables
@@ -138,6 +144,9 @@ def task_matrix(model, *, task=None, frame=None, point="tool", augment: Sequence
     if constraints:
         J = J.col_join(augmented_rows(model, [g for _, g in constraints]))
         labels += tuple(name for name, _ in constraints)
+    robot = isinstance(model, RobotModel)
     tm = TaskMatrix(model.name, sp.ImmutableMatrix(J), tuple(model.variables), angles,
-                    dict(model.parameters), labels, len(constraints))
+                    dict(model.parameters), labels, len(constraints),
+                    frame=frame if robot else None, point=point if robot else None,
+                    rows=tuple(rows) if robot else ())
     return tm.numeric_parameters() if numeric else tm
