@@ -1,0 +1,58 @@
+"""The locus does not depend on the frame J is expressed in, and reported
+directions are the model-frame null vectors."""
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from rankloci.directions import directions_in_model_frame
+from rankloci.io import load_model
+from rankloci.kinematics import geometric_jacobian
+from rankloci.matrix import task_matrix
+from rankloci.methods import compute_locus
+from rankloci.tolerances import RANK_RTOL
+
+SEED = 7
+
+
+def _equation_sets(locus):
+    return {tuple(sorted(sp.sstr(e) for e in c.equations))
+            for c in locus.components if not c.parameter_conditions and c.for_model}
+
+
+def _vanish_somewhere(comp_a, locus_b, syms):
+    """Is comp_a's sample point on some component of locus_b?"""
+    x = [comp_a.sample[str(s)] for s in syms]
+    for c in locus_b.components:
+        if c.parameter_conditions or not c.for_model:
+            continue
+        f = sp.lambdify(syms, list(c.equations))
+        if np.max(np.abs(np.array(f(*x), dtype=float))) < 1e-7:
+            return True
+    return False
+
+
+@pytest.mark.parametrize("name", ["puma560", "ur5"])
+def test_locus_same_in_base_and_middle_frame(name):
+    model = load_model(name)
+    base = compute_locus(task_matrix(model, frame="base", numeric=True), rng=np.random.default_rng(SEED))
+    middle = compute_locus(task_matrix(model, frame="auto", numeric=True), rng=np.random.default_rng(SEED))
+    syms = list(model.variables)
+    assert len(base.components) == len(middle.components)
+    for a, b in ((base, middle), (middle, base)):
+        for comp in a.components:
+            assert _vanish_somewhere(comp, b, syms), (name, comp.equations)
+
+
+def test_directions_are_left_null_vectors_in_model_frame():
+    model = load_model("puma560")
+    tm = task_matrix(model, frame="auto", numeric=True)
+    locus = directions_in_model_frame(compute_locus(tm, rng=np.random.default_rng(SEED)), model, tm)
+    J = sp.lambdify(model.variables, geometric_jacobian(model, frame="base").subs(model.parameters))
+    for comp in locus.components:
+        A = np.array(J(*[comp.sample[str(v)] for v in model.variables]), dtype=float)
+        smax = np.linalg.svd(A, compute_uv=False)[0]
+        for u in comp.direction_at_sample:
+            # u^T J = 0 up to the rank tolerance: the sample sits on the locus to
+            # ROOT_XTOL, far below RANK_RTOL relative to sigma_max
+            assert np.linalg.norm(np.asarray(u) @ A) <= 10 * RANK_RTOL * smax, comp.equations
