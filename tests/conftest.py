@@ -20,3 +20,11 @@ def write_file(tmp_path):
         return path
 
     return write
+
+
+# tests/locus_helpers.py is imported as a plain module (tests/ has no __init__.py)
+import sys as _sys  # noqa: E402
+
+_TESTS_DIR = str(Path(__file__).resolve().parent)
+if _TESTS_DIR not in _sys.path:
+    _sys.path.insert(0, _TESTS_DIR)

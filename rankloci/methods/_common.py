@@ -101,8 +101,12 @@ class Context:
 
     # --- numeric probes -----------------------------------------------------
 
-    def numeric(self, M, g) -> np.ndarray:
+    def numeric(self, M, g, *, scale=False) -> np.ndarray:
+        """Values of the entries at ``g`` (or, with ``scale``, the size of their terms)."""
         flat = [p for row in M for p in row]
+        if scale:
+            flat = [_abs_poly(p, self.ring) for p in flat]
+            return self.ring.compile(flat)(np.abs(g)).reshape(len(M), len(M[0]))
         key = tuple(id(p) for p in flat)
         got = self._compiled.get(key)
         # the cached entry keeps its polynomials alive, so their ids cannot be reused
@@ -114,9 +118,16 @@ class Context:
         return got[1](g).reshape(len(M), len(M[0]))
 
     def rank_at(self, M, g) -> int:
+        """Numeric rank of ``M`` at ``g``.
+
+        Rows are scaled to unit norm first (row scaling keeps the rank and
+        removes the arbitrary powers of C**2 + S**2); a row whose entries all
+        vanish relative to the size of their terms counts as a zero row.
+        """
         A = self.numeric(M, g)
+        sizes = self.numeric(M, g, scale=True)
         norms = np.linalg.norm(A, axis=1)
-        nz = norms > 0
+        nz = norms > ZERO_RTOL * np.linalg.norm(sizes, axis=1)
         if not np.any(nz):
             return 0
         A = A[nz] / norms[nz, None]
@@ -325,18 +336,23 @@ def _solved_value(e, q):
     if not poly.is_homogeneous:
         return None
     vals = []
-    for f, _ in sp.factor_list(h)[1]:
-        fp = sp.Poly(f, C, S)
-        if fp.total_degree() != 1:
+    d = poly.total_degree()
+    ht = sp.Poly(h.subs(C, 1), S)
+    if ht.degree() < d:
+        vals.append(sp.pi)            # C = 0 is a root: q = pi
+    if ht.degree() > 0:
+        try:
+            found = sp.roots(ht, filter="R")
+        except (sp.PolynomialError, NotImplementedError):
             return None
-        a, b = fp.coeff_monomial(C), fp.coeff_monomial(S)
-        # a C + b S = 0  ->  (C, S) ~ (b, -a)  ->  q = 2 atan2(-a, b), taken in (-pi, pi]
-        v = 2 * sp.atan2(-a, b)
-        if float(v) > math.pi + 1e-12:
-            v = v - 2 * sp.pi
-        elif float(v) <= -math.pi + 1e-12:
-            v = v + 2 * sp.pi
-        vals.append(v)
+        real_count = sum(1 for r in sp.Poly(ht, S).nroots() if abs(sp.im(r)) < 1e-12)
+        if sum(found.values()) < real_count:
+            return None
+        for t in found:
+            v = 2 * sp.atan(t)
+            if v.has(sp.atan) and len(sp.sstr(v)) > 40:
+                return None
+            vals.append(v)
     return tuple(sorted(set(vals), key=lambda x: float(x))) if vals else None
 
 
@@ -449,7 +465,7 @@ def _component(ctx: Context, eqs, branch, pts) -> Component:
     A = ctx.numeric(ctx.M, g)
     n, m = A.shape
     U, s, Vt = np.linalg.svd(A)
-    rank = int(np.sum(s > RANK_RTOL * s[0])) if s[0] > 0 else 0
+    rank = ctx.rank_at(ctx.M, g)
     drop = min(n, m) - rank
     if n <= m:
         dirs = tuple(tuple(float(x) for x in U[:, rank + i]) for i in range(drop))

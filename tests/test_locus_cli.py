@@ -1,0 +1,185 @@
+"""The ``locus`` command, called as ``main([...])``: JSON schema, formats, errors, timeout, tree files."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from rankloci.cli import main
+from rankloci.tolerances import ZERO_RTOL
+
+#: An equation string "vanishes" at a component's sample when |e| / (sum of |coefficients|) is
+#: at most the package's ZERO_RTOL (samples are accurate to ROOT_XTOL = 1e-12).
+EQ_RTOL = ZERO_RTOL
+
+DEGENERATE = 'variables = ["x", "y"]\nmatrix = [["x", "x"], ["y", "y"]]\n'
+
+
+def run(capsys, *argv):
+    """main(argv) -> (exit code, stdout, stderr)."""
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def locus_json(capsys, *argv):
+    code, out, err = run(capsys, "locus", *argv, "--format", "json", "--quiet")
+    assert code == 0, err
+    assert err == "", "--quiet must keep stderr empty"
+    return json.loads(out)
+
+
+def scaled_value(expr, params: dict, values: dict) -> float:
+    """|expr(values)| / (sum of |coefficients| of expr with the parameters substituted)."""
+    e = sp.expand(expr.subs(params))
+    scale = sum(abs(float(t.as_coeff_Mul()[0])) for t in sp.Add.make_args(e))
+    return abs(float(expr.subs(values))) / (scale if scale > 0 else 1.0)
+
+
+# --- JSON ---------------------------------------------------------------------------------
+
+def test_planar2r_json_schema_and_equations(capsys):
+    data = locus_json(capsys, "planar2r")
+    assert data["schema"] == "rankloci.locus/1"
+    assert data["model"] == "planar2r"
+    assert data["variables"] == ["q1", "q2"]
+    assert data["parameters"] == {"l1": 1.0, "l2": 1.0}
+    assert data["matrix"] == {"rows": 2, "cols": 2}
+    assert data["method"] in ("svm", "subdeterminant", "determinant")
+    assert data["degenerate"] is False
+    assert isinstance(data["seconds"], (int, float)) and data["seconds"] >= 0
+    assert data["components"], "planar2r has a singular locus"
+    names = {n: sp.Symbol(n, real=True) for n in data["variables"] + list(data["parameters"])}
+    for comp in data["components"]:
+        for key, kind in (("equations", list), ("solved", dict), ("free", list), ("dimension", int),
+                          ("rank_drop", int), ("direction", list)):
+            assert isinstance(comp[key], kind), (key, comp)
+        assert set(comp["free"]) <= set(data["variables"])
+        assert 0 <= comp["dimension"] <= 2 and comp["rank_drop"] >= 1
+        # the sample holds the variables and, for special components, their parameter values
+        params = {names[k]: v for k, v in data["parameters"].items()}
+        params |= {names[k]: v for k, v in comp["sample"].items() if k in data["parameters"]}
+        values = params | {names[k]: v for k, v in comp["sample"].items()}
+        assert set(comp["sample"]) >= set(data["variables"]), comp["sample"]
+        for text in comp["equations"]:
+            expr = sp.sympify(text, locals=names)
+            assert expr.free_symbols <= set(names.values()), (text, expr.free_symbols)
+            value = scaled_value(expr, params, values)
+            assert value <= EQ_RTOL, f"equation {text!r}: scaled {value:.2e} at the sample {comp['sample']}"
+    main_comps = [c for c in data["components"] if not c["parameter_conditions"] and c["for_model"]]
+    assert main_comps and all(c["rank_drop"] == 1 for c in main_comps)
+    # the model's own locus is sin(q2) = 0 (det J = l1 l2 sin q2): q2 = 0 and pi, not q2 = 1
+    q1, q2 = names["q1"], names["q2"]
+    for q2_value, on in ((0.0, True), (np.pi, True), (1.0, False)):
+        vals = {q1: 0.3, q2: q2_value, names["l1"]: 1.0, names["l2"]: 1.0}
+        zero = any(all(abs(float(sp.sympify(t, locals=names).subs(vals))) <= 1e-12
+                       for t in c["equations"]) for c in main_comps)
+        assert zero == on, (q2_value, [c["equations"] for c in main_comps])
+
+
+def test_json_agrees_with_seed_and_is_reproducible(capsys):
+    a = locus_json(capsys, "puma560", "--numeric-parameters", "--seed", "3")
+    b = locus_json(capsys, "puma560", "--numeric-parameters", "--seed", "3")
+    assert a["seed"] == 3
+    a.pop("seconds"), b.pop("seconds")
+    assert a == b
+    assert a["matrix"] == {"rows": 6, "cols": 6} and a["parameters"] == {}
+    # shoulder, elbow and wrist singularities: at least three pieces, all of dimension 5
+    assert len(a["components"]) >= 3, [c["equations"] for c in a["components"]]
+    assert all(c["dimension"] == 5 and c["rank_drop"] == 1 for c in a["components"])
+
+
+def test_degenerate_matrix_is_reported(capsys, write_file):
+    path = write_file("degen.toml", DEGENERATE)
+    for method in ("svm", "subdeterminant", "determinant"):
+        data = locus_json(capsys, str(path), "--method", method)
+        assert data["degenerate"] is True, method
+        assert data["matrix"] == {"rows": 2, "cols": 2}
+
+
+# --- other formats, progress, errors ------------------------------------------------------
+
+def test_latex_format(capsys):
+    code, out, err = run(capsys, "locus", "planar2r", "--format", "latex", "--quiet")
+    assert code == 0 and err == ""
+    assert "\\begin{align*}" in out and "\\end{align*}" in out
+    assert out.count("\\begin{align*}") == out.count("\\end{align*}")
+
+
+def test_text_format_lists_components(capsys):
+    code, out, err = run(capsys, "locus", "puma560", "--numeric-parameters", "--quiet")
+    assert code == 0 and err == ""
+    lines = out.splitlines()
+    assert lines[0].startswith("puma560: 6x6 matrix"), lines[0]
+    counts = [line for line in lines if line.endswith("component(s) of the rank-deficiency locus:")]
+    assert len(counts) == 1 and int(counts[0].split()[0]) >= 3, out
+    assert out.count("rank drop 1") == int(counts[0].split()[0]), out
+
+
+def test_progress_goes_to_stderr_unless_quiet(capsys):
+    code, out, err = run(capsys, "locus", "planar2r", "--format", "json")
+    assert code == 0
+    json.loads(out)  # stdout is only the JSON document
+    lines = err.splitlines()
+    assert lines, "progress messages expected on stderr"
+    assert all(line.startswith("rankloci: ") for line in lines), err
+    code, out_quiet, err_quiet = run(capsys, "locus", "planar2r", "--format", "json", "--quiet")
+    assert code == 0 and err_quiet == ""
+
+
+@pytest.mark.parametrize("quiet", [True, False], ids=["quiet", "progress"])
+def test_determinant_method_needs_a_square_matrix(capsys, quiet):
+    code, out, err = run(capsys, "locus", "planar3r", "--method", "determinant",
+                         *(["--quiet"] if quiet else []))
+    assert code == 2
+    assert out == ""
+    assert "Traceback" not in err
+    errors = [line for line in err.splitlines() if line.startswith("rankloci: error: ")]
+    assert len(errors) == 1, err
+    assert "determinant" in errors[0] and "2x3" in errors[0]
+    if quiet:
+        assert err.splitlines() == errors
+
+
+def test_timeout_exits_1(capsys):
+    code, out, err = run(capsys, "locus", "pa10", "--timeout", "0.001", "--quiet")
+    assert code == 1, (out, err)
+    assert out == ""
+    assert "did not finish" in err
+    assert len(err.splitlines()) == 1 and "Traceback" not in err, err
+    assert err.startswith("rankloci: error: ")
+
+
+# --- the branch tree files ----------------------------------------------------------------
+
+def test_tree_files_are_written_and_parse(capsys, tmp_path):
+    paths = {ext: tmp_path / f"tree.{ext}" for ext in ("json", "dot", "txt")}
+    for path in paths.values():
+        code, out, err = run(capsys, "locus", "planar3r", "--tree", str(path), "--quiet", "--seed", "1")
+        assert code == 0, err
+        assert path.is_file()
+    with open(paths["json"], encoding="utf-8") as fh:
+        data = json.load(fh)
+    ids = {n["id"] for n in data["nodes"]}
+    edges = data["edges"]
+    assert 0 in ids
+    assert all(e["source"] in ids and e["target"] in ids for e in edges)
+    assert not any(e["target"] == 0 for e in edges), "node 0 is the root"
+    parents = {e["source"] for e in edges}
+    leaves = [n for n in data["nodes"] if n["id"] not in parents]
+    assert leaves and all(n.get("outcome") for n in leaves), leaves
+    dot = paths["dot"].read_text(encoding="utf-8")
+    assert dot.startswith("digraph")
+    assert dot.rstrip().endswith("}")
+    assert dot.count("->") == len(edges)
+    txt = paths["txt"].read_text(encoding="utf-8")
+    assert txt.strip() and "0:" in txt.splitlines()[0]
+    assert len(txt.strip().splitlines()) >= len(ids)
+
+
+def test_tree_with_unknown_suffix_is_a_usage_error(capsys, tmp_path):
+    code, out, err = run(capsys, "locus", "planar2r", "--tree", str(tmp_path / "tree.png"))
+    assert code == 2 and out == "" and len(err.splitlines()) == 1
