@@ -139,6 +139,8 @@ def _reduce(ctx: Context, M, cols, rest, branch, parent, level):
                 ctx.special_parameters(g, f"null vectors at branch {node}")
                 continue
             for child in ctx.children(branch, g):
+                if ctx.known(child):
+                    continue
                 if minors is None:
                     minors = maximal_minors(ctx, M)
                 sub = ctx.add_node(node, child, outcome="refined", note="null vectors degenerate")
