@@ -175,46 +175,93 @@ class PolyRing:
 
     # --- polynomial -> sympy --------------------------------------------------
 
+    @functools.cached_property
+    def _display(self):
+        """Ring of the readable form: cos q, sin q, cos(q/2), sin(q/2) per angle, then the rest."""
+        names = []
+        symbols = []
+        for q in self.angles:
+            names += [f"c_{q.name}", f"s_{q.name}", f"hc_{q.name}", f"hs_{q.name}"]
+            symbols += [sp.cos(q), sp.sin(q), sp.cos(q / 2), sp.sin(q / 2)]
+        names += [x.name for x in self.others] + [p.name for p in self.params]
+        symbols += list(self.others) + list(self.params)
+        ctx = flint.fmpq_mpoly_ctx.get(tuple(names), "degrevlex")
+        return ctx, ctx.gens(), symbols
+
     def to_sympy(self, p, *, full_angles: bool = True) -> sp.Expr:
         """Readable trigonometric form of a homogeneous polynomial.
 
-        Pairs of even degree are written with cos q and sin q; pairs of odd
-        degree keep half angles, cos(q/2) and sin(q/2).
+        Pairs of even degree are written with cos q and sin q (using
+        C**2 = (1 + cos q)/2, S**2 = (1 - cos q)/2, C*S = sin(q)/2, which
+        leaves sin q to the first power: the normal form modulo
+        sin**2 + cos**2 - 1); pairs of odd degree keep half angles.  The
+        rational content is cleared so that equations read with integer
+        coefficients.
         """
+        key = id(p)
+        got = self._to_sympy_cache.get(key)
+        if got is not None and got[0] is p and got[1] == full_angles:
+            return got[2]
+        expr = self._to_sympy(p, full_angles)
+        if len(self._to_sympy_cache) > 4096:
+            self._to_sympy_cache.clear()
+        self._to_sympy_cache[key] = (p, full_angles, expr)
+        return expr
+
+    @functools.cached_property
+    def _to_sympy_cache(self) -> dict:
+        return {}
+
+    def _to_sympy(self, p, full_angles):
+        if p.is_zero():
+            return sp.Integer(0)
+        ctx, gens, symbols = self._display
         degs = self.pair_degrees(p)
         na = self.n_angles
-        expr = sp.Integer(0)
+        half = ctx.constant(flint.fmpq(1, 2))
+        one = ctx.constant(1)
+        powers = {}
+
+        def power(k, kind, e):
+            key = (k, kind, e)
+            if key not in powers:
+                c, s = gens[4 * k], gens[4 * k + 1]
+                base = {"plus": (one + c) * half, "minus": (one - c) * half, "cs": s * half}[kind]
+                powers[key] = base ** e
+            return powers[key]
+
+        rest_gens = gens[4 * na:]
+        total = ctx.constant(0)
         for mon, coeff in zip(p.monoms(), p.coeffs()):
-            term = sp.Rational(int(coeff.p), int(coeff.q))
+            term = ctx.constant(coeff)
             for k in range(na):
                 a, b = mon[2 * k], mon[2 * k + 1]
-                q = self.angles[k]
                 if a + b == 0:
                     continue
                 if full_angles and degs[k] % 2 == 0:
-                    c, s = sp.cos(q), sp.sin(q)
                     if a % 2 == 0:
-                        term *= ((1 + c) / 2) ** (a // 2) * ((1 - c) / 2) ** (b // 2)
+                        term *= power(k, "plus", a // 2) * power(k, "minus", b // 2)
                     else:
-                        term *= (s / 2) * ((1 + c) / 2) ** ((a - 1) // 2) * ((1 - c) / 2) ** ((b - 1) // 2)
+                        term *= power(k, "cs", 1) * power(k, "plus", (a - 1) // 2) * power(k, "minus", (b - 1) // 2)
                 else:
-                    term *= sp.cos(q / 2) ** a * sp.sin(q / 2) ** b
-            for e, v in zip(mon[2 * na:], list(self.others) + list(self.params)):
-                term *= v ** e
-            expr += term
-        from .kinematics import trig_normal
-        e = trig_normal(expr)
-        # clear the rational content so equations read with integer coefficients
-        num, den = sp.fraction(sp.together(e))
-        e = sp.expand(num)
-        coeffs = [t.as_coeff_Mul()[0] for t in sp.Add.make_args(e)]
-        if coeffs and all(c.is_Rational for c in coeffs):
-            g = functools.reduce(sp.gcd, [abs(c) for c in coeffs])
-            if g != 0:
-                e = sp.expand(e / g)
-            if coeffs[0] < 0 and len(coeffs) == 1:
-                e = -e
-        return e
+                    term *= gens[4 * k + 2] ** a * gens[4 * k + 3] ** b
+            for e, v in zip(mon[2 * na:], rest_gens):
+                if e:
+                    term *= v ** e
+            total += term
+        if total.is_zero():
+            return sp.Integer(0)
+        coeffs = total.coeffs()
+        num = functools.reduce(lambda x, y: x.gcd(y), [flint.fmpz(c.p) for c in coeffs])
+        den = functools.reduce(lambda x, y: x * y // x.gcd(y), [flint.fmpz(c.q) for c in coeffs])
+        total = total * flint.fmpq(den, num)
+        if len(coeffs) == 1 and total.coeffs()[0] < 0:
+            total = -total
+        terms = []
+        for mon, coeff in zip(total.monoms(), total.coeffs()):
+            factors = [sym ** e for sym, e in zip(symbols, mon) if e]
+            terms.append(sp.Mul(sp.Rational(int(coeff.p), int(coeff.q)), *factors))
+        return sp.Add(*terms)
 
     # --- numeric evaluation ---------------------------------------------------
 
