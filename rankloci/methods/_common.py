@@ -104,35 +104,21 @@ class Context:
     def numeric(self, M, g, *, scale=False) -> np.ndarray:
         """Values of the entries at ``g`` (or, with ``scale``, the size of their terms)."""
         flat = [p for row in M for p in row]
-        if scale:
-            flat = [_abs_poly(p, self.ring) for p in flat]
-            return self.ring.compile(flat)(np.abs(g)).reshape(len(M), len(M[0]))
-        key = tuple(id(p) for p in flat)
+        key = (scale,) + tuple(id(p) for p in flat)
         got = self._compiled.get(key)
         # the cached entry keeps its polynomials alive, so their ids cannot be reused
         if got is None or any(a is not b for a, b in zip(got[0], flat)):
-            got = (flat, self.ring.compile(flat))
-            if len(self._compiled) > 256:
+            polys = [_abs_poly(p, self.ring) for p in flat] if scale else flat
+            got = (flat, self.ring.compile(polys))
+            if len(self._compiled) > 512:
                 self._compiled.clear()
             self._compiled[key] = got
-        return got[1](g).reshape(len(M), len(M[0]))
+        x = np.abs(g) if scale else g
+        return got[1](x).reshape(len(M), len(M[0]))
 
     def rank_at(self, M, g) -> int:
-        """Numeric rank of ``M`` at ``g``.
-
-        Rows are scaled to unit norm first (row scaling keeps the rank and
-        removes the arbitrary powers of C**2 + S**2); a row whose entries all
-        vanish relative to the size of their terms counts as a zero row.
-        """
-        A = self.numeric(M, g)
-        sizes = self.numeric(M, g, scale=True)
-        norms = np.linalg.norm(A, axis=1)
-        nz = norms > ZERO_RTOL * np.linalg.norm(sizes, axis=1)
-        if not np.any(nz):
-            return 0
-        A = A[nz] / norms[nz, None]
-        s = np.linalg.svd(A, compute_uv=False)
-        return int(np.sum(s > RANK_RTOL * s[0]))
+        """Numeric rank of ``M`` at ``g``; see :func:`numeric_rank`."""
+        return numeric_rank(self.numeric(M, g), self.numeric(M, g, scale=True))
 
     def generic_rank(self, M, points) -> int:
         return max(self.rank_at(M, g) for g in points)
@@ -219,10 +205,12 @@ class Context:
         ranked = sorted(combos, key=lambda cs: sum(size[c] for c in cs))
         best = None
         tried = 0
+        evaluated = [(self.numeric(M, g), self.numeric(M, g, scale=True)) for g in points[:2]]
         for cols in ranked:
-            sub = [[row[c] for c in cols] for row in M]
-            if any(self.rank_at(sub, g) < n for g in points[:2]):
+            cl = list(cols)
+            if any(numeric_rank(A[:, cl], S[:, cl]) < n for A, S in evaluated):
                 continue
+            sub = [[row[c] for c in cols] for row in M]
             self.tick()
             D = homogeneous_det(sub, self.ring)
             if best is None or len(D) < len(best[1]):
@@ -256,6 +244,22 @@ def _pivots(N, r):
         v = R[:, j] / max(np.linalg.norm(R[:, j]), 1e-300)
         R = R - np.outer(v, v @ R)
     return chosen
+
+
+def numeric_rank(A, sizes) -> int:
+    """Rank of the evaluated matrix ``A`` whose entries have term sizes ``sizes``.
+
+    Rows are scaled to unit norm first (row scaling keeps the rank and
+    removes the arbitrary powers of C**2 + S**2); a row whose entries all
+    vanish relative to the size of their terms (ZERO_RTOL) is a zero row.
+    """
+    norms = np.linalg.norm(A, axis=1)
+    nz = norms > ZERO_RTOL * np.linalg.norm(sizes, axis=1)
+    if not np.any(nz):
+        return 0
+    B = A[nz] / norms[nz, None]
+    s = np.linalg.svd(B, compute_uv=False)
+    return int(np.sum(s > RANK_RTOL * s[0]))
 
 
 def _generic_value(value: float, rng) -> float:

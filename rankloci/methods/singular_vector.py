@@ -23,7 +23,6 @@ from __future__ import annotations
 
 from ..algebra import homogeneous_det
 from ._common import Context, left_null_vectors, transpose
-from .subdeterminant import maximal_minors, minors_branch
 
 __all__ = ["singular_vector_tree"]
 
@@ -133,7 +132,6 @@ def _reduce(ctx: Context, M, cols, rest, branch, parent, level):
     # matrix of this level is rank deficient exactly where all its maximal
     # minors vanish, which is decided on its own sub-branch.
     if not d.is_constant():
-        minors = None
         for g in ctx.factors(branch.reduce(d, ctx.ring)):
             if ctx.parameter_only(g):
                 ctx.special_parameters(g, f"null vectors at branch {node}")
@@ -141,7 +139,39 @@ def _reduce(ctx: Context, M, cols, rest, branch, parent, level):
             for child in ctx.children(branch, g):
                 if ctx.known(child):
                     continue
-                if minors is None:
-                    minors = maximal_minors(ctx, M)
                 sub = ctx.add_node(node, child, outcome="refined", note="null vectors degenerate")
-                minors_branch(ctx, minors, child, sub)
+                _minor_branch(ctx, M, child, sub)
+
+
+def _minor_branch(ctx: Context, M, branch, parent):
+    """Split ``branch`` on one non-vanishing maximal minor at a time.
+
+    All maximal minors vanish on a branch exactly when the numeric rank of
+    the matrix at its generic points is below full, so the minors need not
+    all be formed: one minor that does not vanish on the branch (the
+    determinant of a regular block) must vanish on every singular point,
+    and its factors split the branch.
+    """
+    ctx.tick()
+    pts = ctx.sampler.points(branch)
+    if not pts:
+        ctx.tree.nodes[parent]["outcome"] = "empty"
+        return
+    if ctx.known(branch):
+        ctx.tree.nodes[parent]["outcome"] = "inside a component already found"
+        return
+    Mb = branch.reduce_matrix(M, ctx.ring)
+    if len(Mb) > len(Mb[0]):
+        Mb = transpose(Mb)
+    if ctx.generic_rank(Mb, pts) < len(Mb):
+        ctx.leaf(branch, parent, "all minors vanish")
+        return
+    cols, D = ctx.choose_columns(Mb, pts, candidates=3)
+    ctx.tree.nodes[parent]["columns"] = [c + 1 for c in cols]
+    for f in ctx.factors(D):
+        if ctx.parameter_only(f):
+            ctx.special_parameters(f, "a minor on a branch")
+            continue
+        for child in ctx.children(branch, f):
+            node = ctx.add_node(parent, child, outcome="refined")
+            _minor_branch(ctx, M, child, node)
