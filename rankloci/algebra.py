@@ -25,7 +25,6 @@ than sympy on Jacobian polynomials.
 from __future__ import annotations
 
 import functools
-import itertools
 from dataclasses import dataclass
 
 import flint
@@ -34,7 +33,7 @@ import sympy as sp
 
 from .errors import LocusError
 
-__all__ = ["PolyRing", "bareiss_det", "laplace_det", "homogeneous_det", "irreducible_factors", "dehomogenize", "rehomogenize"]
+__all__ = ["PolyRing", "laplace_det", "irreducible_factors", "abs_poly"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -302,8 +301,10 @@ def laplace_det(M):
     """Determinant by Laplace expansion along rows, sharing minors (2**n subproducts).
 
     Jacobians are sparse and their entries small; with the minors of the
-    lower rows memoised this beats fraction-free elimination, whose exact
-    divisions of large intermediate polynomials dominate.
+    lower rows memoised this beats fraction-free (Bareiss) elimination, whose
+    exact divisions of large intermediate polynomials dominate (PUMA 560,
+    6x6 in a middle frame: 0.004 s against 0.46 s).  Rows homogeneous in
+    each (C, S) pair give a homogeneous determinant.
     """
     n = len(M)
     if n == 0:
@@ -338,32 +339,6 @@ def laplace_det(M):
     return minor(0, tuple(range(n)))
 
 
-def bareiss_det(M):
-    """Determinant of a square matrix of flint polynomials (fraction-free Bareiss)."""
-    n = len(M)
-    if n == 0:
-        raise ValueError("empty matrix")
-    A = [list(r) for r in M]
-    sign = 1
-    prev = None
-    for k in range(n - 1):
-        if A[k][k].is_zero():
-            for r in range(k + 1, n):
-                if not A[r][k].is_zero():
-                    A[k], A[r] = A[r], A[k]
-                    sign = -sign
-                    break
-            else:
-                return A[k][k] * 0
-        pivot = A[k][k]
-        for i in range(k + 1, n):
-            for j in range(k + 1, n):
-                num = A[i][j] * pivot - A[i][k] * A[k][j]
-                A[i][j] = num if prev is None else num / prev
-        prev = pivot
-    return A[n - 1][n - 1] * sign
-
-
 def irreducible_factors(p, ring: PolyRing):
     """Distinct irreducible, non-constant factors of ``p``, spurious ones removed.
 
@@ -392,51 +367,11 @@ def _is_circle(f, ring):
     return False
 
 
-def monic(p):
-    """``p`` divided by its leading coefficient."""
-    return p / p.leading_coefficient()
+def abs_poly(p, ring: PolyRing):
+    """``p`` with every coefficient replaced by its absolute value.
 
-
-def dehomogenize(p, ring: PolyRing):
-    """``p`` with every C set to 1 (the chart tan(q/2) = S)."""
-    if p.is_zero():
-        return p
-    vals = list(ring.gens)
-    one = ring.ctx.constant(1)
-    for i in range(ring.n_angles):
-        vals[2 * i] = one
-    return p.compose(*vals)
-
-
-def rehomogenize(p, ring: PolyRing, degrees):
-    """Inverse of :func:`dehomogenize` for a polynomial of known pair degrees."""
-    if p.is_zero():
-        return p
-    na = ring.n_angles
-    out = {}
-    for mon, coeff in zip(p.monoms(), p.coeffs()):
-        mon = list(mon)
-        for i in range(na):
-            b = mon[2 * i + 1]
-            if b > degrees[i]:
-                raise ValueError("degree in S exceeds the homogeneous degree")
-            mon[2 * i] = degrees[i] - b
-        out[tuple(mon)] = coeff
-    return ring.ctx.from_dict(out)
-
-
-def homogeneous_det(M, ring: PolyRing):
-    """Determinant of a matrix whose rows are homogeneous in each (C, S) pair.
-
-    The determinant is computed in the chart C = 1 (half as many variables)
-    and made homogeneous again: its degree in each pair is the sum of the
-    rows' degrees, so nothing is lost at q = pi.
+    Evaluated at the absolute values of the generators it bounds |p| and
+    measures the size of p's terms, the scale against which "p vanishes
+    here" is decided.
     """
-    degs = [0] * ring.n_angles
-    for row in M:
-        rd = [0] * ring.n_angles
-        for p in row:
-            if not p.is_zero():
-                rd = [max(a, b) for a, b in zip(rd, ring.pair_degrees(p))]
-        degs = [a + b for a, b in zip(degs, rd)]
-    return laplace_det(M)
+    return ring.ctx.from_dict({m: abs(c) for m, c in zip(p.monoms(), p.coeffs())})

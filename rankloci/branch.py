@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .algebra import PolyRing
+from .algebra import PolyRing, abs_poly
 
 __all__ = ["Branch", "Substitution", "solve_condition"]
 
@@ -226,10 +226,9 @@ class BranchSampler:
         from .tolerances import ROOT_XTOL
 
         angles, others, params = self._unknowns(branch)
-        nx = len(angles) + len(others) + len(params)
         eqs = list(branch.implicit)
         ev = self.ring.compile(eqs) if eqs else None
-        scale_ev = self.ring.compile([_abs_poly(e, self.ring) for e in eqs]) if eqs else None
+        scale_ev = self.ring.compile([abs_poly(e, self.ring) for e in eqs]) if eqs else None
         found = []
 
         def residual(x):
@@ -293,8 +292,3 @@ def gauss_newton(residual, x0, *, max_iter: int = 60, h: float = 1e-7):
             return x if np.all(np.isfinite(x)) else None
         x, r, norm = xn, rn, nn
     return x if np.all(np.isfinite(x)) else None
-
-
-def _abs_poly(p, ring):
-    """Polynomial with the absolute values of the coefficients (a size scale)."""
-    return ring.ctx.from_dict({m: abs(c) for m, c in zip(p.monoms(), p.coeffs())})

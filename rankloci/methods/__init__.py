@@ -8,7 +8,6 @@ on a square matrix is the same computation).
 
 from __future__ import annotations
 
-import dataclasses
 
 import numpy as np
 

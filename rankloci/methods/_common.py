@@ -15,11 +15,11 @@ import networkx as nx
 import numpy as np
 import sympy as sp
 
-from ..algebra import PolyRing, homogeneous_det, irreducible_factors
+from ..algebra import PolyRing, abs_poly, irreducible_factors, laplace_det
 from ..branch import Branch, BranchSampler
 from ..errors import LocusError
 from ..kinematics import trig_normal
-from ..locus import Component, Locus
+from ..locus import Component
 from ..tolerances import RANK_RTOL, ZERO_RTOL
 
 __all__ = ["Context", "LocusTimeout", "finalize"]
@@ -108,7 +108,7 @@ class Context:
         got = self._compiled.get(key)
         # the cached entry keeps its polynomials alive, so their ids cannot be reused
         if got is None or any(a is not b for a, b in zip(got[0], flat)):
-            polys = [_abs_poly(p, self.ring) for p in flat] if scale else flat
+            polys = [abs_poly(p, self.ring) for p in flat] if scale else flat
             got = (flat, self.ring.compile(polys))
             if len(self._compiled) > 512:
                 self._compiled.clear()
@@ -128,7 +128,7 @@ class Context:
         if p.is_zero():
             return True
         val = self.ring.compile([p])
-        scale = self.ring.compile([_abs_poly(p, self.ring)])
+        scale = self.ring.compile([abs_poly(p, self.ring)])
         return all(abs(val(g)[0]) <= ZERO_RTOL * max(scale(np.abs(g))[0], 1e-300) for g in points)
 
     def children(self, branch: Branch, f) -> list[Branch]:
@@ -212,7 +212,7 @@ class Context:
                 continue
             sub = [[row[c] for c in cols] for row in M]
             self.tick()
-            D = homogeneous_det(sub, self.ring)
+            D = laplace_det(sub)
             if best is None or len(D) < len(best[1]):
                 best = (list(cols), D)
             tried += 1
@@ -281,7 +281,7 @@ def left_null_vectors(ctx: Context, A, rank, points):
     n = len(A)
     rows, cols = ctx.choose_block(A, rank, points)
     block = [[A[i][j] for j in cols] for i in rows]
-    d = homogeneous_det(block, ctx.ring) if rank else ctx.ring.ctx.constant(1)
+    d = laplace_det(block) if rank else ctx.ring.ctx.constant(1)
     vectors = []
     zero = ctx.ring.ctx.constant(0)
     for i in range(n):
@@ -292,16 +292,12 @@ def left_null_vectors(ctx: Context, A, rank, points):
         for t, r in enumerate(order):
             rest = [order[s] for s in range(len(order)) if s != t]
             if rest:
-                minor = homogeneous_det([[A[x][j] for j in cols] for x in rest], ctx.ring)
+                minor = laplace_det([[A[x][j] for j in cols] for x in rest])
             else:
                 minor = ctx.ring.ctx.constant(1)
             u[r] = minor if t % 2 == 0 else -minor
         vectors.append(u)
     return vectors, d
-
-
-def _abs_poly(p, ring):
-    return ring.ctx.from_dict({m: abs(c) for m, c in zip(p.monoms(), p.coeffs())})
 
 
 # --- from leaves to components ---------------------------------------------
@@ -410,9 +406,9 @@ def _equation_functions(ring, equations, tm):
     return sp.lambdify(syms, list(equations), modules="numpy"), syms
 
 
-def finalize(ctx: Context, *, seconds_start=None) -> list[Component]:
+def finalize(ctx: Context) -> list[Component]:
     """Components from the leaves: readable, deduplicated, none inside another."""
-    ring, tm = ctx.ring, ctx.tm
+    ring = ctx.ring
     raw = []
     for branch, node in ctx.leaves:
         pts = ctx.sampler.points(branch)

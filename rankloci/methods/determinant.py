@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ..algebra import homogeneous_det
+from ..algebra import laplace_det
 from ..errors import LocusError
 from ._common import Context
 
@@ -17,7 +17,7 @@ def determinant_tree(ctx: Context) -> bool:
         raise LocusError(f"the determinant method needs a square matrix, this one is {n}x{m}; "
                          "use --method svm or subdeterminant")
     root = Branch()
-    D = homogeneous_det(ctx.M, ctx.ring)
+    D = laplace_det(ctx.M)
     if D.is_zero():
         node = ctx.add_node(None, root, outcome="degenerate")
         ctx.leaf(root, node, "degenerate")

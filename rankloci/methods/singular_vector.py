@@ -21,7 +21,6 @@ A matrix with more rows than columns is handled through its transpose
 
 from __future__ import annotations
 
-from ..algebra import homogeneous_det
 from ._common import Context, left_null_vectors, transpose
 
 __all__ = ["singular_vector_tree"]

@@ -13,7 +13,7 @@ from __future__ import annotations
 import itertools
 from functools import reduce
 
-from ..algebra import homogeneous_det
+from ..algebra import laplace_det
 from ._common import Context, transpose
 
 __all__ = ["subdeterminant_tree"]
@@ -53,7 +53,7 @@ def maximal_minors(ctx: Context, M) -> list:
     out = []
     for cols in itertools.combinations(range(m), n):
         ctx.tick()
-        out.append(homogeneous_det([[row[c] for c in cols] for row in M], ctx.ring))
+        out.append(laplace_det([[row[c] for c in cols] for row in M]))
     return out
 
 
