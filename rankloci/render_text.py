@@ -10,10 +10,17 @@ __all__ = ["locus_text", "locus_json", "locus_latex", "tree_text", "tree_dot", "
            "solved_text"]
 
 
+def _value_text(v) -> str:
+    text = sp.sstr(v).replace("pi", "π")
+    if not (v / sp.pi).is_rational:
+        text += f" (≈ {float(v):.6g})"
+    return text
+
+
 def solved_text(comp) -> str:
     parts = []
     for q, vals in comp.solved.items():
-        vs = ", ".join(sp.pretty(v, use_unicode=True) for v in vals)
+        vs = ", ".join(_value_text(v) for v in vals)
         parts.append(f"{q} ∈ {{{vs}}}" if len(vals) > 1 else f"{q} = {vs}")
     return "; ".join(parts)
 
