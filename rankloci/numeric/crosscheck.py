@@ -1,0 +1,461 @@
+"""Numeric cross-check of a rank-deficiency locus against the SVD of J(q).
+
+:func:`cross_check` tests a :class:`~rankloci.locus.Locus` three ways, with
+J evaluated in double precision (the model's own frame, parameters
+substituted):
+
+1. *on-locus*: points solved onto each component must make J rank deficient
+   (sigma_min/sigma_max <= RANK_RTOL);
+2. *off-locus*: random configurations away from every component must make
+   J full rank;
+3. *completeness*: minima of sigma_min/sigma_max from random starts that
+   reach rank deficiency must lie on some component.
+
+The SVD decides.  At each on-locus point the FSP reducer
+(:func:`rankloci.numeric.fsp.dependent_rows`) and the scale-free largest
+maximal minor (:func:`rankloci.numeric.minors.relative_max_minor`) are
+evaluated too; where they disagree with the SVD this is recorded as a
+finding, not a failure.  Failed checks are data in the frozen
+:class:`CheckReport`, never exceptions.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import sympy as sp
+
+from ..tolerances import RANK_RTOL
+from .fsp import dependent_rows
+from .minors import relative_max_minor
+from .svd import numeric_rank_drop, sigma_ratio
+
+__all__ = ["cross_check", "parse_locus", "render_check_text", "CheckReport", "ComponentCheck",
+           "PointCheck", "NumericMatrix", "SCHEMA"]
+
+SCHEMA = "rankloci.check/1"
+
+#: A point counts as on a component when every equation, divided by the sum of the absolute
+#: values of its coefficients (a trig polynomial is then at most 1), is at most this.  Root
+#: finding reaches ~1e-15; ROOT_XTOL (1e-12) is the package's accuracy goal; one order above it.
+ON_COMPONENT_RESIDUAL = 1e-11
+
+#: On-locus points must have sigma_min/sigma_max at most this: the package's RANK_RTOL, >= 3
+#: orders above the ~1e-12 that points accurate to ON_COMPONENT_RESIDUAL give (sigma_min is
+#: Lipschitz in q with a constant ~sigma_max).
+ON_LOCUS_RTOL = RANK_RTOL
+
+#: Off-locus configurations keep every component's largest scaled equation above this: 1e-2 is
+#: ~0.01 rad from the component, where sigma_min/sigma_max is ~1e-2 * (a constant of order 1),
+#: six orders above RANK_RTOL, so a full-rank J is expected there.
+OFF_LOCUS_MIN_RESIDUAL = 1e-2
+
+#: A completeness-probe minimum counts as singular when sigma_min/sigma_max <= this (RANK_RTOL).
+PROBE_SINGULAR_RTOL = RANK_RTOL
+
+#: A singular probe point is covered when some component's scaled equations are all at most this.
+#: A minimiser stops within ~ratio/|grad ratio| (~1e-8 rad) of a smooth locus, ~1e-6 rad near
+#: tangential intersections; scaled trig equations change by at most their degree (<= 8) per
+#: radian, so 1e-6 accepts those while a missing component leaves residuals of 1e-2 or more.
+COVER_RESIDUAL = 1e-6
+
+#: The largest maximal minor relative to the product of row norms "vanishes" at or below this:
+#: it is about (sigma_min/sigma_max) * sigma_max^n / prod(row norms); row norms within a factor
+#: ~100 of sigma_max over the rows leave it within 1e2 of RANK_RTOL.
+MINOR_RTOL = 1e2 * RANK_RTOL
+
+_MAX_TRIES = 40  # random starts per requested point (root finding, off-locus draws)
+
+
+# --- numeric J ------------------------------------------------------------------------------
+
+class NumericMatrix:
+    """J(q) and its derivatives as numpy functions, lambdified once, evaluated in batches."""
+
+    def __init__(self, matrix, variables, angles=()):
+        M = sp.Matrix(matrix)
+        self.shape = M.shape
+        self.variables = tuple(variables)
+        self.angles = frozenset(angles)
+        self._J = sp.lambdify(self.variables, list(M), modules="numpy")
+        self._dJ = sp.lambdify(self.variables, [list(M.diff(v)) for v in self.variables],
+                               modules="numpy")
+
+    def batch(self, Q) -> np.ndarray:
+        """J at each row of Q (shape (N, n)): an array of shape (N, rows, cols)."""
+        Q = np.atleast_2d(np.asarray(Q, dtype=float))
+        vals = self._J(*Q.T)
+        N = Q.shape[0]
+        return np.stack([np.broadcast_to(np.asarray(v, dtype=float), (N,)) for v in vals],
+                        axis=-1).reshape((N,) + self.shape)
+
+    def __call__(self, q) -> np.ndarray:
+        return self.batch(np.asarray(q, dtype=float)[None, :])[0]
+
+    def derivatives(self, q) -> np.ndarray:
+        """dJ/dq_k at q: shape (n, rows, cols)."""
+        vals = self._dJ(*np.asarray(q, dtype=float))
+        return np.array([[float(x) for x in row] for row in vals]).reshape((-1,) + self.shape)
+
+    def random_q(self, rng, n: int) -> np.ndarray:
+        """n random configurations: angles uniform in [-pi, pi), other variables normal."""
+        cols = [rng.uniform(-np.pi, np.pi, n) if v in self.angles else rng.normal(size=n)
+                for v in self.variables]
+        return np.stack(cols, axis=-1) if cols else np.zeros((n, 0))
+
+
+class _Equations:
+    """A component's equations as a scaled numpy function of the joint variables."""
+
+    def __init__(self, equations, variables, parameters):
+        exprs = [sp.expand(sp.sympify(e).subs(parameters)) for e in equations]
+        self.scales = np.array([_coefficient_norm(e) for e in exprs], dtype=float)
+        self._f = sp.lambdify(tuple(variables), exprs, modules="numpy") if exprs else None
+
+    def __call__(self, q) -> np.ndarray:
+        if self._f is None:
+            return np.zeros(0)
+        return np.array(self._f(*q), dtype=float).reshape(-1) / self.scales
+
+    def residual(self, q) -> float:
+        v = self(q)
+        return float(np.max(np.abs(v))) if v.size else 0.0
+
+
+def _coefficient_norm(e) -> float:
+    total = sum(abs(complex(t.as_coeff_Mul()[0])) for t in sp.Add.make_args(e))
+    return float(total) if total > 0 else 1.0
+
+
+# --- results --------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class PointCheck:
+    """One configuration and what each numeric test says there."""
+
+    q: tuple
+    sigma_ratio: float
+    rank_drop: int
+    fsp_dependent: tuple
+    minor: float
+
+    def to_dict(self) -> dict:
+        return {"q": list(self.q), "sigma_ratio": self.sigma_ratio, "rank_drop": self.rank_drop,
+                "fsp_dependent_rows": list(self.fsp_dependent), "relative_max_minor": self.minor}
+
+
+@dataclass(frozen=True)
+class ComponentCheck:
+    """On-locus check of one component."""
+
+    index: int
+    equations: tuple
+    points: tuple = ()
+    failures: tuple = ()          # PointCheck where J is regular
+    ok: bool = True
+    message: str = ""
+
+    @property
+    def max_ratio(self) -> float:
+        return max((p.sigma_ratio for p in self.points), default=float("nan"))
+
+    def to_dict(self) -> dict:
+        return {"index": self.index, "equations": list(self.equations), "ok": self.ok,
+                "message": self.message, "n_points": len(self.points),
+                "max_sigma_ratio": None if not self.points else self.max_ratio,
+                "points": [p.to_dict() for p in self.points]}
+
+
+@dataclass(frozen=True)
+class CheckReport:
+    """Everything :func:`cross_check` found; ``ok`` when every SVD-decided check passed."""
+
+    model: str
+    seed: object
+    samples: int
+    components: tuple
+    skipped: tuple                # equations of components not checked (parameter conditions)
+    off_locus: tuple              # PointCheck
+    off_locus_failures: tuple
+    probe_singular: int
+    probe_starts: int
+    uncovered: tuple              # PointCheck of singular probe points on no component
+    findings: tuple = ()          # FSP / minor disagreements with the SVD (data only)
+    thresholds: dict = field(default_factory=dict)
+
+    @property
+    def ok(self) -> bool:
+        return (all(c.ok for c in self.components) and not self.off_locus_failures
+                and not self.uncovered)
+
+    def to_dict(self) -> dict:
+        return {
+            "schema": SCHEMA, "model": self.model, "seed": self.seed, "samples": self.samples,
+            "ok": self.ok,
+            "on_locus": [c.to_dict() for c in self.components],
+            "skipped_components": [list(e) for e in self.skipped],
+            "off_locus": {"ok": not self.off_locus_failures, "n_points": len(self.off_locus),
+                          "min_sigma_ratio": min((p.sigma_ratio for p in self.off_locus),
+                                                 default=None),
+                          "failures": [p.to_dict() for p in self.off_locus_failures]},
+            "completeness": {"ok": not self.uncovered, "starts": self.probe_starts,
+                             "singular_minima": self.probe_singular,
+                             "uncovered": [p.to_dict() for p in self.uncovered]},
+            "findings": list(self.findings),
+            "thresholds": dict(self.thresholds),
+        }
+
+
+# --- the checks -----------------------------------------------------------------------------
+
+def _point(nm: NumericMatrix, q) -> PointCheck:
+    J = nm(q)
+    A = J.T if J.shape[0] > J.shape[1] else J
+    return PointCheck(q=tuple(float(x) for x in q), sigma_ratio=float(sigma_ratio(J)),
+                      rank_drop=int(numeric_rank_drop(J)),
+                      fsp_dependent=tuple(int(i) for i in dependent_rows(A)),
+                      minor=relative_max_minor(J))
+
+
+def _points_on(eqs: _Equations, nm: NumericMatrix, rng, n: int) -> list:
+    from scipy.optimize import least_squares
+
+    if eqs._f is None:
+        return list(nm.random_q(rng, n))
+    out = []
+    for q0 in nm.random_q(rng, _MAX_TRIES * n):
+        res = least_squares(eqs, q0, method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15,
+                            max_nfev=200 * len(q0))
+        if eqs.residual(res.x) <= ON_COMPONENT_RESIDUAL:
+            out.append(res.x)
+            if len(out) == n:
+                break
+    return out
+
+
+def _minimise_ratio(nm: NumericMatrix, q0):
+    """Local minimum of (sigma_min/sigma_max)^2 from q0 (BFGS, analytic gradient)."""
+    from scipy.optimize import minimize
+
+    def f(q):
+        U, s, Vt = np.linalg.svd(nm(q), full_matrices=False)
+        if s[0] == 0:
+            return 0.0, np.zeros_like(q)
+        r = s[-1] / s[0]
+        dJ = nm.derivatives(q)
+        ds_min = np.einsum("i,kij,j->k", U[:, -1], dJ, Vt[-1])
+        ds_max = np.einsum("i,kij,j->k", U[:, 0], dJ, Vt[0])
+        return r * r, 2 * r * (ds_min * s[0] - s[-1] * ds_max) / s[0] ** 2
+
+    res = minimize(f, q0, jac=True, method="BFGS", options={"gtol": 1e-20, "maxiter": 400})
+    return res.x
+
+
+def _findings_at(label: str, p: PointCheck, singular: bool) -> list:
+    out = []
+    if singular and not p.fsp_dependent:
+        out.append(f"{label}: SVD rank deficient (ratio {p.sigma_ratio:.1e}) but FSP finds no "
+                   "dependent row")
+    if not singular and p.fsp_dependent:
+        out.append(f"{label}: SVD full rank (ratio {p.sigma_ratio:.1e}) but FSP finds dependent "
+                   f"rows {list(p.fsp_dependent)}")
+    if singular and p.minor > MINOR_RTOL:
+        out.append(f"{label}: SVD rank deficient but the relative maximal minor is {p.minor:.1e}")
+    if not singular and p.minor <= MINOR_RTOL:
+        out.append(f"{label}: SVD full rank but the relative maximal minor is {p.minor:.1e}")
+    return out
+
+
+def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples: int = 10,
+                rng=None, seed=None) -> CheckReport:
+    """Check `locus` numerically against the SVD of `matrix` (see the module docstring).
+
+    Parameters
+    ----------
+    locus : Locus
+    matrix : sympy.Matrix
+        J in the joint `variables` (any frame: the rank is the same); parameters
+        still in it are replaced by `parameters`.
+    variables : sequence of Symbol
+        Column variables, matched by name to ``locus.variables``.
+    angles : sequence of Symbol
+        Variables drawn uniformly in [-pi, pi); the others are drawn normal.
+    parameters : dict, optional
+        Symbol -> value, substituted into J and into the component equations.
+    samples : int
+        Points per component, off-locus configurations and completeness starts.
+    rng : numpy.random.Generator
+    seed : optional
+        Only recorded in the report.
+
+    Examples
+    --------
+    >>> from rankloci.io import load_model
+    >>> from rankloci.matrix import task_matrix
+    >>> from rankloci.methods import compute_locus
+    >>> tm = task_matrix(load_model("planar2r"), numeric=True)
+    >>> report = cross_check(compute_locus(tm), tm.matrix, tm.variables, angles=tm.angles,
+    ...                      samples=3, rng=np.random.default_rng(0))
+    >>> report.ok
+    True
+    """
+    rng = np.random.default_rng(0) if rng is None else rng
+    parameters = dict(parameters or {})
+    by_name = {v.name: v for v in variables}
+    missing = [str(v) for v in locus.variables if str(v) not in by_name]
+    if missing:
+        raise ValueError(f"locus variables {missing} are not among the matrix variables "
+                         f"{sorted(by_name)}")
+    nm = NumericMatrix(sp.Matrix(matrix).subs(parameters), variables, angles)
+    # the locus' own symbols may differ in assumptions: rename them to the matrix symbols
+    rename = {v: by_name[str(v)] for v in locus.variables}
+    params_by_name = {str(k): v for k, v in parameters.items()}
+
+    def prepared(e):
+        e = sp.sympify(e).xreplace(rename)
+        return e.subs({s: params_by_name[s.name] for s in e.free_symbols if s.name in params_by_name})
+
+    checked, skipped, findings = [], [], []
+    for i, comp in enumerate(locus.components, start=1):
+        eq_text = tuple(sp.sstr(e) for e in comp.equations)
+        if comp.parameter_conditions or not comp.for_model:
+            skipped.append(eq_text)
+            continue
+        eqs = _Equations([prepared(e) for e in comp.equations], nm.variables, {})
+        pts = [_point(nm, q) for q in _points_on(eqs, nm, rng, samples)]
+        fails = tuple(p for p in pts if p.sigma_ratio > ON_LOCUS_RTOL)
+        for p in pts:
+            if p.sigma_ratio <= ON_LOCUS_RTOL:
+                findings += _findings_at(f"component {i}", p, True)
+            if p.sigma_ratio <= ON_LOCUS_RTOL and p.rank_drop != comp.rank_drop:
+                findings.append(f"component {i}: numeric rank drop {p.rank_drop}, component says "
+                                f"{comp.rank_drop}")
+        if not pts:
+            msg, ok = "no point found on the component (no real solution?)", False
+        elif fails:
+            msg, ok = (f"J is regular at {len(fails)}/{len(pts)} points "
+                       f"(largest sigma ratio {max(p.sigma_ratio for p in fails):.1e})"), False
+        else:
+            msg, ok = "", True
+        checked.append(ComponentCheck(i, eq_text, tuple(pts), fails, ok, msg))
+    all_eqs = [c for c in (_Equations([prepared(e) for e in comp.equations], nm.variables, {})
+                           for comp in locus.components
+                           if not comp.parameter_conditions and comp.for_model)]
+
+    # off-locus
+    off = []
+    for q in nm.random_q(rng, _MAX_TRIES * samples):
+        if all(e.residual(q) > OFF_LOCUS_MIN_RESIDUAL for e in all_eqs):
+            off.append(_point(nm, q))
+            if len(off) == samples:
+                break
+    off_fails = tuple(p for p in off if p.sigma_ratio <= RANK_RTOL)
+    for p in off:
+        if p.sigma_ratio > RANK_RTOL:
+            findings += _findings_at("off-locus", p, False)
+
+    # completeness
+    singular, uncovered = 0, []
+    for q0 in nm.random_q(rng, samples):
+        p = _point(nm, _minimise_ratio(nm, q0))
+        if p.sigma_ratio > PROBE_SINGULAR_RTOL:
+            continue
+        singular += 1
+        findings += _findings_at("probe", p, True)
+        if not any(e.residual(np.array(p.q)) <= COVER_RESIDUAL for e in all_eqs):
+            uncovered.append(p)
+
+    thresholds = {"RANK_RTOL": RANK_RTOL, "ON_COMPONENT_RESIDUAL": ON_COMPONENT_RESIDUAL,
+                  "OFF_LOCUS_MIN_RESIDUAL": OFF_LOCUS_MIN_RESIDUAL,
+                  "COVER_RESIDUAL": COVER_RESIDUAL, "MINOR_RTOL": MINOR_RTOL}
+    return CheckReport(model=locus.model, seed=seed, samples=samples, components=tuple(checked),
+                       skipped=tuple(skipped), off_locus=tuple(off), off_locus_failures=off_fails,
+                       probe_singular=singular, probe_starts=samples, uncovered=tuple(uncovered),
+                       findings=tuple(findings), thresholds=thresholds)
+
+
+def render_check_text(report: CheckReport) -> str:
+    """A summary table of a :class:`CheckReport`."""
+    lines = [f"check of {report.model}: seed {report.seed}, {report.samples} samples"]
+    lines.append(f"{'check':<34} {'points':>6}  {'result':<6} detail")
+    for c in report.components:
+        eqs = ", ".join(c.equations) or "(no equation)"
+        if len(eqs) > 30:
+            eqs = eqs[:27] + "..."
+        detail = c.message or f"max sigma ratio {c.max_ratio:.1e}"
+        lines.append(f"{'on ' + eqs:<34} {len(c.points):>6}  {'ok' if c.ok else 'FAIL':<6} {detail}")
+    for eqs in report.skipped:
+        lines.append(f"{'on ' + ', '.join(eqs)[:31]:<34} {'-':>6}  {'skip':<6} parameter conditions")
+    mn = min((p.sigma_ratio for p in report.off_locus), default=float("nan"))
+    lines.append(f"{'off-locus (full rank)':<34} {len(report.off_locus):>6}  "
+                 f"{'ok' if not report.off_locus_failures else 'FAIL':<6} "
+                 f"{len(report.off_locus_failures)} rank deficient, min sigma ratio {mn:.1e}")
+    lines.append(f"{'completeness probe':<34} {report.probe_starts:>6}  "
+                 f"{'ok' if not report.uncovered else 'FAIL':<6} "
+                 f"{report.probe_singular} singular minima, {len(report.uncovered)} on no component")
+    for p in report.uncovered:
+        lines.append("  uncovered: (" + ", ".join(f"{x:+.6f}" for x in p.q)
+                     + f"), sigma ratio {p.sigma_ratio:.1e}")
+    if report.findings:
+        lines.append(f"{len(report.findings)} finding(s) (FSP / minors vs SVD; the SVD decides):")
+        lines += [f"  {f}" for f in report.findings[:20]]
+        if len(report.findings) > 20:
+            lines.append(f"  ... {len(report.findings) - 20} more")
+    lines.append("result: " + ("PASS" if report.ok else "FAIL"))
+    return "\n".join(lines)
+
+
+def parse_locus(data, model):
+    """A :class:`~rankloci.locus.Locus` from its ``rankloci.locus/1`` dict, in `model`'s symbols.
+
+    Raises
+    ------
+    ModelError
+        If the schema key is wrong, the variables are not the model's, or an
+        equation does not parse over the model's variable and parameter names.
+    """
+    from ..errors import ExpressionError, ModelError
+    from ..expr import parse_expression
+    from ..locus import SCHEMA as LOCUS_SCHEMA
+    from ..locus import Component, Locus
+
+    if not isinstance(data, dict):
+        raise ModelError("a locus file must hold a JSON object", field="schema")
+    if data.get("schema") != LOCUS_SCHEMA:
+        raise ModelError(f"schema is {data.get('schema')!r}, expected {LOCUS_SCHEMA!r}",
+                         field="schema")
+    names = [v.name for v in model.variables]
+    if data.get("variables") != names:
+        raise ModelError(f"variables {data.get('variables')!r} are not the model's {names}",
+                         field="variables")
+    symbols = {v.name: v for v in model.variables} | {p.name: p for p in model.parameters}
+    comps = data.get("components")
+    if not isinstance(comps, list):
+        raise ModelError("'components' must be a list", field="components")
+
+    def parse_all(items, where):
+        if not isinstance(items, list):
+            raise ModelError(f"{where} must be a list of strings", field=where)
+        try:
+            return tuple(parse_expression(t, symbols) for t in items)
+        except ExpressionError as e:
+            raise ModelError(str(e), field=where) from None
+
+    out = []
+    for k, c in enumerate(comps, start=1):
+        where = f"components[{k}]"
+        if not isinstance(c, dict) or "equations" not in c:
+            raise ModelError("each component must be an object with 'equations'", field=where)
+        rank_drop = c.get("rank_drop", 1)
+        if not isinstance(rank_drop, int):
+            raise ModelError("rank_drop must be an integer", field=f"{where}.rank_drop")
+        out.append(Component(
+            equations=parse_all(c["equations"], f"{where}.equations"),
+            rank_drop=rank_drop,
+            parameter_conditions=parse_all(c.get("parameter_conditions", []),
+                                           f"{where}.parameter_conditions"),
+            for_model=bool(c.get("for_model", True))))
+    return Locus(model=str(data.get("model", model.name)), variables=tuple(model.variables),
+                 parameters={}, shape=(0, 0), method=str(data.get("method", "file")),
+                 components=tuple(out))

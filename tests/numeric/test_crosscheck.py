@@ -1,0 +1,123 @@
+"""cross_check: passes on computed loci, fails on wrong ones (the checks can fail).
+
+Seeds are fixed (SEED below) and appear in every report.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from rankloci.io import load_model
+from rankloci.locus import Component
+from rankloci.matrix import task_matrix
+from rankloci.methods import compute_locus
+from rankloci.numeric.crosscheck import cross_check, parse_locus, render_check_text
+from rankloci.numeric.minors import relative_max_minor
+from rankloci.numeric.svd import numeric_rank_drop, sigma_ratio
+from rankloci.errors import ModelError
+
+SEED = 20240611
+SAMPLES = 6
+
+
+@functools.lru_cache(maxsize=None)
+def _setup(name):
+    model = load_model(name)
+    tm = task_matrix(model, frame="auto", numeric=True)
+    locus = compute_locus(tm, rng=np.random.default_rng(SEED))
+    return model, locus, task_matrix(model)
+
+
+def _check(name, locus=None):
+    model, computed, J = _setup(name)
+    return cross_check(computed if locus is None else locus, J.matrix, J.variables,
+                       angles=J.angles, parameters=J.parameters, samples=SAMPLES,
+                       rng=np.random.default_rng(SEED), seed=SEED)
+
+
+def _with(locus, components):
+    return dataclasses.replace(locus, components=tuple(components))
+
+
+def _sym(name, var):
+    return {v.name: v for v in _setup(name)[0].variables}[var]
+
+
+@pytest.mark.parametrize("name", ["planar2r", "planar3r", "puma560"])
+def test_computed_locus_passes(name):
+    report = _check(name)
+    assert report.ok, render_check_text(report)
+    assert all(len(c.points) == SAMPLES for c in report.components)
+    assert len(report.off_locus) == SAMPLES
+    assert report.probe_singular >= 1
+    d = report.to_dict()
+    assert d["schema"] == "rankloci.check/1" and d["seed"] == SEED and d["ok"]
+
+
+def test_missing_component_fails_completeness():
+    """Dropping the PUMA wrist component s5 = 0 leaves singular minima on no component."""
+    _, locus, _ = _setup("puma560")
+    q5 = _sym("puma560", "q5")
+    kept = [c for c in locus.components if c.equations != (sp.sin(q5),)]
+    assert len(kept) == len(locus.components) - 1
+    report = _check("puma560", _with(locus, kept))
+    assert not report.ok and report.uncovered, render_check_text(report)
+    assert all(c.ok for c in report.components)
+
+
+def test_spurious_component_fails_on_locus():
+    _, locus, _ = _setup("puma560")
+    bogus = Component(equations=(_sym("puma560", "q1"),))
+    report = _check("puma560", _with(locus, list(locus.components) + [bogus]))
+    assert not report.ok
+    assert [c.ok for c in report.components] == [True] * len(locus.components) + [False]
+
+
+def test_typo_in_equation_fails():
+    """sin(q4) instead of sin(q5): J is regular on it and the wrist singularity is uncovered."""
+    _, locus, _ = _setup("puma560")
+    q4, q5 = _sym("puma560", "q4"), _sym("puma560", "q5")
+    comps = [dataclasses.replace(c, equations=(sp.sin(q4),)) if c.equations == (sp.sin(q5),) else c
+             for c in locus.components]
+    report = _check("puma560", _with(locus, comps))
+    assert not report.ok
+    assert sum(not c.ok for c in report.components) == 1
+
+
+def test_component_without_real_points_fails():
+    _, locus, _ = _setup("planar2r")
+    q2 = _sym("planar2r", "q2")
+    report = _check("planar2r", _with(locus, list(locus.components)
+                                      + [Component(equations=(sp.cos(q2) + 2,))]))
+    assert not report.ok
+    assert report.components[-1].points == () and "no point" in report.components[-1].message
+
+
+def test_parse_locus_round_trip_and_errors():
+    model, locus, _ = _setup("puma560")
+    data = locus.to_dict()
+    parsed = parse_locus(data, model)
+    assert [c.equations for c in parsed.components] == [c.equations for c in locus.components]
+    with pytest.raises(ModelError, match="schema"):
+        parse_locus(data | {"schema": "nope"}, model)
+    with pytest.raises(ModelError, match="variables"):
+        parse_locus(data | {"variables": ["x"]}, model)
+    with pytest.raises(ModelError, match="cannot parse"):
+        parse_locus(data | {"components": [{"equations": ["sin(q7)"]}]}, model)
+
+
+def test_svd_and_minors_agree_on_simple_matrices():
+    singular = np.array([[1.0, 2.0, 3.0], [2.0, 4.0, 6.0]])
+    regular = np.array([[1.0, 0.0, 0.0], [0.0, 1e3, 0.0]])
+    assert sigma_ratio(singular) < 1e-15 and int(numeric_rank_drop(singular)) == 1
+    assert relative_max_minor(singular) < 1e-15
+    # scale-free: a row in millimetres instead of metres gives the same value
+    assert relative_max_minor(regular) == pytest.approx(1.0)
+    assert relative_max_minor(regular.T) == pytest.approx(1.0)
+    batch = np.stack([singular, regular])
+    assert sigma_ratio(batch).shape == (2,)
