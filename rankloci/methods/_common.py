@@ -205,10 +205,14 @@ class Context:
         ranked = sorted(combos, key=lambda cs: sum(size[c] for c in cs))
         best = None
         tried = 0
-        evaluated = [(self.numeric(M, g), self.numeric(M, g, scale=True)) for g in points[:2]]
+        # a block is regular on the branch if it is regular at one of its points
+        # where the whole matrix has full rank (a sample point may happen to lie
+        # on a smaller subset where more is singular)
+        evaluated = [(self.numeric(M, g), self.numeric(M, g, scale=True)) for g in points]
+        evaluated = [(A, S) for A, S in evaluated if numeric_rank(A, S) == n]
         for cols in ranked:
             cl = list(cols)
-            if any(numeric_rank(A[:, cl], S[:, cl]) < n for A, S in evaluated):
+            if not any(numeric_rank(A[:, cl], S[:, cl]) == n for A, S in evaluated):
                 continue
             sub = [[row[c] for c in cols] for row in M]
             self.tick()
