@@ -45,39 +45,53 @@ class BatchJacobian:
         self.revolute = [j.kind == "revolute" for j in model.joints]
         self.rows = list(model.task)
 
-    def _motion(self, i, q):
-        N = q.shape[0]
-        T = np.broadcast_to(np.eye(4), (N, 4, 4)).copy()
-        x, y, z = self.axes[i]
+    def _apply_motion(self, T, i, q):
+        """T @ Motion_i(q) for a batch; a motion about z only mixes two columns."""
+        axis = self.axes[i]
         if not self.revolute[i]:
-            T[:, :3, 3] = np.outer(q, self.axes[i])
+            T = T.copy()
+            T[:, :, 3] += (T[:, :, :3] @ axis)[:, :] * q[:, None]
             return T
-        c, s = np.cos(q), np.sin(q)
-        v = 1 - c
-        T[:, 0, 0] = c + x * x * v
-        T[:, 0, 1] = x * y * v - z * s
-        T[:, 0, 2] = x * z * v + y * s
-        T[:, 1, 0] = y * x * v + z * s
-        T[:, 1, 1] = c + y * y * v
-        T[:, 1, 2] = y * z * v - x * s
-        T[:, 2, 0] = z * x * v - y * s
-        T[:, 2, 1] = z * y * v + x * s
-        T[:, 2, 2] = c + z * z * v
-        return T
+        c, s = np.cos(q)[:, None], np.sin(q)[:, None]
+        if np.array_equal(axis, (0.0, 0.0, 1.0)):
+            out = T.copy()
+            out[:, :, 0] = c * T[:, :, 0] + s * T[:, :, 1]
+            out[:, :, 1] = c * T[:, :, 1] - s * T[:, :, 0]
+            return out
+        x, y, z = axis
+        v = 1 - c[:, 0]
+        sv = s[:, 0]
+        cv = c[:, 0]
+        R = np.empty((len(q), 3, 3))
+        R[:, 0, 0] = cv + x * x * v
+        R[:, 0, 1] = x * y * v - z * sv
+        R[:, 0, 2] = x * z * v + y * sv
+        R[:, 1, 0] = y * x * v + z * sv
+        R[:, 1, 1] = cv + y * y * v
+        R[:, 1, 2] = y * z * v - x * sv
+        R[:, 2, 0] = z * x * v - y * sv
+        R[:, 2, 1] = z * y * v + x * sv
+        R[:, 2, 2] = cv + z * z * v
+        out = T.copy()
+        out[:, :, :3] = T[:, :, :3] @ R
+        return out
 
     def __call__(self, Q) -> np.ndarray:
         """J at each row of ``Q`` (N, n): an array (N, len(task rows), n)."""
         Q = np.atleast_2d(np.asarray(Q, dtype=float))
         N, n = Q.shape
-        T = np.broadcast_to(self.base, (N, 4, 4)).copy()
+        # constant factors between consecutive motions, multiplied once
+        links = [self.base @ self.pre[0]] + [self.post[i] @ self.pre[i + 1] for i in range(n - 1)]
+        links.append(self.post[n - 1] @ self.tool)
+        T = np.broadcast_to(links[0], (N, 4, 4)).copy()
         z = np.empty((N, n, 3))
         o = np.empty((N, n, 3))
         for i in range(n):
-            T = T @ self.pre[i]
             z[:, i] = T[:, :3, :3] @ self.axes[i]
             o[:, i] = T[:, :3, 3]
-            T = T @ self._motion(i, Q[:, i]) @ self.post[i]
-        T = T @ self.tool
+            T = self._apply_motion(T, i, Q[:, i])
+            # (N, 4, 4) @ (4, 4) as one matrix product of a (4N, 4) array
+            T = (T.reshape(-1, 4) @ links[i + 1]).reshape(N, 4, 4)
         p = T[:, :3, 3]
         J = np.zeros((N, 6, n))
         rev = np.array(self.revolute)
