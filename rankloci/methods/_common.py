@@ -133,22 +133,27 @@ class Context:
 
     def children(self, branch: Branch, f) -> list[Branch]:
         """Branches covering ``branch`` intersected with {f = 0}."""
-        child, exceptional = branch.with_condition(f, self.ring)
-        out = [child]
-        for conds in exceptional:
-            b = branch
-            for c in conds:
-                c = b.reduce(c, self.ring)
-                if c.is_zero():
-                    continue
-                if c.is_constant():
-                    b = None
-                    break
-                b, more = b.with_condition(c, self.ring)
-                if more:  # nested exceptional pieces: keep them implicit to stay finite
-                    pass
-            if b is not None:
-                out.append(b)
+        return self._cover(branch, [f])
+
+    def _cover(self, branch: Branch, conditions) -> list[Branch]:
+        """Branches covering ``branch`` and all of ``conditions``.
+
+        A substitution a*C + b*S -> (C, S) ~ (b, -a) misses the points where
+        a = b = 0; those points satisfy the condition and are covered by
+        their own branches, recursively.
+        """
+        if not conditions:
+            return [branch]
+        c = branch.reduce(conditions[0], self.ring)
+        rest = conditions[1:]
+        if c.is_zero():
+            return self._cover(branch, rest)
+        if c.is_constant():
+            return []
+        child, exceptional = branch.with_condition(c, self.ring)
+        out = self._cover(child, rest)
+        for extra in exceptional:
+            out += self._cover(branch, list(extra) + list(rest))
         return out
 
     def factors(self, p):
