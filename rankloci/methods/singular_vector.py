@@ -88,8 +88,9 @@ def _svm(ctx: Context, M, branch, parent, level):
     pending = []
     for child in children:
         cpts = ctx.sampler.points(child)
-        if cpts and ctx.generic_rank(child.reduce_matrix(M, ctx.ring), cpts) < n:
-            cnode = ctx.add_node(node, child, k=n - ctx.generic_rank(child.reduce_matrix(M, ctx.ring), cpts))
+        crank = ctx.generic_rank(child.reduce_matrix(M, ctx.ring), cpts) if cpts else n
+        if crank < n:
+            cnode = ctx.add_node(node, child, k=n - crank)
             ctx.leaf(child, cnode, "k > redundant columns")
         else:
             pending.append(child)
