@@ -274,11 +274,20 @@ def cmd_check(args) -> int:
     report = cross_check(locus, J.matrix, J.variables, angles=J.angles, parameters=J.parameters,
                          samples=args.samples, rng=np.random.default_rng(args.seed),
                          seed=args.seed)
+    from .numeric.singular import singular_cross_check
+
+    exact = singular_cross_check(task_matrix(model, frame="auto", numeric=True), locus,
+                                 rng=np.random.default_rng(args.seed))
+    ok = report.ok and exact.status != "disagree"
     if args.format == "json":
-        print(json.dumps(report.to_dict(), indent=2))
+        print(json.dumps({**report.to_dict(), "singular": exact.to_dict(), "ok": ok}, indent=2))
     else:
         print(render_check_text(report))
-    return EXIT_OK if report.ok else EXIT_FAILED
+        line = f"Singular (minimal associated primes of the maximal minors): {exact.status}, {exact.reason}"
+        print(line)
+        for finding in exact.findings:
+            print(f"  {finding}")
+    return EXIT_OK if ok else EXIT_FAILED
 
 
 # --- parser -----------------------------------------------------------------
