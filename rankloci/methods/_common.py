@@ -179,6 +179,18 @@ class Context:
         if note not in self.notes:
             self.notes.append(note)
 
+    def open_branch(self, branch: Branch, node: int):
+        """Sample points of ``branch``, or None after marking ``node`` empty or known."""
+        self.tick()
+        pts = self.sampler.points(branch)
+        if not pts:
+            self.tree.nodes[node]["outcome"] = "empty"
+            return None
+        if self.known(branch):
+            self.tree.nodes[node]["outcome"] = "inside a component already found"
+            return None
+        return pts
+
     def known(self, branch: Branch) -> bool:
         """Is every sample point of ``branch`` on a component already found?"""
         if not self.leaves:

@@ -152,13 +152,8 @@ def _minor_branch(ctx: Context, M, branch, parent):
     determinant of a regular block) must vanish on every singular point,
     and its factors split the branch.
     """
-    ctx.tick()
-    pts = ctx.sampler.points(branch)
-    if not pts:
-        ctx.tree.nodes[parent]["outcome"] = "empty"
-        return
-    if ctx.known(branch):
-        ctx.tree.nodes[parent]["outcome"] = "inside a component already found"
+    pts = ctx.open_branch(branch, parent)
+    if pts is None:
         return
     Mb = branch.reduce_matrix(M, ctx.ring)
     if len(Mb) > len(Mb[0]):

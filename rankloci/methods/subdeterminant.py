@@ -59,13 +59,8 @@ def maximal_minors(ctx: Context, M) -> list:
 
 def minors_branch(ctx: Context, minors, branch, parent):
     """Branch until every minor vanishes on the branch (a component) or the branch is empty."""
-    ctx.tick()
-    pts = ctx.sampler.points(branch)
-    if not pts:
-        ctx.tree.nodes[parent]["outcome"] = "empty"
-        return
-    if ctx.known(branch):
-        ctx.tree.nodes[parent]["outcome"] = "inside a component already found"
+    pts = ctx.open_branch(branch, parent)
+    if pts is None:
         return
     reduced = [branch.reduce(p, ctx.ring) for p in minors]
     alive = [p for p in reduced if not ctx.vanishes(p, pts)]
