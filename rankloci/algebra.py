@@ -279,11 +279,27 @@ class PolyRing:
         used = np.flatnonzero(mons.any(axis=0)) if len(mons) else np.array([], dtype=np.int64)
         mons = mons[:, used]
         npoly = len(polys)
+        top = int(mons.max()) if mons.size else 0
+        cols = np.arange(len(used))
+        # terms are grouped by polynomial (owner is sorted): sum each group
+        present = np.unique(owner)
+        starts = np.searchsorted(owner, present)
 
         def evaluate(x):
-            x = np.asarray(x, dtype=float)[used]
-            terms = coeffs * np.prod(x[None, :] ** mons, axis=1) if len(used) else coeffs.copy()
-            return np.bincount(owner, weights=terms, minlength=npoly) if len(owner) else np.zeros(npoly)
+            """Values at one point (shape (nv,)) or at a batch of points (shape (B, nv))."""
+            x = np.asarray(x, dtype=float)
+            single = x.ndim == 1
+            X = x[None, :] if single else x
+            out = np.zeros((len(X), npoly))
+            if len(owner):
+                if len(used):
+                    # powers x_u**e for e <= top, then one gather per monomial exponent
+                    pw = X[:, used, None] ** np.arange(top + 1)
+                    terms = np.prod(pw[:, cols, mons], axis=2) * coeffs
+                else:
+                    terms = np.tile(coeffs, (len(X), 1))
+                out[:, present] = np.add.reduceat(terms, starts, axis=1)
+            return out[0] if single else out
 
         return evaluate
 

@@ -50,6 +50,23 @@ class Branch:
     conditions: tuple = ()
     substitutions: tuple = ()
     implicit: tuple = ()
+    nonzero: tuple = ()
+
+    def excluding(self, p) -> "Branch":
+        """This branch without the points where ``p`` vanishes (an open subset).
+
+        The null vectors of a level are valid only where the determinant of
+        their regular block is nonzero; the branches below that level live
+        on that open set.  The excluded points are analysed on their own
+        branch, so nothing is lost.
+        """
+        if p.is_constant() or any(p == q for q in self.nonzero):
+            return self
+        return Branch(self.conditions, self.substitutions, self.implicit, self.nonzero + (p,))
+
+    def closure(self) -> "Branch":
+        """The same conditions without the excluded sets."""
+        return Branch(self.conditions, self.substitutions, self.implicit)
 
     def with_condition(self, f, ring: PolyRing) -> tuple["Branch", list]:
         """This branch and ``f = 0``; also the extra conditions of its exceptional part.
@@ -60,8 +77,10 @@ class Branch:
         f = self.reduce(f, ring)
         sub, exceptional = solve_condition(f, ring)
         if sub is None:
-            return Branch(self.conditions + (f,), self.substitutions, self.implicit + (f,)), []
-        return Branch(self.conditions + (f,), self.substitutions + (sub,), self.implicit), exceptional
+            return Branch(self.conditions + (f,), self.substitutions, self.implicit + (f,),
+                          self.nonzero), []
+        return (Branch(self.conditions + (f,), self.substitutions + (sub,), self.implicit,
+                       self.nonzero), exceptional)
 
     def reduce(self, p, ring: PolyRing):
         """``p`` with this branch's substitutions applied."""
@@ -161,7 +180,8 @@ class BranchSampler:
 
     def points(self, branch: Branch, count: int = 3) -> list[np.ndarray]:
         """Up to ``count`` generator vectors of real points of ``branch``."""
-        key = (tuple(str(c) for c in branch.conditions), count)
+        key = (tuple(str(c) for c in branch.conditions), tuple(str(p) for p in branch.nonzero),
+               count)
         if key in self.cache:
             return self.cache[key]
         pts = self._solve(branch, count)
@@ -189,22 +209,28 @@ class BranchSampler:
         return angles, others, params
 
     def generators(self, branch: Branch, angles, others, params, x):
-        """Full generator vector from the free unknowns ``x``."""
+        """Full generator vector from the free unknowns ``x``, or None."""
+        g = self.generators_batch(branch, angles, others, params, np.asarray(x)[None, :])[0]
+        return None if np.isnan(g).any() else g
+
+    def generators_batch(self, branch: Branch, angles, others, params, X):
+        """Generator vectors (rows) from rows of free unknowns; NaN rows where undefined."""
         ring = self.ring
         na = ring.n_angles
-        g = np.zeros(len(ring.names))
+        X = np.asarray(X, dtype=float)
+        G = np.zeros((len(X), len(ring.names)))
         k = 0
         for i in angles:
-            g[2 * i], g[2 * i + 1] = np.cos(x[k] / 2), np.sin(x[k] / 2)
+            G[:, 2 * i], G[:, 2 * i + 1] = np.cos(X[:, k] / 2), np.sin(X[:, k] / 2)
             k += 1
         for j in others:
-            g[j] = x[k]
+            G[:, j] = X[:, k]
             k += 1
-        pnames = [p for p in ring.params]
-        for j, p in enumerate(pnames):
-            g[2 * na + len(ring.others) + j] = float(self.param_values.get(p, 0.0))
+        base = 2 * na + len(ring.others)
+        for j, p in enumerate(ring.params):
+            G[:, base + j] = float(self.param_values.get(p, 0.0))
         for j in params:
-            g[j] = x[k]
+            G[:, j] = X[:, k]
             k += 1
         # substitutions, last first: each expresses generators in later-solved ones
         for sub in reversed(branch.substitutions):
@@ -212,83 +238,138 @@ class BranchSampler:
             if got is None or got[0] is not sub:
                 got = (sub, ring.compile(list(sub.values)))
                 self._sub_eval[id(sub)] = got
-            vals = got[1](g)
+            vals = got[1](G)
             if sub.kind == "linear":
-                g[sub.index] = vals[0]
+                G[:, sub.index] = vals[:, 0]
             else:
-                norm = np.hypot(vals[0], vals[1])
-                if norm == 0:
-                    return None
-                g[2 * sub.index], g[2 * sub.index + 1] = vals[0] / norm, vals[1] / norm
-        return g
+                norm = np.hypot(vals[:, 0], vals[:, 1])
+                with np.errstate(invalid="ignore", divide="ignore"):
+                    G[:, 2 * sub.index] = np.where(norm > 0, vals[:, 0] / norm, np.nan)
+                    G[:, 2 * sub.index + 1] = np.where(norm > 0, vals[:, 1] / norm, np.nan)
+        return G
 
     def _solve(self, branch: Branch, count: int):
-        from .tolerances import ROOT_XTOL
+        from .tolerances import EXCLUSION_RTOL, ROOT_XTOL
 
         angles, others, params = self._unknowns(branch)
         eqs = list(branch.implicit)
         ev = self.ring.compile(eqs) if eqs else None
         scale_ev = self.ring.compile([abs_poly(e, self.ring) for e in eqs]) if eqs else None
+        nz = list(branch.nonzero)
+        nz_ev = self.ring.compile(nz) if nz else None
+        nz_scale = self.ring.compile([abs_poly(e, self.ring) for e in nz]) if nz else None
+        n_x = len(angles) + len(others) + len(params)
         found = []
 
-        def residual(x):
-            g = self.generators(branch, angles, others, params, x)
-            if g is None:
-                return np.full(len(eqs), 1e3)
-            vals = ev(g)
-            sc = scale_ev(np.abs(g))
-            return vals / np.maximum(sc, 1e-300)
+        def relative_nonzero(G):
+            return nz_ev(G) / np.maximum(nz_scale(np.abs(G)), 1e-300)
 
-        starts = self.n_starts if eqs else count
-        for _ in range(starts):
-            x0 = np.concatenate([
-                self.rng.uniform(-np.pi, np.pi, len(angles)),
-                self.rng.uniform(-2.0, 2.0, len(others)),
-                self.rng.uniform(-2.0, 2.0, len(params)),
-            ])
+        def residual(X):
+            """Residual rows of the unknown rows X (the last columns are Rabinowitsch's t)."""
+            G = self.generators_batch(branch, angles, others, params, X[:, :n_x])
+            parts = []
             if eqs:
-                x = gauss_newton(residual, x0)
-                if x is None or np.max(np.abs(residual(x))) > ROOT_XTOL:
-                    continue
-            else:
-                x = x0
-            g = self.generators(branch, angles, others, params, x)
-            if g is None:
-                continue
-            found.append(g)
-            if len(found) >= count:
-                break
+                parts.append(ev(G) / np.maximum(scale_ev(np.abs(G)), 1e-300))
+            if X.shape[1] > n_x:
+                # Rabinowitsch: t * e(q) = 1 keeps e away from zero
+                parts.append(relative_nonzero(G) * X[:, n_x:] - 1.0)
+            R = np.concatenate(parts, axis=1)
+            R[np.isnan(G).any(axis=1)] = 1e3
+            return R
+
+        def accepted(X):
+            """Generator rows of the solved unknown rows X, NaN rows where not accepted."""
+            G = self.generators_batch(branch, angles, others, params, X[:, :n_x])
+            bad = np.isnan(G).any(axis=1)
+            if eqs:
+                R = ev(G) / np.maximum(scale_ev(np.abs(G)), 1e-300)
+                bad |= ~(np.max(np.abs(R), axis=1) <= ROOT_XTOL)
+            if nz:
+                bad |= ~(np.min(np.abs(relative_nonzero(G)), axis=1) > EXCLUSION_RTOL)
+            G[bad] = np.nan
+            return G
+
+        starts = self.n_starts if (eqs or nz) else count
+        chunk = 8 if (eqs or nz) else count
+        done = 0
+        while done < starts and len(found) < count:
+            size = min(chunk, starts - done)
+            done += size
+            X0 = np.concatenate([
+                self.rng.uniform(-np.pi, np.pi, (size, len(angles))),
+                self.rng.uniform(-2.0, 2.0, (size, len(others))),
+                self.rng.uniform(-2.0, 2.0, (size, len(params))),
+            ], axis=1)
+            G = accepted(gauss_newton_rows(residual, X0) if eqs else X0)
+            retry = np.isnan(G).any(axis=1)
+            if nz and eqs and retry.any():
+                # a plain solve that landed in the excluded set: solve again, kept away from it
+                G0 = self.generators_batch(branch, angles, others, params, X0[retry])
+                V0 = np.nan_to_num(relative_nonzero(G0), nan=1.0)
+                T0 = 1.0 / np.where(np.abs(V0) > 1e-3, V0, 1e-3)
+                G[retry] = accepted(gauss_newton_rows(residual, np.concatenate([X0[retry], T0], axis=1)))
+            for g in G:
+                if not np.isnan(g).any() and len(found) < count:
+                    found.append(g)
         return found
 
 
 def gauss_newton(residual, x0, *, max_iter: int = 60, h: float = 1e-7):
-    """Minimum-norm Gauss-Newton for an under- or well-determined system.
-
-    Each step solves J dx = -r in the least-squares, minimum-norm sense
-    (forward-difference J), with step halving when the residual grows.
-    Returns the final point, or None if it is not finite.
-    """
-    x = np.array(x0, dtype=float)
-    r = residual(x)
-    norm = np.linalg.norm(r)
-    for _ in range(max_iter):
-        if norm < 1e-14:
-            break
-        J = np.empty((len(r), len(x)))
-        for j in range(len(x)):
-            xp = x.copy()
-            xp[j] += h
-            J[:, j] = (residual(xp) - r) / h
-        dx = np.linalg.lstsq(J, -r, rcond=None)[0]
-        step = 1.0
-        while step > 1e-4:
-            xn = x + step * dx
-            rn = residual(xn)
-            nn = np.linalg.norm(rn)
-            if np.isfinite(nn) and nn < norm:
-                break
-            step /= 2
-        else:
-            return x if np.all(np.isfinite(x)) else None
-        x, r, norm = xn, rn, nn
+    """:func:`gauss_newton_rows` from one start; returns the final point or None."""
+    x = gauss_newton_rows(residual, np.asarray(x0, dtype=float)[None, :], max_iter=max_iter, h=h)[0]
     return x if np.all(np.isfinite(x)) else None
+
+
+def gauss_newton_rows(residual, X0, *, max_iter: int = 60, h: float = 1e-7):
+    """Minimum-norm Gauss-Newton from several starts at once (the rows of ``X0``).
+
+    ``residual`` maps rows of unknowns (shape (B, n)) to rows of residuals,
+    so that every start, and every column of the forward-difference
+    Jacobians, is evaluated in one call.  Each step solves J dx = -r in the
+    least-squares, minimum-norm sense, with step halving while the residual
+    grows.  A start stops when its residual is below 1e-14, when a step
+    cannot reduce it, or when it has not halved in 8 steps (no convergence
+    in sight).  Returns the final rows (NaN where not finite).
+    """
+    X = np.array(X0, dtype=float)
+    S, n = X.shape
+    R = residual(X)
+    norm = np.linalg.norm(R, axis=1)
+    norm[~np.isfinite(norm)] = np.inf
+    active = np.isfinite(norm)
+    shifts = np.vstack([np.zeros(n), h * np.eye(n)])
+    history = [norm.copy()]
+    for it in range(max_iter):
+        active &= norm >= 1e-14
+        if it >= 8:
+            active &= norm <= 0.5 * history[it - 8]
+        if not active.any():
+            break
+        idx = np.flatnonzero(active)
+        P = (X[idx, None, :] + shifts[None, :, :]).reshape(-1, n)
+        RR = residual(P).reshape(len(idx), n + 1, -1)
+        J = np.transpose((RR[:, 1:, :] - RR[:, :1, :]) / h, (0, 2, 1))
+        if not np.all(np.isfinite(J)):
+            ok = np.all(np.isfinite(J), axis=(1, 2))
+            active[idx[~ok]] = False
+            idx, J = idx[ok], J[ok]
+            if not len(idx):
+                continue
+        dX = -np.einsum("anm,am->an", np.linalg.pinv(J), R[idx])
+        step = np.ones(len(idx))
+        pending = np.ones(len(idx), dtype=bool)
+        while pending.any():
+            k = np.flatnonzero(pending)
+            Xn = X[idx[k]] + step[k, None] * dX[k]
+            Rn = residual(Xn)
+            nn = np.linalg.norm(Rn, axis=1)
+            better = np.isfinite(nn) & (nn < norm[idx[k]])
+            rows = idx[k[better]]
+            X[rows], R[rows], norm[rows] = Xn[better], Rn[better], nn[better]
+            pending[k[better]] = False
+            step[k[~better]] /= 2
+            stuck = k[~better][step[k[~better]] <= 1e-4]
+            pending[stuck] = False
+            active[idx[stuck]] = False
+        history.append(norm.copy())
+    return X

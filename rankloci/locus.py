@@ -44,6 +44,10 @@ class Component:
     parameter_conditions : tuple of sympy.Expr
         Equations in the parameters alone: the component exists only for
         those special parameter values.
+    excluding : tuple of sympy.Expr
+        Expressions that do not vanish at the generic points of the
+        component: it is the closure of the set where the equations vanish
+        and these do not.  Empty when the equations alone cut it out.
     for_model : bool
         Whether the component has real points for the model's own parameter
         values (a component with parameter conditions the model does not
@@ -60,6 +64,7 @@ class Component:
     sample: dict = field(default_factory=dict)
     parameter_conditions: tuple = ()
     for_model: bool = True
+    excluding: tuple = ()
     _branch: object = field(default=None, repr=False, compare=False)
 
     def to_dict(self) -> dict:
@@ -74,6 +79,7 @@ class Component:
             "sample": {k: float(v) for k, v in self.sample.items()},
             "parameter_conditions": [sp.sstr(e) for e in self.parameter_conditions],
             "for_model": self.for_model,
+            "excluding": [sp.sstr(e) for e in self.excluding],
         }
 
 

@@ -60,6 +60,8 @@ def _component_lines(i, c, row_labels):
     out.append(f"     dimension {c.dimension}, rank drop {c.rank_drop}, free: {free}")
     if c.parameter_conditions:
         out.append("     parameters: " + ", ".join(f"{sp.sstr(e)} = 0" for e in c.parameter_conditions))
+    if c.excluding:
+        out.append("     closure of the part where: " + ",  ".join(f"{sp.sstr(e)} != 0" for e in c.excluding))
     for vec in c.direction:
         out.append("     lost direction: (" + ", ".join(sp.sstr(x) for x in vec) + ")")
     for vec in c.direction_at_sample:
@@ -85,6 +87,7 @@ def locus_latex(locus) -> str:
         out.append(f"% component {i}: dimension {c.dimension}, rank drop {c.rank_drop}{tag}")
         out.append(r"\begin{align*}")
         eqs = [sp.latex(e) + " &= 0" for e in c.equations]
+        eqs += [sp.latex(e) + r" &\neq 0" for e in c.excluding]
         out.append(" \\\\\n".join(eqs))
         out.append(r"\end{align*}")
     return "\n".join(out)

@@ -83,3 +83,11 @@ FSP_N_BND_NUMERATOR = 0.9
 #: tested have at most a few thousand terms, so a vanishing polynomial stays
 #: below ~1e-11 of its term size; 1e-9 leaves a margin of two orders.
 ZERO_RTOL = 1e-9
+
+#: A sample point of a branch that excludes the zero set of a polynomial e
+#: (where the null vectors of a level degenerate) is accepted only when |e| is
+#: above EXCLUSION_RTOL times the size of its terms.  Generic points of the
+#: branch are far from that set (|e| of order 1e-2 of its term size and up);
+#: points within 1e-4 of it carry a rank decision that rounding could flip,
+#: so they are left to the excluded set's own branch.
+EXCLUSION_RTOL = 1e-4

@@ -16,7 +16,7 @@ from rankloci.io import load_model
 from rankloci.io.toml_model import parse_model
 from rankloci.matrix import task_matrix
 from rankloci.methods import compute_locus
-from rankloci.tolerances import RANK_RTOL
+from rankloci.tolerances import EXCLUSION_RTOL, RANK_RTOL
 
 #: A point found by least squares counts as on a component when every equation, divided by the
 #: sum of the absolute values of its coefficients (so a trig polynomial is at most 1 on the
@@ -155,6 +155,20 @@ class ComponentEquations:
         self.exprs = exprs
         self.scales = np.array([_coefficient_norm(e) for e in exprs], dtype=float)
         self._f = sp.lambdify(self.variables, exprs, modules="numpy") if exprs else None
+        excl = [sp.expand(sp.sympify(e).subs(params)) for e in getattr(comp, "excluding", ())]
+        self.excl_scales = np.array([_coefficient_norm(e) for e in excl], dtype=float)
+        self._g = sp.lambdify(self.variables, excl, modules="numpy") if excl else None
+
+    def excluded(self, q) -> np.ndarray:
+        """The component's excluded expressions at q, scaled like the equations."""
+        if self._g is None:
+            return np.zeros(0)
+        return np.array(self._g(*q), dtype=float).reshape(-1) / self.excl_scales
+
+    def admits(self, q) -> bool:
+        """Is q away from every excluded set (by more than EXCLUSION_RTOL)?"""
+        v = self.excluded(q)
+        return not v.size or float(np.min(np.abs(v))) > EXCLUSION_RTOL
 
     def __call__(self, q) -> np.ndarray:
         if self._f is None:
@@ -176,16 +190,27 @@ def points_on(eqs: ComponentEquations, tm, rng, n: int, *, tries: int = 40) -> l
     """Up to n points where the equations vanish, from random starts (least squares).
 
     Returns fewer than n points only if fewer than n of ``tries`` starts converge.
+    A component with exclusions (``comp.excluding``) is the closure of the set where its
+    equations vanish and the exclusions do not; a start that lands in an excluded set is
+    solved again with one more unknown t per exclusion e and the equation t * e = 1.
     """
     out = []
     if eqs._f is None:
         return [random_q(tm, rng) for _ in range(n)]
+    opts = dict(method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15)
     for _ in range(tries):
         q0 = random_q(tm, rng)
-        res = least_squares(eqs, q0, method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15,
-                            max_nfev=200 * len(q0))
-        if eqs.residual(res.x) <= ROOT_RESIDUAL:
-            out.append(res.x)
+        q = least_squares(eqs, q0, max_nfev=200 * len(q0), **opts).x
+        if eqs.residual(q) <= ROOT_RESIDUAL and not eqs.admits(q):
+            m = len(q0)
+            t0 = 1.0 / np.clip(np.abs(eqs.excluded(q0)), 1e-3, None)
+
+            def lifted(x):
+                return np.concatenate([eqs(x[:m]), eqs.excluded(x[:m]) * x[m:] - 1.0])
+
+            q = least_squares(lifted, np.concatenate([q0, t0]), **opts).x[:m]
+        if eqs.residual(q) <= ROOT_RESIDUAL and eqs.admits(q):
+            out.append(q)
             if len(out) == n:
                 break
     return out

@@ -61,6 +61,7 @@ class Context:
         self.progress = progress or (lambda msg: None)
         self.should_stop = should_stop or (lambda: False)
         self._compiled = {}
+        self._vanish_cache = {}
 
     # --- bookkeeping --------------------------------------------------------
 
@@ -127,9 +128,16 @@ class Context:
         """Does ``p`` vanish at every point (relative to the size of its terms)?"""
         if p.is_zero():
             return True
-        val = self.ring.compile([p])
-        scale = self.ring.compile([abs_poly(p, self.ring)])
-        return all(abs(val(g)[0]) <= ZERO_RTOL * max(scale(np.abs(g))[0], 1e-300) for g in points)
+        got = self._vanish_cache.get(id(p))
+        # the cached entry keeps p alive, so its id cannot be reused
+        if got is None or got[0] is not p:
+            if len(self._vanish_cache) > 4096:
+                self._vanish_cache.clear()
+            got = (p, self.ring.compile([p]), self.ring.compile([abs_poly(p, self.ring)]))
+            self._vanish_cache[id(p)] = got
+        _, val, scale = got
+        G = np.asarray(points, dtype=float)
+        return bool(np.all(np.abs(val(G)[:, 0]) <= ZERO_RTOL * np.maximum(scale(np.abs(G))[:, 0], 1e-300)))
 
     def children(self, branch: Branch, f) -> list[Branch]:
         """Branches covering ``branch`` intersected with {f = 0}."""
@@ -203,7 +211,8 @@ class Context:
                 continue
             if len(leaf.conditions) > len(branch.conditions):
                 continue
-            if all(self.vanishes(c, pts) for c in leaf.conditions):
+            if all(self.vanishes(c, pts) for c in leaf.conditions) and \
+                    not any(self.vanishes(e, [g]) for e in leaf.nonzero for g in pts):
                 return True
         return False
 
@@ -443,6 +452,7 @@ def finalize(ctx: Context) -> list[Component]:
                 eqs.append(e)
         raw.append((eqs, branch, pts, node))
     comps = [_component(ctx, eqs, branch, pts) for eqs, branch, pts, _ in raw]
+    comps = [_with_exclusions(ctx, c) for c in comps]
     comps = _merge_zero_pi(comps)
     comps = _remove_contained(ctx, comps)
     comps = [_with_direction(ctx, c) for c in comps]
@@ -480,7 +490,10 @@ def _component(ctx: Context, eqs, branch, pts) -> Component:
             xm[j] -= h
             grads.append((np.array(f(*xp), dtype=float) - np.array(f(*xm), dtype=float)) / (2 * h))
         G = np.array(grads).T
-        s = np.linalg.svd(G, compute_uv=False)
+        # equations differ in scale by orders of magnitude: compare directions
+        norms = np.linalg.norm(G, axis=1)
+        G = G[norms > 0] / norms[norms > 0, None]
+        s = np.linalg.svd(G, compute_uv=False) if len(G) else np.zeros(1)
         dim = len(tm.variables) - int(np.sum(s > 1e-7 * max(s[0], 1e-300)))
     # rank drop and lost directions at the sample point
     A = ctx.numeric(ctx.M, g)
@@ -501,6 +514,38 @@ def _component(ctx: Context, eqs, branch, pts) -> Component:
                      direction=(), direction_at_sample=dirs, sample=sample,
                      parameter_conditions=param_conds, for_model=for_model,
                      _branch=(branch, model_pts or pts))
+
+
+def _with_exclusions(ctx, c: Component) -> Component:
+    """Keep the excluded sets of a leaf that the equations alone would let in.
+
+    A leaf below a null-vector level lives where the block determinant d of
+    that level is nonzero.  Where the equations of the leaf and a factor g
+    of d vanish together at points where J has full rank, the equations
+    alone would describe too much: g != 0 becomes part of the component.
+    """
+    import dataclasses
+
+    branch, _ = c._branch
+    if not branch.nonzero:
+        return c
+    full = min(len(ctx.M), len(ctx.M[0]))
+    closure = branch.closure()
+    keep = []
+    for e in branch.nonzero:
+        for g in ctx.factors(closure.reduce(e, ctx.ring)):
+            if ctx.parameter_only(g):
+                continue
+            for part in ctx.children(closure, g):
+                pts = ctx.sampler.points(part)
+                if any(ctx.rank_at(ctx.M, x) == full for x in pts):
+                    expr = ctx.ring.to_sympy(g)
+                    if expr.could_extract_minus_sign():
+                        expr = -expr
+                    if expr not in keep:
+                        keep.append(expr)
+                    break
+    return dataclasses.replace(c, excluding=tuple(keep)) if keep else c
 
 
 MAX_DIRECTION_TERMS = 400
@@ -552,7 +597,8 @@ def _merge_zero_pi(comps: list[Component]) -> list[Component]:
     def key_without(c, q):
         rest = tuple(sorted(t for e, t in strings(c) if q not in e.free_symbols))
         solved = tuple(sorted((str(k), tuple(map(str, v))) for k, v in c.solved.items() if k != q))
-        return (str(q), rest, solved, c.rank_drop, tuple(map(str, c.parameter_conditions)))
+        return (str(q), rest, solved, c.rank_drop, tuple(map(str, c.parameter_conditions)),
+                tuple(map(sp.sstr, c.excluding)))
 
     changed = True
     while changed:
@@ -575,20 +621,50 @@ def _merge_zero_pi(comps: list[Component]) -> list[Component]:
                 solved=solved, free=A.free, dimension=A.dimension, rank_drop=A.rank_drop,
                 direction=A.direction, direction_at_sample=A.direction_at_sample,
                 sample=A.sample, parameter_conditions=A.parameter_conditions,
-                for_model=A.for_model or B.for_model)
+                for_model=A.for_model or B.for_model, excluding=A.excluding)
             comps = [c for i, c in enumerate(comps) if i not in (a, b)] + [merged]
             changed = True
             break
     return comps
 
 
-def _vanish_at(comp_eqs, syms, points) -> bool:
-    f = sp.lambdify(syms, list(comp_eqs), modules="numpy")
+def _vanish_at(funcs, points, nvars: int) -> bool:
+    """Is every point in the component whose numeric functions are ``funcs``?
+
+    The equations must vanish at each point.  A point where an exclusion
+    vanishes too may still be in the closure of the component: it is, when
+    points of the equations' zero set with the exclusions nonzero lie
+    arbitrarily near (tested by projecting small perturbations back onto the
+    equations).
+    """
+    f, g, gscale = funcs
     for x in points:
-        vals = np.abs(np.array(f(*x), dtype=float))
-        if np.any(vals > 1e-7):
+        if np.any(np.abs(np.array(f(*x), dtype=float)) > 1e-7):
             return False
+        if g is not None and np.any(np.abs(np.array(g(*x), dtype=float)) <= 1e-7 * gscale):
+            if not _near_admitted(f, g, gscale, x, nvars):
+                return False
     return True
+
+
+def _near_admitted(f, g, gscale, x, nvars, tries: int = 6) -> bool:
+    from ..branch import gauss_newton
+
+    rng = np.random.default_rng(0)
+
+    def rows(Y):
+        return np.array([np.array(f(*np.concatenate([y, x[nvars:]])), dtype=float).ravel()
+                         for y in Y])
+
+    for _ in range(tries):
+        y0 = x[:nvars] + 1e-3 * rng.standard_normal(nvars)
+        y = gauss_newton(rows, y0)
+        if y is None or np.max(np.abs(rows(y[None, :])[0])) > 1e-7 or np.max(np.abs(y - x[:nvars])) > 0.05:
+            continue
+        vals = np.abs(np.array(g(*np.concatenate([y, x[nvars:]])), dtype=float))
+        if np.all(vals > 1e-6 * gscale):
+            return True
+    return False
 
 
 def _remove_contained(ctx: Context, comps: list[Component]) -> list[Component]:
@@ -614,13 +690,25 @@ def _remove_contained(ctx: Context, comps: list[Component]) -> list[Component]:
             out.append(x)
         return out
 
+    compiled = {}
+
+    def functions(k):
+        if id(k) not in compiled:
+            f = sp.lambdify(syms, list(k.equations), modules="numpy")
+            g = sp.lambdify(syms, list(k.excluding), modules="numpy") if k.excluding else None
+            excl = [sp.expand(e.subs(pvals)) for e in k.excluding]
+            gscale = np.array([sum(abs(float(t.as_coeff_Mul()[0])) for t in sp.Add.make_args(e))
+                               for e in excl]) if excl else None
+            compiled[id(k)] = (f, g, gscale)
+        return compiled[id(k)]
+
     keep = []
     order = sorted(range(len(comps)), key=lambda i: (-comps[i].dimension, len(comps[i].equations)))
     for i in order:
         c = comps[i]
         contained = False
         for k in keep:
-            if _vanish_at(k.equations, syms, probe(c)) if k.equations else True:
+            if _vanish_at(functions(k), probe(c), len(tm.variables)) if k.equations else True:
                 if k.parameter_conditions and not c.parameter_conditions:
                     continue
                 contained = True

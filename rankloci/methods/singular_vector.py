@@ -127,20 +127,27 @@ def _reduce(ctx: Context, M, cols, rest, branch, parent, level):
                  ctx.ring.ctx.constant(0)) for c in range(len(rest))] for u in U]
     node = ctx.add_node(parent, branch, k=k, outcome="refined", shape=f"{k}x{len(rest)}",
                         columns=[c + 1 for c in cols])
-    _svm(ctx, Jdag, branch, node, level + 1)
-    # Where the null vectors degenerate (d = 0) they prove nothing; there the
+    # The null vectors U prove rank deficiency only where d != 0: the levels
+    # below live on that open set.  Where d = 0 they prove nothing; there the
     # matrix of this level is rank deficient exactly where all its maximal
     # minors vanish, which is decided on its own sub-branch.
+    degenerate = []
     if not d.is_constant():
         for g in ctx.factors(branch.reduce(d, ctx.ring)):
             if ctx.parameter_only(g):
                 ctx.special_parameters(g, f"null vectors at branch {node}")
+            else:
+                degenerate.append(g)
+    below = branch
+    for g in degenerate:
+        below = below.excluding(g)
+    _svm(ctx, Jdag, below, node, level + 1)
+    for g in degenerate:
+        for child in ctx.children(branch, g):
+            if ctx.known(child):
                 continue
-            for child in ctx.children(branch, g):
-                if ctx.known(child):
-                    continue
-                sub = ctx.add_node(node, child, outcome="refined", note="null vectors degenerate")
-                _minor_branch(ctx, M, child, sub)
+            sub = ctx.add_node(node, child, outcome="refined", note="null vectors degenerate")
+            _minor_branch(ctx, M, child, sub)
 
 
 def _minor_branch(ctx: Context, M, branch, parent):

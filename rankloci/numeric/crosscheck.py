@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from ..tolerances import RANK_RTOL
+from ..tolerances import EXCLUSION_RTOL, RANK_RTOL
 from .fsp import dependent_rows
 from .minors import relative_max_minor
 from .svd import numeric_rank_drop, sigma_ratio
@@ -108,10 +108,24 @@ class NumericMatrix:
 class _Equations:
     """A component's equations as a scaled numpy function of the joint variables."""
 
-    def __init__(self, equations, variables, parameters):
+    def __init__(self, equations, variables, parameters, excluding=()):
         exprs = [sp.expand(sp.sympify(e).subs(parameters)) for e in equations]
         self.scales = np.array([_coefficient_norm(e) for e in exprs], dtype=float)
         self._f = sp.lambdify(tuple(variables), exprs, modules="numpy") if exprs else None
+        excl = [sp.expand(sp.sympify(e).subs(parameters)) for e in excluding]
+        self.excl_scales = np.array([_coefficient_norm(e) for e in excl], dtype=float)
+        self._g = sp.lambdify(tuple(variables), excl, modules="numpy") if excl else None
+
+    def excluded_values(self, q) -> np.ndarray:
+        """The excluded expressions at q, each divided by its coefficient norm."""
+        if self._g is None:
+            return np.zeros(0)
+        return np.array(self._g(*q), dtype=float).reshape(-1) / self.excl_scales
+
+    def admits(self, q) -> bool:
+        """Is q outside the excluded sets (see EXCLUSION_RTOL)?"""
+        v = self.excluded_values(q)
+        return not v.size or float(np.min(np.abs(v))) > EXCLUSION_RTOL
 
     def __call__(self, q) -> np.ndarray:
         if self._f is None:
@@ -224,11 +238,21 @@ def _points_on(eqs: _Equations, nm: NumericMatrix, rng, n: int) -> list:
     if eqs._f is None:
         return list(nm.random_q(rng, n))
     out = []
+    opts = dict(method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15)
     for q0 in nm.random_q(rng, _MAX_TRIES * n):
-        res = least_squares(eqs, q0, method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15,
-                            max_nfev=200 * len(q0))
-        if eqs.residual(res.x) <= ON_COMPONENT_RESIDUAL:
-            out.append(res.x)
+        q = least_squares(eqs, q0, max_nfev=200 * len(q0), **opts).x
+        if eqs.residual(q) <= ON_COMPONENT_RESIDUAL and not eqs.admits(q):
+            # landed in an excluded set: solve again with t * e(q) = 1 (Rabinowitsch)
+            m = len(q0)
+            t0 = 1.0 / np.clip(np.abs(eqs.excluded_values(q0)), 1e-3, None)
+
+            def lifted(x):
+                return np.concatenate([eqs(x[:m]), eqs.excluded_values(x[:m]) * x[m:] - 1.0])
+
+            q = least_squares(lifted, np.concatenate([q0, t0]), max_nfev=200 * (m + len(t0)),
+                              **opts).x[:m]
+        if eqs.residual(q) <= ON_COMPONENT_RESIDUAL and eqs.admits(q):
+            out.append(q)
             if len(out) == n:
                 break
     return out
@@ -322,7 +346,8 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
         if comp.parameter_conditions or not comp.for_model:
             skipped.append(eq_text)
             continue
-        eqs = _Equations([prepared(e) for e in comp.equations], nm.variables, {})
+        eqs = _Equations([prepared(e) for e in comp.equations], nm.variables, {},
+                         [prepared(e) for e in comp.excluding])
         pts = [_point(nm, q) for q in _points_on(eqs, nm, rng, samples)]
         fails = tuple(p for p in pts if p.sigma_ratio > ON_LOCUS_RTOL)
         for p in pts:
@@ -455,7 +480,8 @@ def parse_locus(data, model):
             rank_drop=rank_drop,
             parameter_conditions=parse_all(c.get("parameter_conditions", []),
                                            f"{where}.parameter_conditions"),
-            for_model=bool(c.get("for_model", True))))
+            for_model=bool(c.get("for_model", True)),
+            excluding=parse_all(c.get("excluding", []), f"{where}.excluding")))
     return Locus(model=str(data.get("model", model.name)), variables=tuple(model.variables),
                  parameters={}, shape=(0, 0), method=str(data.get("method", "file")),
                  components=tuple(out))

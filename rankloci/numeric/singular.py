@@ -173,8 +173,11 @@ def _real_point(func, scales, n_angles, rng, starts=30):
         x = np.ravel([[np.cos(a), np.sin(a)] for a in t])
         return np.array(func(*x), dtype=float) / scales
 
+    def residual_rows(T):
+        return np.array([residual(t) for t in T])
+
     for _ in range(starts):
-        t = gauss_newton(residual, rng.uniform(-np.pi, np.pi, n_angles))
+        t = gauss_newton(residual_rows, rng.uniform(-np.pi, np.pi, n_angles))
         if t is not None and np.max(np.abs(residual(t))) < ON_SET_RTOL:
             return np.ravel([[np.cos(a), np.sin(a)] for a in t])
     return None
