@@ -90,12 +90,13 @@ def _task_arg(text):
 
 
 def _load_task_matrix(args, progress=None):
+    from .augmented import parse_augment
     from .io import load_model
-    from .matrix import parse_constraints, task_matrix
+    from .matrix import task_matrix
 
     model = load_model(args.model, base_link=getattr(args, "base_link", None),
                        tip_link=getattr(args, "tip_link", None))
-    extra = parse_constraints(model, args.augment or ())
+    extra = parse_augment(model, args.augment or ())
     if progress:
         progress(f"building the symbolic matrix of {model.name}")
     frame = args.frame if args.frame is not None else getattr(args, "frame_default", None)
@@ -184,7 +185,7 @@ def cmd_locus(args) -> int:
 
     import numpy as np
 
-    from .methods import compute_locus
+    from .augmented import augmented_locus
     from .methods._common import LocusTimeout
     from .render_text import locus_json, locus_latex, locus_text, tree_dot, tree_json, tree_text
 
@@ -203,15 +204,12 @@ def cmd_locus(args) -> int:
     if progress:
         progress(f"{tm.name}: {tm.shape[0]}x{tm.shape[1]} matrix, method {method}, seed {args.seed}")
     try:
-        locus = compute_locus(tm, method, rng=np.random.default_rng(args.seed), progress=progress,
-                              should_stop=_deadline(args.timeout), clock=time.perf_counter)
+        locus = augmented_locus(model, tm, method, seed=args.seed, progress=progress,
+                                should_stop=_deadline(args.timeout), clock=time.perf_counter)
     except LocusTimeout as e:
         print(f"rankloci: error: {e}; raise --timeout (now {args.timeout:g} s) or try "
               f"--numeric-parameters", file=sys.stderr)
         return EXIT_FAILED
-    from .directions import directions_in_model_frame
-
-    locus = directions_in_model_frame(locus, model, tm)
     if tm.frame is not None and (tm.frame, tm.point) != (getattr(model, "frame", None), "tool"):
         import dataclasses
 
@@ -290,6 +288,70 @@ def cmd_check(args) -> int:
     return EXIT_OK if ok else EXIT_FAILED
 
 
+def cmd_report(args) -> int:
+    import shutil
+    import time
+    from pathlib import Path
+
+    from .io import builtin_models, load_model
+    from .report import FORMATS, ReportError, build_report, write_report
+
+    formats = [f.strip() for f in args.format.split(",") if f.strip()]
+    bad = [f for f in formats if f not in FORMATS]
+    if bad or not formats:
+        raise _UsageError(f"--format {args.format!r}: give a comma list of {', '.join(FORMATS)}")
+    if args.samples < 1:
+        raise _UsageError(f"--samples must be at least 1, got {args.samples}")
+    if args.timeout < 0:
+        raise _UsageError(f"--timeout must be 0 (no limit) or positive, got {args.timeout:g}")
+    specs = builtin_models() if args.model == "all" else [args.model]
+    models = [load_model(spec) for spec in specs]  # bad input fails here, before any writing
+    if args.model == "all":
+        targets = [Path(args.output or "reports") / m.name for m in models]
+    else:
+        targets = [Path(args.output) if args.output else Path("reports") / models[0].name]
+    for out in targets:
+        if out.exists() and not out.is_dir():
+            raise _UsageError(f"-o {str(out)!r}: exists and is not a directory")
+    progress = _progress_printer(args.quiet)
+    latex = None
+    if "pdf" in formats:
+        latex = next(((kind, exe) for kind in ("latexmk", "pdflatex")
+                      if (exe := shutil.which(kind))), None)
+        if latex is None:
+            print("rankloci: note: PDF skipped: neither latexmk nor pdflatex is installed",
+                  file=sys.stderr)
+    dot = shutil.which("dot")
+    status = EXIT_OK
+    for model, out in zip(models, targets):
+        t0 = time.perf_counter()
+        report = build_report(model, seed=args.seed, samples=args.samples, numeric=args.numeric,
+                              timeout=args.timeout, clock=time.perf_counter, progress=progress,
+                              dot=dot)
+        try:
+            paths = write_report(report, out, formats=formats, fragment=args.fragment,
+                                 latex=latex, timings=not args.no_timings)
+        except ReportError as e:
+            print(f"rankloci: error: {model.name}: {e}", file=sys.stderr)
+            status = EXIT_FAILED
+            continue
+        if report.locus is None:
+            print(f"rankloci: note: {model.name}: the locus did not finish within "
+                  f"{args.timeout:g} s; the report says so", file=sys.stderr)
+        check_ok = report.check is None or (report.check.ok and (
+            report.exact is None or report.exact.status != "disagree"))
+        if not check_ok:
+            print(f"rankloci: {model.name}: the numeric cross-check FAILED; see the report",
+                  file=sys.stderr)
+            status = EXIT_FAILED
+        if progress:
+            progress(f"{model.name}: report written to {out} in {time.perf_counter() - t0:.1f} s")
+        for p in paths:
+            if p.suffix in (".md", ".tex", ".pdf"):
+                print(p)
+    return status
+
+
 # --- parser -----------------------------------------------------------------
 
 _EPILOG_JACOBIAN = """examples:
@@ -327,6 +389,22 @@ _EPILOG_MODELS = """examples:
   rankloci models --format json
 """
 
+_EPILOG_REPORT = """examples:
+  rankloci report puma560
+  rankloci report planar3r -o out/planar3r --format md --samples 20 --seed 7
+  rankloci report ssrms --fragment --format tex,pdf
+  rankloci report all -o reports --timeout 120
+
+Writes DIR/NAME.md, DIR/NAME.tex and, when latexmk or pdflatex is installed,
+DIR/NAME.pdf, with the PNG figures beside them (default DIR: reports/NAME/;
+with 'all', one directory per built-in model under -o).  The report holds the
+model, the symbolic Jacobian, the locus component by component with its
+reading, heat maps of sigma_min/sigma_max, the branch tree, the numeric
+cross-check, the method comparison and the timings.  Equal seeds give equal
+reports, the timing table aside (--no-timings leaves it out).  Exit 0 when
+written, 1 when the cross-check fails or LaTeX fails, 2 on bad input.
+"""
+
 
 def _model_args(p):
     p.add_argument("model", metavar="MODEL|FILE",
@@ -336,7 +414,9 @@ def _model_args(p):
     p.add_argument("--frame", type=_frame_arg, default=None,
                    help="frame the Jacobian is expressed in: base, tool, or a link number 0..n")
     p.add_argument("--augment", action="append", metavar="EXPR",
-                   help="constraint function g(q) whose gradient is stacked under J (repeatable)")
+                   help="constraint function g(q) whose gradient is stacked under J (repeatable): "
+                        "an expression, or a preset: lock(q3), sum(q1, q2, q3), position(k, x|y|z), "
+                        "elbow(z), wrist(x) (points the model names)")
     p.add_argument("--base-link", dest="base_link", help="URDF only: first link of the chain")
     p.add_argument("--tip", dest="tip_link", help="URDF only: last link of the chain")
 
@@ -397,6 +477,32 @@ def build_parser() -> argparse.ArgumentParser:
                    help="replace the geometric parameters by their values before the algebra")
     p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
     p.set_defaults(func=cmd_check)
+
+    p = sub.add_parser("report", help="write a report (Markdown, LaTeX, PDF, figures) on a model",
+                       epilog=_EPILOG_REPORT, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("model", metavar="MODEL|FILE|all",
+                   help="a built-in model name, a .toml/.urdf file, or 'all' built-in models")
+    p.add_argument("-o", "--output", metavar="DIR",
+                   help="directory to write into (default reports/NAME; with 'all', the parent "
+                        "directory, default reports)")
+    p.add_argument("--format", default="md,tex,pdf", metavar="LIST",
+                   help="comma list of md, tex, pdf (default all three; pdf only when latexmk "
+                        "or pdflatex is installed)")
+    p.add_argument("--samples", type=int, default=10,
+                   help="cross-check points per component, off-locus points and probe starts "
+                        "(default 10)")
+    p.add_argument("--seed", type=int, default=0, help="seed of every random choice (default 0)")
+    p.add_argument("--fragment", action="store_true",
+                   help="write the .tex without a preamble, to \\input into a paper")
+    p.add_argument("--numeric-parameters", dest="numeric", action="store_true",
+                   help="replace the geometric parameters by their values before the algebra")
+    p.add_argument("--timeout", type=float, default=600.0,
+                   help="seconds per locus computation (default 600; 0 = never); when it runs "
+                        "out the report is written without the locus and says so")
+    p.add_argument("--no-timings", dest="no_timings", action="store_true",
+                   help="leave out the timing table (then equal seeds give identical files)")
+    p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
+    p.set_defaults(func=cmd_report)
     return parser
 
 

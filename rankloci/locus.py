@@ -48,6 +48,13 @@ class Component:
         Expressions that do not vanish at the generic points of the
         component: it is the closure of the set where the equations vanish
         and these do not.  Empty when the equations alone cut it out.
+    kind : str or None
+        For the locus of an augmented matrix: "kinematic" (inside the locus
+        of J), "algorithmic" (J has full rank there) or "mixed" (J has full
+        rank at its generic points but the component meets J's locus).
+    meets : tuple of dict
+        For a mixed component: the components of J's locus it meets
+        (1-based ``base_component``, their ``equations``, and a ``point``).
     for_model : bool
         Whether the component has real points for the model's own parameter
         values (a component with parameter conditions the model does not
@@ -65,6 +72,8 @@ class Component:
     parameter_conditions: tuple = ()
     for_model: bool = True
     excluding: tuple = ()
+    kind: str | None = None
+    meets: tuple = ()
     _branch: object = field(default=None, repr=False, compare=False)
 
     def to_dict(self) -> dict:
@@ -97,6 +106,7 @@ class Locus:
     tree: object = None        # networkx.DiGraph of the branch tree, or None
     seconds: float = 0.0
     notes: tuple = ()
+    base: "Locus | None" = None   # for an augmented matrix: the locus of J itself
 
     def to_dict(self) -> dict:
         return {
@@ -106,8 +116,10 @@ class Locus:
             "parameters": {str(k): float(v) for k, v in self.parameters.items()},
             "matrix": {"rows": self.shape[0], "cols": self.shape[1]},
             "method": self.method,
-            "components": [c.to_dict() for c in self.components],
+            "components": [c.to_dict() | ({"kind": c.kind, "meets": list(c.meets)}
+                                          if self.base is not None else {})
+                           for c in self.components],
             "degenerate": self.degenerate,
             "seconds": round(self.seconds, 4),
             "notes": list(self.notes),
-        }
+        } | ({"base_locus": self.base.to_dict()} if self.base is not None else {})

@@ -139,6 +139,8 @@ class RobotModel(_ContentIdentity):
         Default frame the Jacobian is expressed in.
     augment : tuple of (str, sympy.Expr)
         Named constraint functions g(q) whose gradients augment J.
+    points : tuple of (str, int)
+        Named points (``elbow``, ``wrist``, ...): the origin of a link frame.
     """
 
     name: str
@@ -154,6 +156,7 @@ class RobotModel(_ContentIdentity):
     augment: tuple[tuple[str, sp.Expr], ...] = ()
     convention: str = "dh"
     path: str = ""
+    points: tuple[tuple[str, int], ...] = ()
 
     @property
     def dof(self) -> int:
@@ -173,6 +176,7 @@ class RobotModel(_ContentIdentity):
             parts += [j.kind, sp.srepr(sp.Tuple(*j.axis)), srepr_matrix(j.pre), srepr_matrix(j.post)]
         parts += [f"{k}={sp.srepr(v)}" for k, v in sorted(self.parameters.items(), key=lambda kv: kv[0].name)]
         parts += [f"{n}:{sp.srepr(e)}" for n, e in self.augment]
+        parts += [f"point {n}={k}" for n, k in self.points]
         return "|".join(parts)
 
 

@@ -41,6 +41,8 @@ def locus_text(locus, *, row_labels=()) -> str:
     lines.append(f"{len(main)} component(s) of the rank-deficiency locus:")
     for i, c in enumerate(main, 1):
         lines.extend(_component_lines(i, c, row_labels))
+        if c.kind:
+            lines.append(f"     kind: {_kind_text(c)}")
     if special:
         lines.append("")
         lines.append("only for special parameter values (not this model's):")
@@ -48,7 +50,26 @@ def locus_text(locus, *, row_labels=()) -> str:
             lines.extend(_component_lines(i, c, row_labels))
     for note in locus.notes:
         lines.append(f"note: {note}")
+    if locus.base is not None:
+        kinds = [c.kind for c in main]
+        lines.append("")
+        lines.append("classification: " + ", ".join(f"{kinds.count(k)} {k}" for k in
+                                                      ("kinematic", "algorithmic", "mixed")))
+        lines.append("")
+        lines.append("locus of J without the constraint rows (the arm's own singularities):")
+        base_rows = tuple(row_labels[:locus.base.shape[0]]) if row_labels else ()
+        lines.extend("  " + line for line in locus_text(locus.base, row_labels=base_rows).splitlines())
     return "\n".join(lines)
+
+
+def _kind_text(c) -> str:
+    if c.kind == "kinematic":
+        return "kinematic (inside the locus of J: the arm itself is singular here)"
+    if c.kind == "algorithmic":
+        return "algorithmic (J has full rank on the whole component: the constraints cause it)"
+    nums = [str(m["base_component"]) for m in c.meets]
+    which = f"component {nums[0]}" if len(nums) == 1 else f"components {', '.join(nums)}"
+    return f"mixed (J has full rank at its generic points; it meets {which} of J's locus, below)"
 
 
 def _component_lines(i, c, row_labels):
@@ -84,6 +105,7 @@ def locus_latex(locus) -> str:
            f"method {locus.method}"]
     for i, c in enumerate(locus.components, 1):
         tag = " (special parameters)" if c.parameter_conditions or not c.for_model else ""
+        tag += f", {c.kind}" if c.kind else ""
         out.append(f"% component {i}: dimension {c.dimension}, rank drop {c.rank_drop}{tag}")
         out.append(r"\begin{align*}")
         eqs = [sp.latex(e) + " &= 0" for e in c.equations]

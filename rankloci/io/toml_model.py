@@ -29,7 +29,7 @@ MAX_MATRIX_ENTRIES = 4096
 _NAME_RE = re.compile(r"^[a-z0-9][a-z0-9_-]{0,63}\Z")
 _IDENT_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]{0,31}\Z")
 _ROBOT_KEYS = {"name", "title", "source", "notes", "convention", "task", "rows", "frame",
-               "parameters", "base", "tool", "joint", "augment"}
+               "parameters", "base", "tool", "joint", "augment", "points"}
 _MATRIX_KEYS = {"name", "title", "source", "notes", "variables", "parameters", "matrix", "augment"}
 _JOINT_KEYS = {"kind", "a", "alpha", "d", "theta", "name", "limits"}
 _CONVENTIONS = ("dh", "mdh")
@@ -189,7 +189,23 @@ def _parse_robot(data, name):
         title=_text_field(data, "title", name), source=_text_field(data, "source"),
         base=_transform_table(data, "base", pnames), tool=_transform_table(data, "tool", pnames),
         task=task, frame=frame, augment=_augment(data, allnames), convention=convention,
+        points=_points(data, len(joints)),
     )
+
+
+def _points(data, dof):
+    """Named points ``[points] elbow = 3``: the origin of link frame 3."""
+    table = data.get("points", {})
+    if not isinstance(table, dict):
+        raise _err("must be a table of name = link frame number", field="points")
+    out = []
+    for key, frame in table.items():
+        if not _IDENT_RE.match(key):
+            raise _err(f"{key!r} is not a valid point name", field="points")
+        if not isinstance(frame, int) or isinstance(frame, bool) or not 0 <= frame <= dof:
+            raise _err(f"{key}: {frame!r} is not a link frame number in 0..{dof}", field="points")
+        out.append((key, frame))
+    return tuple(out)
 
 
 def _parse_matrix(data, name):

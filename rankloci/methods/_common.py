@@ -585,7 +585,12 @@ def _symbolic_direction(ctx, branch, pts, drop):
 
 
 def _merge_zero_pi(comps: list[Component]) -> list[Component]:
-    """Join the components q = 0 and q = pi that agree elsewhere into sin(q) = 0."""
+    """Join q = 0 and q = pi into sin(q) = 0, and q = pi/2 and q = -pi/2 into cos(q) = 0.
+
+    Only components that agree in everything else are joined.
+    """
+    pairs = {sp.Integer(0): (0, sp.sin), sp.pi: (0, sp.sin),
+             sp.pi / 2: (1, sp.cos), -sp.pi / 2: (1, sp.cos)}
     eq_strings = {}
 
     def strings(c):
@@ -606,18 +611,20 @@ def _merge_zero_pi(comps: list[Component]) -> list[Component]:
         groups = {}
         for i, c in enumerate(comps):
             for q, vals in c.solved.items():
-                if len(vals) == 1 and vals[0] in (sp.Integer(0), sp.pi):
-                    groups.setdefault(key_without(c, q), {}).setdefault(vals[0], i)
+                if len(vals) == 1 and vals[0] in pairs:
+                    which, _ = pairs[vals[0]]
+                    groups.setdefault(key_without(c, q) + (which,), {}).setdefault(vals[0], i)
         for key, by_value in groups.items():
             if len(by_value) != 2:
                 continue
-            a, b = by_value[sp.Integer(0)], by_value[sp.pi]
+            (va, a), (vb, b) = sorted(by_value.items(), key=lambda kv: float(kv[0]))
             A, B = comps[a], comps[b]
             q = next(k for k in A.solved if str(k) == key[0])
             solved = dict(A.solved)
-            solved[q] = (sp.Integer(0), sp.pi)
+            solved[q] = (va, vb)
+            func = pairs[va][1]
             merged = Component(
-                equations=(sp.sin(q),) + tuple(e for e in A.equations if q not in e.free_symbols),
+                equations=(func(q),) + tuple(e for e in A.equations if q not in e.free_symbols),
                 solved=solved, free=A.free, dimension=A.dimension, rank_drop=A.rank_drop,
                 direction=A.direction, direction_at_sample=A.direction_at_sample,
                 sample=A.sample, parameter_conditions=A.parameter_conditions,

@@ -1,0 +1,249 @@
+"""Augmented Jacobians: kinematic and algorithmic singularities told apart.
+
+Redundancy is often resolved by stacking the gradients of constraint
+functions g(q) under J.  The augmented matrix J_aug loses rank wherever J
+does (when J_aug is square or wide; a tall J_aug can only lose rank where J
+does), and also where a constraint gradient falls into the row space of J:
+an *algorithmic* singularity.  :func:`classify` labels each component of
+the locus of J_aug by comparing it with the locus of J:
+
+- ``kinematic``: J loses rank at the generic points of the component (the
+  component lies inside J's locus);
+- ``algorithmic``: J has full rank on the whole component;
+- ``mixed``: J has full rank at its generic points, but the component meets
+  J's locus; ``meets`` says on which components of J's locus, with a point.
+
+Constraints are plain expressions in the joint variables, or presets that
+expand to plain expressions (see :func:`expand_preset`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+
+import numpy as np
+import sympy as sp
+
+from .errors import ModelError
+
+__all__ = ["PRESETS", "expand_preset", "parse_augment", "classify", "KINDS"]
+
+KINDS = ("kinematic", "algorithmic", "mixed")
+
+#: Preset constraint functions, as written on the command line.
+PRESETS = {
+    "lock(qi)": "lock joint i: g = qi",
+    "sum(qi, qj, ...)": "a joint sum, e.g. the orientation of a planar arm: g = qi + qj + ...",
+    "position(k, x|y|z)": "a coordinate of the origin of link frame k in the base frame",
+    "NAME(x|y|z)": "a coordinate of a point the model names in [points] (elbow, wrist, ...)",
+}
+
+_CALL = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*\((.*)\)\s*$")
+_AXES = {"x": 0, "y": 1, "z": 2}
+
+
+def expand_preset(model, text: str):
+    """``(name, expression)`` of a preset constraint, or None if ``text`` is no preset.
+
+    Examples
+    --------
+    >>> from rankloci.io import load_model
+    >>> m = load_model("planar3r")
+    >>> expand_preset(m, "sum(q1, q2, q3)")
+    ('sum(q1, q2, q3)', q1 + q2 + q3)
+    >>> expand_preset(m, "lock(q2)")
+    ('lock(q2)', q2)
+    >>> expand_preset(m, "position(2, y)")[1]
+    l1*sin(q1) + l2*sin(q1 + q2)
+    """
+    from .model import RobotModel
+
+    m = _CALL.match(text)
+    if not m:
+        return None
+    head, args = m.group(1), [a.strip() for a in m.group(2).split(",")] if m.group(2).strip() else []
+    by_name = {v.name: v for v in model.variables}
+    points = dict(getattr(model, "points", ()))
+    if head in ("lock", "sum"):
+        if not args or (head == "lock" and len(args) != 1):
+            raise ModelError(f"--augment {text!r}: {head}() takes "
+                             f"{'one joint variable' if head == 'lock' else 'joint variables'}")
+        unknown = [a for a in args if a not in by_name]
+        if unknown:
+            raise ModelError(f"--augment {text!r}: {', '.join(unknown)} is not a joint variable "
+                             f"of {model.name} ({', '.join(by_name)})")
+        return text.strip(), sp.Add(*[by_name[a] for a in args])
+    if head == "position" or head in points:
+        if not isinstance(model, RobotModel):
+            raise ModelError(f"--augment {text!r}: positions need a robot model, not a raw matrix")
+        if head == "position":
+            if len(args) != 2 or not args[0].isdigit():
+                raise ModelError(f"--augment {text!r}: write position(k, x|y|z) with a link "
+                                 f"frame number k")
+            frame, axis = int(args[0]), args[1]
+            if not 0 <= frame <= model.dof:
+                raise ModelError(f"--augment {text!r}: link frame {frame} is not in 0..{model.dof}")
+        else:
+            if len(args) != 1:
+                raise ModelError(f"--augment {text!r}: write {head}(x|y|z)")
+            frame, axis = points[head], args[0]
+        if axis not in _AXES:
+            raise ModelError(f"--augment {text!r}: {axis!r} is not x, y or z")
+        from .kinematics import frame_position, relative_transforms, trig_normal
+
+        T = relative_transforms(model, "base")[frame_position(model, frame)]
+        return text.strip(), trig_normal(sp.expand_trig(T[_AXES[axis], 3]))
+    return None
+
+
+def parse_augment(model, texts):
+    """Constraints from ``--augment`` texts: presets first, else plain expressions."""
+    from .matrix import parse_constraints
+
+    out = []
+    for t in texts:
+        got = expand_preset(model, t)
+        out.extend([got] if got is not None else parse_constraints(model, [t]))
+    return tuple(out)
+
+
+# --- classification ---------------------------------------------------------------------------
+
+def _numeric(tm):
+    from .numeric.crosscheck import NumericMatrix
+
+    return NumericMatrix(sp.Matrix(tm.matrix).subs(tm.parameters), tm.variables, tm.angles)
+
+
+def _equations(comp, tm):
+    from .numeric.crosscheck import _Equations
+
+    return _Equations(comp.equations, tm.variables, tm.parameters, comp.excluding)
+
+
+def _singular(J) -> bool:
+    from .numeric.svd import numeric_rank_drop
+
+    return numeric_rank_drop(J) > 0
+
+
+def _meeting_point(comp, base_comp, tm, nm, rng, tries):
+    """A real point on both components where J is singular, or None."""
+    from scipy.optimize import least_squares
+
+    from .numeric.crosscheck import ON_COMPONENT_RESIDUAL, _Equations
+
+    both = _Equations(tuple(comp.equations) + tuple(base_comp.equations), tm.variables,
+                      tm.parameters)
+    if both._f is None:
+        return None
+    for q0 in nm.random_q(rng, tries):
+        q = least_squares(both, q0, method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15,
+                          max_nfev=200 * len(q0)).x
+        if both.residual(q) <= ON_COMPONENT_RESIDUAL and _singular(nm(q)):
+            return q
+    return None
+
+
+def classify(aug, base, tm_aug, tm_base, *, rng=None, samples: int = 4, tries: int = 24):
+    """The locus ``aug`` of J_aug with a kind for each component and ``base`` attached.
+
+    Parameters
+    ----------
+    aug, base : Locus
+        Loci of the augmented matrix and of J.
+    tm_aug, tm_base : TaskMatrix
+        The two matrices (their variables must agree).
+    samples : int
+        Points solved onto each component, besides its own sample, at which
+        the rank of J decides between kinematic and not.
+    tries : int
+        Random starts when looking for a point a component shares with a
+        component of J's locus.
+    """
+    from .numeric.crosscheck import _points_on
+
+    rng = np.random.default_rng(0) if rng is None else rng
+    nm = _numeric(tm_base)
+    base_comps = [c for c in base.components if c.for_model and not c.parameter_conditions]
+    out = []
+    for comp in aug.components:
+        if comp.parameter_conditions or not comp.for_model:
+            out.append(comp)
+            continue
+        eqs = _equations(comp, tm_base)
+        pts = [np.array([comp.sample[str(v)] for v in tm_base.variables], dtype=float)]
+        pts += _points_on(eqs, nm, rng, samples)
+        singular = [_singular(nm(q)) for q in pts]
+        if all(singular):
+            out.append(dataclasses.replace(comp, kind="kinematic"))
+            continue
+        meets = []
+        for i, b in enumerate(base.components, start=1):
+            if b not in base_comps:
+                continue
+            q = _meeting_point(comp, b, tm_base, nm, rng, tries)
+            if q is not None:
+                meets.append({"base_component": i,
+                              "equations": [sp.sstr(e) for e in b.equations],
+                              "point": {str(v): float(x) for v, x in zip(tm_base.variables, q)}})
+        kind = "mixed" if meets else "algorithmic"
+        out.append(dataclasses.replace(comp, kind=kind, meets=tuple(meets)))
+    return dataclasses.replace(aug, components=tuple(out), base=base)
+
+
+def base_matrix(model, tm):
+    """J without any constraint row, in the frame and about the point ``tm`` uses."""
+    from .matrix import task_matrix
+    from .model import RobotModel
+
+    task = tm.rows if isinstance(model, RobotModel) and tm.rows else None
+    return task_matrix(model, task=list(task) if task else None, frame=tm.frame,
+                       point=tm.point if tm.point is not None else "tool", augment=(),
+                       use_model_augment=False, numeric=not tm.parameters and bool(model.parameters))
+
+
+def augmented_locus(model, tm, method: str | None = None, *, seed: int = 0, progress=None,
+                    should_stop=None, clock=None):
+    """Loci of J_aug (``tm``) and of J, and J_aug's components classified.
+
+    ``method`` applies to J_aug (default: determinant when square, else
+    svm); J uses the same method, or the determinant method when it is
+    square.  Both loci use the generator seeded with ``seed``.
+
+    Examples
+    --------
+    >>> from rankloci.io import load_model
+    >>> from rankloci.matrix import task_matrix
+    >>> m = load_model("planar3r_orient")
+    >>> locus = augmented_locus(m, task_matrix(m, numeric=True))
+    >>> [(str(c.equations[0]), c.kind) for c in locus.components]
+    [('sin(q2)', 'mixed')]
+    >>> [str(e) for e in locus.base.components[0].equations]
+    ['sin(q2)', 'sin(q3)']
+    """
+    from .directions import directions_in_model_frame
+    from .methods import compute_locus
+
+    progress = progress or (lambda msg: None)
+
+    def method_for(shape, wanted):
+        if shape[0] == shape[1]:
+            return "determinant" if wanted in (None, "determinant") else wanted
+        return "svm" if wanted in (None, "determinant") else wanted
+
+    aug = compute_locus(tm, method_for(tm.shape, method), rng=np.random.default_rng(seed),
+                        progress=progress, should_stop=should_stop, clock=clock)
+    aug = directions_in_model_frame(aug, model, tm)
+    if not tm.n_constraint_rows:
+        return aug
+    base_tm = base_matrix(model, tm)
+    base_method = method_for(base_tm.shape, method)
+    progress(f"locus of J without the constraint rows ({base_tm.shape[0]}x{base_tm.shape[1]}), "
+             f"method {base_method}")
+    base = compute_locus(base_tm, base_method, rng=np.random.default_rng(seed), progress=progress,
+                         should_stop=should_stop, clock=clock)
+    base = directions_in_model_frame(base, model, base_tm)
+    progress("classifying the components: kinematic, algorithmic or mixed")
+    return classify(aug, base, tm, base_tm, rng=np.random.default_rng(seed))
