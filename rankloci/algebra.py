@@ -93,6 +93,21 @@ class PolyRing:
                 degs[i] = max(degs[i], mon[2 * i] + mon[2 * i + 1])
         return tuple(degs)
 
+    def gradient(self, p) -> list:
+        """Derivatives of ``p`` by each angle and each other variable.
+
+        With C = cos(q/2), S = sin(q/2): d/dq = (C d/dS - S d/dC) / 2, which
+        keeps a polynomial homogeneous in (C, S).
+        """
+        out = []
+        for i in range(self.n_angles):
+            c, s = self.gens[2 * i], self.gens[2 * i + 1]
+            out.append((c * p.derivative(2 * i + 1) - s * p.derivative(2 * i)) / 2)
+        base = 2 * self.n_angles
+        for j in range(len(self.others)):
+            out.append(p.derivative(base + j))
+        return out
+
     def variable_indices(self, p) -> set[int]:
         """Generator indices that occur in ``p``."""
         used = set()

@@ -177,6 +177,10 @@ class BranchSampler:
     n_starts: int = 24
     cache: dict = field(default_factory=dict)
     _sub_eval: dict = field(default_factory=dict)
+    closest: dict = field(default_factory=dict)
+    #: sampler with the model's own parameter values, asked when these values give no point
+    fallback: "BranchSampler | None" = None
+    fell_back: set = field(default_factory=set)
 
     def points(self, branch: Branch, count: int = 3) -> list[np.ndarray]:
         """Up to ``count`` generator vectors of real points of ``branch``."""
@@ -185,8 +189,28 @@ class BranchSampler:
         if key in self.cache:
             return self.cache[key]
         pts = self._solve(branch, count)
+        if not pts and self.fallback is not None:
+            # real points can exist for some parameter values only (a semi-algebraic
+            # condition no zero test sees): the model's own values decide then
+            pts = self.fallback.points(branch, count)
+            if pts:
+                self.fell_back.add(key)
         self.cache[key] = pts
         return pts
+
+    def near_miss(self, branch: Branch, count: int = 3) -> bool:
+        """Did the solve of a branch without points get close to a real point?
+
+        Gauss-Newton converges only linearly to a point where the equations
+        and their gradient vanish together (a real zero set of lower
+        dimension than the equations suggest, like that of x**2 + y**2), and
+        stops short of ROOT_XTOL there.
+        """
+        from .tolerances import NEAR_MISS_RTOL
+
+        key = (tuple(str(c) for c in branch.conditions), tuple(str(p) for p in branch.nonzero),
+               count)
+        return self.closest.get(key, np.inf) <= NEAR_MISS_RTOL
 
     def _unknowns(self, branch: Branch):
         """Which angles, other variables and parameters are free to vary."""
@@ -300,7 +324,20 @@ class BranchSampler:
                 self.rng.uniform(-2.0, 2.0, (size, len(others))),
                 self.rng.uniform(-2.0, 2.0, (size, len(params))),
             ], axis=1)
-            G = accepted(gauss_newton_rows(residual, X0) if eqs else X0)
+            X = gauss_newton_rows(residual, X0) if eqs else X0
+            G = accepted(X)
+            if eqs:
+                # how close the solves came, among rows not rejected for an exclusion
+                Gx = self.generators_batch(branch, angles, others, params, X[:, :n_x])
+                R = np.abs(residual(X[:, :n_x]))
+                fine = ~np.isnan(Gx).any(axis=1)
+                if nz:
+                    with np.errstate(invalid="ignore"):
+                        fine &= np.min(np.abs(relative_nonzero(Gx)), axis=1) > EXCLUSION_RTOL
+                best = float(np.min(np.max(R[fine], axis=1))) if fine.any() and R.shape[1] else np.inf
+                key = (tuple(str(c) for c in branch.conditions),
+                       tuple(str(p) for p in branch.nonzero), count)
+                self.closest[key] = min(self.closest.get(key, np.inf), best)
             retry = np.isnan(G).any(axis=1)
             if nz and eqs and retry.any():
                 # a plain solve that landed in the excluded set: solve again, kept away from it
@@ -333,6 +370,8 @@ def gauss_newton_rows(residual, X0, *, max_iter: int = 60, h: float = 1e-7):
     """
     X = np.array(X0, dtype=float)
     S, n = X.shape
+    if n == 0:
+        return X           # nothing left to move: the caller checks the residual
     R = residual(X)
     norm = np.linalg.norm(R, axis=1)
     norm[~np.isfinite(norm)] = np.inf

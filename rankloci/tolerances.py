@@ -91,3 +91,13 @@ ZERO_RTOL = 1e-9
 #: points within 1e-4 of it carry a rank decision that rounding could flip,
 #: so they are left to the excluded set's own branch.
 EXCLUSION_RTOL = 1e-4
+
+#: A branch without sample points whose best Gauss-Newton residual (relative
+#: to the size of the terms) is at most NEAR_MISS_RTOL probably has real
+#: points where its last equation and that equation's gradient vanish
+#: together: there Gauss-Newton converges only linearly (the residual of a
+#: squared distance d**2 stalls near 1e-8 to 1e-6 while d is 1e-4 to 1e-3).
+#: Such a branch is searched again with the gradient's equations added,
+#: where convergence is quadratic.  A branch with no real point keeps a
+#: residual of order 1e-2 and up.
+NEAR_MISS_RTOL = 1e-4

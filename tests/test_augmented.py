@@ -223,6 +223,31 @@ def test_tall_augmented_matrix_has_only_kinematic_components():
     _same_set(elbow[0], ((d4 * sp.cos(q[2]) + a3 * sp.sin(q[2])).subs(values),), tm, rng)
 
 
+RAW_NO_ALGORITHMIC = ('name = "raw"\nvariables = ["x", "y", "z"]\n'
+                      'matrix = [["1", "0", "0"], ["0", "cos(z)", "-cos(y)"]]\n')
+
+
+def test_constraint_that_adds_no_algorithmic_singularity(write_file):
+    """J = [[1, 0, 0], [0, cos z, -cos y]] with g = sin y + sin z, gradient (0, cos y, cos z).
+
+    Derivation: J loses rank exactly where its second row vanishes, cos y = cos z = 0.
+    det J_aug = cos(z)**2 + cos(y)**2, whose real zeros are the same four lines (x free):
+    the constraint adds no singularity, and the only component is kinematic.  There the
+    constraint row vanishes too, so J_aug has rank 1: a rank drop of 2.  (The determinant
+    has real zeros only where its gradient vanishes as well; the locus must still find them.)
+    """
+    path = write_file("raw.toml", RAW_NO_ALGORITHMIC)
+    model = load_model(str(path))
+    tm = task_matrix(model, augment=parse_augment(model, ["sin(y) + sin(z)"]))
+    locus = augmented_locus(model, tm, seed=SEED)
+    rng = np.random.default_rng(SEED)
+    x, y, z = tm.variables
+    comps = _main_components(locus)
+    assert comps and {c.kind for c in comps} == {"kinematic"}, [H.describe(c) for c in comps]
+    assert all(c.rank_drop == 2 and c.dimension == 1 for c in comps)
+    _same_set(comps, (sp.cos(y), sp.cos(z)), tm, rng)
+
+
 @pytest.mark.slow
 def test_ssrms_with_joint_3_locked():
     """SSRMS, full 6x7 task, joint 3 locked (the model ssrms_lock3): J_aug is 7x7.

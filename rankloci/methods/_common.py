@@ -52,8 +52,10 @@ class Context:
         # polynomial is "zero" only when it is zero for all parameters; the
         # model's own values are used for the samples reported to the user.
         generic = {p: _generic_value(v, self.rng) for p, v in actual.items()}
-        self.sampler = BranchSampler(self.ring, generic, self.rng)
-        self.model_sampler = BranchSampler(self.ring, actual, self.rng) if params else self.sampler
+        self.model_sampler = BranchSampler(self.ring, actual, self.rng) if params else None
+        self.sampler = BranchSampler(self.ring, generic, self.rng, fallback=self.model_sampler)
+        if self.model_sampler is None:
+            self.model_sampler = self.sampler
         self.tree = nx.DiGraph()
         self.leaves: list[tuple[Branch, int]] = []
         self.notes: list[str] = []
@@ -140,8 +142,57 @@ class Context:
         return bool(np.all(np.abs(val(G)[:, 0]) <= ZERO_RTOL * np.maximum(scale(np.abs(G))[:, 0], 1e-300)))
 
     def children(self, branch: Branch, f) -> list[Branch]:
-        """Branches covering ``branch`` intersected with {f = 0}."""
-        return self._cover(branch, [f])
+        """Branches covering ``branch`` intersected with {f = 0}.
+
+        A child whose equation has real points only where its gradient
+        vanishes too (a sum of squares, say) is replaced by the branches
+        of those critical points, which the sampler can reach.
+        """
+        out = []
+        for child in self._cover(branch, [f]):
+            if child.implicit and self._critical_only(child):
+                self.progress(f"real points of {sp.sstr(self.ring.to_sympy(child.implicit[-1]))} "
+                              "= 0 only where its gradient vanishes: adding the gradient")
+                out.extend(self._critical_branches(child))
+            else:
+                out.append(child)
+        return out
+
+    def _critical_branches(self, child: Branch) -> list[Branch]:
+        """``child`` and the gradient of its last equation, split on the gradient's factors."""
+        branches = [child]
+        for d in self.ring.gradient(child.implicit[-1]):
+            nxt = []
+            for b in branches:
+                dr = b.reduce(d, self.ring)
+                if dr.is_zero():
+                    nxt.append(b)
+                    continue
+                for g in self.factors(dr):
+                    nxt.extend(c for c in self._cover(b, [g]) if self.sampler.points(c))
+            branches = nxt
+        return branches
+
+    def _critical_only(self, child: Branch) -> bool:
+        """Are the real points of the child's last equation critical points of it?
+
+        Either the sampler came close without converging (see
+        BranchSampler.near_miss), or every sample point has a gradient that
+        vanishes relative to the size of its terms (NEAR_MISS_RTOL): points
+        of a genuine hypersurface have gradients of order one.
+        """
+        from ..tolerances import NEAR_MISS_RTOL
+
+        pts = self.sampler.points(child)
+        if not pts:
+            return self.sampler.near_miss(child)
+        grad = [d for d in self.ring.gradient(child.implicit[-1]) if not d.is_zero()]
+        if not grad:
+            return False
+        val = self.ring.compile(grad)
+        size = self.ring.compile([abs_poly(d, self.ring) for d in grad])
+        G = np.asarray(pts, dtype=float)
+        return bool(np.all(np.abs(val(G)) <= NEAR_MISS_RTOL * np.maximum(size(np.abs(G)), 1e-300)))
 
     def _cover(self, branch: Branch, conditions) -> list[Branch]:
         """Branches covering ``branch`` and all of ``conditions``.
@@ -451,6 +502,10 @@ def finalize(ctx: Context) -> list[Component]:
             if e != 0 and e not in eqs and -e not in eqs:
                 eqs.append(e)
         raw.append((eqs, branch, pts, node))
+    if ctx.sampler.fell_back:
+        ctx.notes.append(f"{len(ctx.sampler.fell_back)} branch(es) have real points for the "
+                         "model's parameter values but none were found for random nearby values: "
+                         "the components found there may exist only in a range of parameters")
     comps = [_component(ctx, eqs, branch, pts) for eqs, branch, pts, _ in raw]
     comps = [_with_exclusions(ctx, c) for c in comps]
     comps = _merge_zero_pi(comps)
@@ -554,7 +609,7 @@ MAX_DIRECTION_TERMS = 400
 def _with_direction(ctx, c: Component) -> Component:
     import dataclasses
 
-    if c._branch is None:
+    if c._branch is None or c._branch[0] is None:
         return c
     branch, pts = c._branch
     return dataclasses.replace(c, direction=_symbolic_direction(ctx, branch, pts, c.rank_drop))
@@ -582,6 +637,10 @@ def _symbolic_direction(ctx, branch, pts, drop):
     if not common.is_constant():
         u = [p / common if not p.is_zero() else p for p in u]
     return (tuple(ctx.ring.to_sympy(p) if not p.is_zero() else sp.Integer(0) for p in u),)
+
+
+def _branch_points(c: Component) -> list:
+    return list(c._branch[1]) if c._branch is not None else []
 
 
 def _merge_zero_pi(comps: list[Component]) -> list[Component]:
@@ -628,7 +687,8 @@ def _merge_zero_pi(comps: list[Component]) -> list[Component]:
                 solved=solved, free=A.free, dimension=A.dimension, rank_drop=A.rank_drop,
                 direction=A.direction, direction_at_sample=A.direction_at_sample,
                 sample=A.sample, parameter_conditions=A.parameter_conditions,
-                for_model=A.for_model or B.for_model, excluding=A.excluding)
+                for_model=A.for_model or B.for_model, excluding=A.excluding,
+                _branch=(None, _branch_points(A) + _branch_points(B)))
             comps = [c for i, c in enumerate(comps) if i not in (a, b)] + [merged]
             changed = True
             break
@@ -683,18 +743,25 @@ def _remove_contained(ctx: Context, comps: list[Component]) -> list[Component]:
     def pts_of(c):
         x = [c.sample[str(v)] for v in tm.variables]
         x += [c.sample.get(str(p), pvals[p]) for p in ring.params]
-        return [np.array(x)]
+        out = [np.array(x)]
+        # the other sample points of the branch: one point may be special (on the
+        # intersection with another component), independent points rarely all are
+        for g in (c._branch[1] if c._branch is not None else ())[1:]:
+            qv, pv = _q_values(ring, g), _param_values(ring, g)
+            out.append(np.array([qv[v] for v in tm.variables] + [pv[p] for p in ring.params]))
+        return out
 
     # more points per component: rotate the free variables
     def probe(c):
-        base = pts_of(c)[0]
-        out = [base]
-        for k in range(1, 3):
-            x = base.copy()
-            for i, v in enumerate(tm.variables):
-                if v in c.free:
-                    x[i] = ((base[i] + 1.3 * k + np.pi) % (2 * np.pi)) - np.pi
-            out.append(x)
+        out = []
+        for base in pts_of(c):
+            out.append(base)
+            for k in range(1, 3):
+                x = base.copy()
+                for i, v in enumerate(tm.variables):
+                    if v in c.free:
+                        x[i] = ((base[i] + 1.3 * k + np.pi) % (2 * np.pi)) - np.pi
+                out.append(x)
         return out
 
     compiled = {}
@@ -713,13 +780,13 @@ def _remove_contained(ctx: Context, comps: list[Component]) -> list[Component]:
     order = sorted(range(len(comps)), key=lambda i: (-comps[i].dimension, len(comps[i].equations)))
     for i in order:
         c = comps[i]
-        contained = False
-        for k in keep:
-            if _vanish_at(functions(k), probe(c), len(tm.variables)) if k.equations else True:
-                if k.parameter_conditions and not c.parameter_conditions:
-                    continue
-                contained = True
-                break
+        # c is redundant when each of its points lies on some component kept so far (a
+        # leaf may be reducible, its pieces inside different components)
+        others = [k for k in keep if not (k.parameter_conditions and not c.parameter_conditions)]
+        contained = bool(others) and all(
+            any(_vanish_at(functions(k), [x], len(tm.variables)) if k.equations else True
+                for k in others)
+            for x in probe(c))
         if not contained:
             keep.append(c)
     return keep
