@@ -79,6 +79,9 @@ def _small_frame(model: RobotModel, rows, point):
     halves the length of the chains of transforms on either side.
     """
     middle = model.dof // 2
+    if model.joints and model.joints[0].kind == "prismatic":
+        # a mobile base: in the base frame its columns are constant and are pivoted out
+        return "base", point
     if tuple(rows) == (0, 1, 2, 3, 4, 5):
         return middle, middle
     if tuple(rows) in ((0, 1, 2), (3, 4, 5)):
@@ -108,7 +111,9 @@ def task_matrix(model, *, task=None, frame=None, point="tool", augment: Sequence
     task, frame, point
         Passed to :func:`~rankloci.kinematics.geometric_jacobian` (robots only).
         ``frame="auto"`` picks a frame (and, for the full task, a reference
-        point) in which the entries are small and the rank is the same.
+        point) in which the entries are small and the rank is the same; for
+        an arm whose first joint is prismatic (a mobile base), the base frame,
+        where the base's columns are constant.
     augment : sequence of (name, expr)
         Extra constraint functions; their gradients are stacked under J.
     use_model_augment : bool, default True

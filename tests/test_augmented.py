@@ -124,9 +124,9 @@ def test_planar3r_with_orientation_row_is_one_mixed_component():
     _same_set(comps[0], (sp.sin(q2),), tm, rng)
     assert comps[0].kind == "mixed"
     base = _main_components(locus.base)
-    assert len(base) == 1
-    _same_set(base[0], (sp.sin(q2), sp.sin(q3)), tm, rng)
-    assert [m["base_component"] for m in comps[0].meets] == [1]
+    assert 1 <= len(base) <= 2, [H.describe(c) for c in base]
+    _same_set(base, (sp.sin(q2), sp.sin(q3)), tm, rng)
+    assert sorted(m["base_component"] for m in comps[0].meets) == list(range(1, len(base) + 1))
 
 
 def test_planar4r_with_orientation_constraint():
@@ -146,9 +146,10 @@ def test_planar4r_with_orientation_constraint():
     assert len(comps) == 1, [H.describe(c) for c in comps]
     _same_set(comps[0], (sp.sin(q2), sp.sin(q3)), tm, rng)
     assert comps[0].dimension == 2 and comps[0].kind == "mixed"
+    # J's locus may come as one component or as its q2 = 0 and q2 = pi halves
     base = _main_components(locus.base)
-    assert len(base) == 1
-    _same_set(base[0], (sp.sin(q2), sp.sin(q3), sp.sin(q4)), tm, rng)
+    assert 1 <= len(base) <= 2, [H.describe(c) for c in base]
+    _same_set(base, (sp.sin(q2), sp.sin(q3), sp.sin(q4)), tm, rng)
 
 
 def test_joint_function_constraint_adds_algorithmic_components():

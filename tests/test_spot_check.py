@@ -1,18 +1,13 @@
-"""`rankloci check` on every built-in model whose locus finishes: all on-locus
-points singular, all off-locus points regular, no uncovered singular point.
-
-mobile10 (6x10) is left out: its locus does not finish within minutes yet
-(see README, Benchmarks)."""
+"""`rankloci check` on every built-in model: all on-locus points singular, all
+off-locus points regular, no uncovered singular point."""
 
 import pytest
 
 from rankloci.cli import main
 from rankloci.io import builtin_models
 
-SLOW = {"pa10", "ssrms", "ssrms_lock3"}
-UNFINISHED = {"mobile10"}
-MODELS = [pytest.param(m, marks=pytest.mark.slow) if m in SLOW else m
-          for m in builtin_models() if m not in UNFINISHED]
+SLOW = {"pa10", "ssrms", "ssrms_lock3", "mobile10"}
+MODELS = [pytest.param(m, marks=pytest.mark.slow) if m in SLOW else m for m in builtin_models()]
 
 
 @pytest.mark.parametrize("name", MODELS)

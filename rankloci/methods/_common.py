@@ -230,6 +230,9 @@ class Context:
         base = 2 * self.ring.n_angles + len(self.ring.others)
         for j, p in enumerate(self.ring.params):
             vals[base + j] = self._actual[p]
+        if any(n.startswith((f"the model's parameter values satisfy {text} = 0",
+                             f"for parameters with {text} = 0")) for n in self.notes):
+            return
         if self.vanishes(f, [vals]):
             note = (f"the model's parameter values satisfy {text} = 0, a special case of the "
                     f"symbolic analysis ({where}); rerun with --numeric-parameters")
