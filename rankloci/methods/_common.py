@@ -656,10 +656,12 @@ def _merge_zero_pi(comps: list[Component]) -> list[Component]:
     eq_strings = {}
 
     def strings(c):
-        key = id(c)
-        if key not in eq_strings:
-            eq_strings[key] = [(e, sp.sstr(e)) for e in c.equations]
-        return eq_strings[key]
+        # keyed by id, holding the component: a merged component may reuse a freed id
+        got = eq_strings.get(id(c))
+        if got is None or got[0] is not c:
+            got = (c, [(e, sp.sstr(e)) for e in c.equations])
+            eq_strings[id(c)] = got
+        return got[1]
 
     def key_without(c, q):
         rest = tuple(sorted(t for e, t in strings(c) if q not in e.free_symbols))
