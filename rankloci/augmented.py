@@ -55,7 +55,7 @@ def expand_preset(model, text: str):
     >>> expand_preset(m, "lock(q2)")
     ('lock(q2)', q2)
     >>> expand_preset(m, "position(2, y)")[1]
-    l1*sin(q1) + l2*sin(q1 + q2)
+    l1*sin(q1) + l2*sin(q1)*cos(q2) + l2*sin(q2)*cos(q1)
     """
     from .model import RobotModel
 

@@ -294,7 +294,7 @@ def cmd_report(args) -> int:
     from pathlib import Path
 
     from .io import builtin_models, load_model
-    from .report import FORMATS, ReportError, build_report, write_report
+    from .report import FORMATS, ReportError, build_report, read_model_notes, write_report
 
     formats = [f.strip() for f in args.format.split(",") if f.strip()]
     bad = [f for f in formats if f not in FORMATS]
@@ -305,7 +305,8 @@ def cmd_report(args) -> int:
     if args.timeout < 0:
         raise _UsageError(f"--timeout must be 0 (no limit) or positive, got {args.timeout:g}")
     specs = builtin_models() if args.model == "all" else [args.model]
-    models = [load_model(spec) for spec in specs]  # bad input fails here, before any writing
+    models = [load_model(spec, base_link=args.base_link, tip_link=args.tip_link)
+              for spec in specs]  # bad input fails here, before any writing
     if args.model == "all":
         targets = [Path(args.output or "reports") / m.name for m in models]
     else:
@@ -322,12 +323,17 @@ def cmd_report(args) -> int:
             print("rankloci: note: PDF skipped: neither latexmk nor pdflatex is installed",
                   file=sys.stderr)
     dot = shutil.which("dot")
+    stamp = ""
+    if args.timestamp:
+        import datetime
+
+        stamp = datetime.datetime.now().astimezone().isoformat(timespec="seconds")
     status = EXIT_OK
     for model, out in zip(models, targets):
         t0 = time.perf_counter()
         report = build_report(model, seed=args.seed, samples=args.samples, numeric=args.numeric,
                               timeout=args.timeout, clock=time.perf_counter, progress=progress,
-                              dot=dot)
+                              dot=dot, model_notes=read_model_notes(model), stamp=stamp)
         try:
             paths = write_report(report, out, formats=formats, fragment=args.fragment,
                                  latex=latex, timings=not args.no_timings)
@@ -501,6 +507,11 @@ def build_parser() -> argparse.ArgumentParser:
                         "out the report is written without the locus and says so")
     p.add_argument("--no-timings", dest="no_timings", action="store_true",
                    help="leave out the timing table (then equal seeds give identical files)")
+    p.add_argument("--timestamp", action="store_true",
+                   help="print the date and time of writing under the title (off by default, "
+                        "so that reports are reproducible)")
+    p.add_argument("--base-link", dest="base_link", help="URDF only: first link of the chain")
+    p.add_argument("--tip", dest="tip_link", help="URDF only: last link of the chain")
     p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
     p.set_defaults(func=cmd_report)
     return parser

@@ -1,0 +1,80 @@
+"""The report as Markdown (GitHub, GitLab, VS Code, pandoc): math in ``$...$`` and ``$$...$$``.
+
+Displayed math is a ``$$`` block on lines of its own; several lines use the
+``aligned`` environment, which MathJax and KaTeX both know.  Figures are
+linked by their file names, so the Markdown file and its PNGs move together.
+"""
+
+from __future__ import annotations
+
+from .content import Bullets, Code, Figure, Heading, Marker, Math, Para, Table, report_blocks
+from .mathfmt import md_escape, rich_md
+
+__all__ = ["render_markdown", "blocks_markdown"]
+
+
+def render_markdown(report, *, timings: bool = True) -> str:
+    """The Markdown text of a :class:`~rankloci.report.Report`."""
+    return blocks_markdown(report_blocks(report, timings=timings))
+
+
+def blocks_markdown(blocks) -> str:
+    """Markdown of a list of :mod:`~rankloci.report.content` blocks.
+
+    Examples
+    --------
+    >>> from rankloci.report.content import Heading, Math, Para
+    >>> print(blocks_markdown([Heading(2, "Locus"), Para("where $x_1 = 0$"), Math(("x_1 = 0",))]))
+    ## 1. Locus
+    <BLANKLINE>
+    where $x_1 = 0$
+    <BLANKLINE>
+    $$
+    x_1 = 0
+    $$
+    <BLANKLINE>
+    """
+    out = []
+    section = 0
+    for b in blocks:
+        if isinstance(b, Heading):
+            text = rich_md(b.text)
+            if b.level == 2:
+                section += 1
+                text = f"{section}. {text}" if not text.startswith(("Timings", "Reproducing")) \
+                    else text
+            out.append("#" * b.level + " " + text)
+        elif isinstance(b, Para):
+            lead = f"**{rich_md(b.lead)}** " if b.lead else ""
+            out.append(lead + rich_md(b.text))
+        elif isinstance(b, Math):
+            if b.aligned or len(b.lines) > 1:
+                body = "\\begin{aligned}\n" + " \\\\\n".join(b.lines) + "\n\\end{aligned}"
+            else:
+                body = b.lines[0]
+            out.append("$$\n" + body + "\n$$")
+        elif isinstance(b, Table):
+            out.append(_table(b))
+        elif isinstance(b, Bullets):
+            out.append("\n".join("- " + rich_md(item) for item in b.items))
+        elif isinstance(b, Figure):
+            alt = md_escape(b.alt or b.file).replace("[", "(").replace("]", ")")
+            out.append(f"![{alt}]({b.file})\n\n*{rich_md(b.caption)}*")
+        elif isinstance(b, Code):
+            out.append(f"```{b.language or 'text'}\n{b.text}\n```")
+        elif isinstance(b, Marker):
+            out.append(f"<!-- {b.text} -->")
+    return "\n\n".join(out) + "\n"
+
+
+def _table(t: Table) -> str:
+    align = {"l": ":---", "r": "---:", "c": ":---:"}
+    spec = t.align or "l" * len(t.header)
+    lines = ["| " + " | ".join(rich_md(h) for h in t.header) + " |",
+             "| " + " | ".join(align.get(a, "---") for a in spec) + " |"]
+    for row in t.rows:
+        lines.append("| " + " | ".join(rich_md(c).replace("\n", " ") for c in row) + " |")
+    if t.caption:
+        lines.append("")
+        lines.append(f"*{rich_md(t.caption)}*")
+    return "\n".join(lines)

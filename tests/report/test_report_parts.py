@@ -1,0 +1,229 @@
+"""The parts of a report: readings, math layout, analysis, the timeout and augmented cases, and
+the all-or-nothing writing."""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+import time
+
+import numpy as np
+import pytest
+import sympy as sp
+
+import report_helpers as RH
+from rankloci.io import load_model
+from rankloci.report import ReportError, build_report, write_report
+from rankloci.report.analysis import compare_loci, tree_summary
+from rankloci.report.markdown import render_markdown
+from rankloci.report.mathfmt import LINE_WIDTH, broken_lines, jacobian_display, latex, math_width
+from rankloci.report.reading import direction_readings, geometry_readings
+
+SEED = 5
+
+
+def _q(**kw):
+    return {f"q{k}": v for k, v in kw.items()}
+
+
+# --- readings -----------------------------------------------------------------------------------
+
+def test_puma_wrist_shoulder_and_elbow_readings():
+    puma = load_model("puma560")
+    rng = np.random.default_rng(SEED)
+    wrist = geometry_readings(puma, [{"q1": 0.3, "q2": 0.2, "q3": -0.4, "q4": 0.5, "q5": 0.0,
+                                      "q6": 0.1}], rng)
+    assert wrist == ["axes 4 and 6 are collinear"]
+    # elbow: a3 sin q3 + d4 cos q3 = 0
+    q3 = float(sp.atan2(-0.4318, 0.0203))
+    elbow = geometry_readings(puma, [{"q1": 0.3, "q2": 0.7, "q3": q3, "q4": 0.5, "q5": 0.9,
+                                      "q6": 0.1}], rng)
+    assert elbow == ["axes 2 and 3 are parallel and the task point lies in the plane they span"]
+
+
+def test_no_geometric_claim_at_a_regular_configuration():
+    puma = load_model("puma560")
+    assert geometry_readings(puma, [{"q1": 0.3, "q2": 0.7, "q3": 0.2, "q4": 0.5, "q5": 0.9,
+                                     "q6": 0.1}], np.random.default_rng(SEED)) == []
+
+
+def test_direction_reading_needs_a_real_null_vector():
+    J = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0]])
+    labels = ["vx", "vy", "wz"]
+    assert direction_readings(J, [0, 0, 1], labels) == [
+        "the end-effector cannot rotate about [+1.000] over (z) in the base frame"]
+    assert direction_readings(J, [1, 0, 0], labels) == []       # not a left null vector
+    J2 = np.array([[1.0, 2.0], [2.0, 4.0]])
+    text = direction_readings(J2, [2, -1], ["vx", "vy"])
+    assert len(text) == 1 and "cannot translate along [+0.894, -0.447]" in text[0]
+
+
+def test_mixed_direction_is_read_as_a_relation():
+    J = np.array([[1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])   # rows vx, vy, wz
+    text = direction_readings(J, [1.0, 1.0, -1.0], ["vx", "vy", "wz"])
+    assert len(text) == 1 and "a.v + b.w = 0" in text[0] and "no joint torque" in text[0]
+
+
+# --- math layout --------------------------------------------------------------------------------
+
+def test_long_equations_are_broken_within_the_line_width():
+    xs = sp.symbols("q1:9")
+    long = sum(sp.Symbol(f"a{k}") * sp.sin(x) * sp.cos(y)
+               for k, (x, y) in enumerate(itertools.combinations(xs, 2)))
+    lines = broken_lines(long, tail=" = 0")
+    assert len(lines) > 3
+    assert all(math_width(ln) <= LINE_WIDTH for ln in lines)
+    n_terms = len(sp.Add.make_args(long))
+    joined = " ".join(lines)
+    assert joined.count("\\sin") == n_terms, "every term is printed once"
+
+
+@pytest.mark.parametrize("name", ["planar3r", "puma560", "ssrms", "mobile10"])
+def test_jacobian_display_is_equal_to_the_jacobian(name):
+    from rankloci.matrix import task_matrix
+
+    tm = task_matrix(load_model(name), frame="auto")
+    jd = jacobian_display(tm.matrix, tm.variables, tm.parameters)
+    back = {s: f for s, f in jd.abbreviations}
+    subs = dict(jd.definitions)
+    rng = np.random.default_rng(SEED)
+    values = {v: rng.uniform(-3, 3) for v in tm.variables}
+    values |= {p: float(val) for p, val in tm.parameters.items()}
+    for i, j in itertools.product(range(tm.shape[0]), range(tm.shape[1])):
+        e = jd.entries[i][j]
+        for _ in range(len(subs) + 1):
+            e = e.xreplace(subs)
+        e = e.xreplace(back)
+        assert abs(float((e - tm.matrix[i, j]).subs(values))) < 1e-9, (i, j)
+
+
+def test_wide_jacobian_is_laid_out_in_columns_that_fit():
+    from rankloci.matrix import task_matrix
+    from rankloci.report.content import _matrix_blocks
+
+    tm = task_matrix(load_model("ssrms"), frame="auto")
+    jd = jacobian_display(tm.matrix, tm.variables, tm.parameters)
+    assert jd.layout == "columns"
+    for block in _matrix_blocks(jd):
+        for line in getattr(block, "lines", ()):
+            # a column vector's width is its widest entry, not the sum of its rows
+            rows = line.split(r",\quad ")
+            width = sum(max(math_width(r) for r in col.split(r" \\ ")) for col in rows)
+            assert width <= LINE_WIDTH + 6 * len(rows), line
+
+
+# --- analysis -----------------------------------------------------------------------------------
+
+def test_tree_summary_keeps_paths_to_components():
+    import networkx as nx
+
+    tree = nx.DiGraph()
+    tree.add_node(0, condition="(all configurations)", outcome="refined")
+    for k in range(1, 80):
+        tree.add_node(k, condition=f"f{k}", outcome="empty")
+        tree.add_edge(0, k)
+    tree.add_node(80, condition="sin(q2/2)", outcome="no redundant column")
+    tree.add_edge(3, 80)
+    tree.nodes[3]["outcome"] = "refined"
+    s = tree_summary(tree, max_nodes=20)
+    assert s.total_nodes == 81 and s.graph.number_of_nodes() < 10
+    roles = nx.get_node_attributes(s.graph, "role")
+    assert roles[80] == "component" and "summary" in roles.values()
+    label = [d["label"] for n, d in s.graph.nodes(data=True) if d["role"] == "summary"][0]
+    assert "78 more branches" in label and "78 x empty" in label
+
+
+def test_compare_loci_sees_a_missing_component():
+    from rankloci.matrix import task_matrix
+    from rankloci.methods import compute_locus
+    from rankloci.numeric.crosscheck import NumericMatrix
+
+    model = load_model("planar3r")
+    tm = task_matrix(model, frame="auto", numeric=True)
+    a = compute_locus(tm, "svm", rng=np.random.default_rng(SEED))
+    b = compute_locus(tm, "subdeterminant", rng=np.random.default_rng(SEED))
+    nm = NumericMatrix(tm.matrix, tm.variables, tm.angles)
+    assert compare_loci(a, b, nm, {}, np.random.default_rng(SEED)).agree
+    empty = dataclasses.replace(b, components=())
+    cmp = compare_loci(a, empty, nm, {}, np.random.default_rng(SEED))
+    assert not cmp.agree and not cmp.identical and "on no subdeterminant component" in \
+        cmp.differences[0]
+
+
+# --- the timeout --------------------------------------------------------------------------------
+
+def test_a_locus_that_does_not_finish_still_gives_a_report(tmp_path):
+    ticks = itertools.count()
+    clock = lambda: float(next(ticks))  # noqa: E731 - every call is one "second" later
+    report = build_report(load_model("planar3r"), seed=SEED, samples=2, timeout=0.5, clock=clock)
+    assert report.locus is None and report.check is None
+    md = render_markdown(report)
+    assert "did not finish within 0.5 s" in md
+    assert "J = \\begin{bmatrix}" in md and "Denavit-Hartenberg" in md
+    assert report.figure("sigma"), "the heat map is drawn without the locus"
+    paths = write_report(report, tmp_path / "out", formats=("md",))
+    assert {p.name for p in paths} >= {"planar3r.md", "planar3r-sigma-1.png"}
+    assert RH.grey_std(tmp_path / "out" / "planar3r-sigma-1.png") > RH.BLANK_STD
+
+
+# --- augmented Jacobians ------------------------------------------------------------------------
+
+def test_algorithmic_section_of_an_augmented_model(tmp_path):
+    """planar3r_orient stacks the orientation row under J: its locus has a base and kinds."""
+    report = build_report(load_model("planar3r_orient"), seed=SEED, samples=2, exact=False)
+    assert report.augmented and getattr(report.locus, "base", None) is not None
+    md = render_markdown(report)
+    assert "Algorithmic singularities" in md
+    kinds = {v.kind for v in report.augmented if not v.special}
+    assert kinds and kinds <= {"kinematic", "algorithmic", "mixed"}
+    assert "without the constraint rows" in md
+    assert len(report.figure("augmented")) == 1
+    paths = write_report(report, tmp_path, formats=("md",))
+    png = tmp_path / "planar3r_orient-augmented.png"
+    assert png in paths and RH.grey_std(png) > RH.BLANK_STD
+    from rankloci.report.figures import AUGMENTED_SIZE, DPI
+
+    assert RH.png_size(png) == (round(AUGMENTED_SIZE[0] * DPI), round(AUGMENTED_SIZE[1] * DPI))
+
+
+def test_no_algorithmic_section_without_constraint_rows():
+    report = build_report(load_model("planar2r"), seed=SEED, samples=2, exact=False)
+    assert not report.augmented and not report.figure("augmented")
+    assert "Algorithmic singularities" not in render_markdown(report)
+
+
+# --- all or nothing -----------------------------------------------------------------------------
+
+def test_a_failing_pdf_build_writes_nothing(tmp_path):
+    report = build_report(load_model("planar2r"), seed=SEED, samples=2, exact=False)
+    target = tmp_path / "new" / "out"
+    with pytest.raises(ReportError):
+        write_report(report, target, latex=("pdflatex", "/bin/false"))
+    assert list(tmp_path.iterdir()) == [], "a failed write left files or directories"
+    (tmp_path / "old").mkdir()
+    (tmp_path / "old" / "planar2r.md").write_text("previous", encoding="utf-8")
+    with pytest.raises(ReportError):
+        write_report(report, tmp_path / "old", latex=("pdflatex", "/bin/false"))
+    assert [p.name for p in (tmp_path / "old").iterdir()] == ["planar2r.md"]
+    assert (tmp_path / "old" / "planar2r.md").read_text(encoding="utf-8") == "previous"
+
+
+def test_rewriting_removes_figures_the_report_no_longer_has(tmp_path):
+    report = build_report(load_model("planar2r"), seed=SEED, samples=2, exact=False)
+    (tmp_path / "planar2r-sigma-9.png").write_bytes(b"old")
+    (tmp_path / "notes.png").write_bytes(b"mine")
+    write_report(report, tmp_path, formats=("md",))
+    assert not (tmp_path / "planar2r-sigma-9.png").exists()
+    assert (tmp_path / "notes.png").read_bytes() == b"mine"
+
+
+def test_build_report_does_not_read_the_clock_without_one(monkeypatch):
+    monkeypatch.setattr(time, "perf_counter", lambda: pytest.fail("clock read"))
+    monkeypatch.setattr(time, "monotonic", lambda: pytest.fail("clock read"))
+    report = build_report(load_model("planar2r"), seed=SEED, samples=2, exact=False)
+    assert all(sec == 0.0 for _, sec in report.timings)
+
+
+def test_latex_of_equations_matches_sympy():
+    q5 = sp.Symbol("q5", real=True)
+    assert latex(sp.sin(q5)) == sp.latex(sp.sin(q5))
