@@ -496,6 +496,7 @@ def _check_agreement(tm, a, b, label, params=None):
     pytest.param("ur5", True, id="ur5-numeric"),
     pytest.param("pa10", True, id="pa10-numeric", marks=pytest.mark.slow),
     pytest.param("ssrms", True, id="ssrms-numeric", marks=pytest.mark.slow),
+    pytest.param("mobile10", True, id="mobile10-numeric", marks=pytest.mark.slow),
 ])
 def test_svm_and_subdeterminant_agree_on_models(name, numeric):
     tm, a = H.locus_of(name, numeric, "svm")
