@@ -371,6 +371,8 @@ _EPILOG_LOCUS = """examples:
   rankloci locus puma560
   rankloci locus ssrms --numeric-parameters --format json > ssrms.json
   rankloci locus planar4r --augment "q1 + q2 + q3 + q4" --tree tree.dot
+  rankloci locus pa10 --augment "lock(q3)"      # J, J_aug, kinds of J_aug's components
+  rankloci locus pa10 --augment "elbow(z)" --format json
   rankloci locus my_matrix.toml --method subdeterminant --show-tree
 
 The locus is printed as components: equations that vanish on each, the solved
