@@ -121,3 +121,19 @@ def test_svd_and_minors_agree_on_simple_matrices():
     assert relative_max_minor(regular.T) == pytest.approx(1.0)
     batch = np.stack([singular, regular])
     assert sigma_ratio(batch).shape == (2,)
+
+
+def test_excluded_sets_are_respected():
+    """{sin q2 cos q1 = 0} holds the regular line cos q1 = 0 too; with cos q1 excluded the
+    component is the closure of {sin q2 = 0, cos q1 != 0}, the planar 2R locus itself."""
+    model, locus, _ = _setup("planar2r")
+    q1, q2 = _sym("planar2r", "q1"), _sym("planar2r", "q2")
+    wide = Component(equations=(sp.sin(q2) * sp.cos(q1),))
+    assert not _check("planar2r", _with(locus, [wide])).ok
+    closed = dataclasses.replace(wide, excluding=(sp.cos(q1),))
+    report = _check("planar2r", _with(locus, [closed]))
+    assert report.ok, render_check_text(report)
+    assert all(abs(np.cos(p.q[0])) > 1e-4 for p in report.components[0].points)
+    data = _with(locus, [closed]).to_dict()
+    assert data["components"][0]["excluding"] == ["cos(q1)"]
+    assert parse_locus(data, model).components[0].excluding == (sp.cos(q1),)
