@@ -244,6 +244,9 @@ class Context:
     def open_branch(self, branch: Branch, node: int):
         """Sample points of ``branch``, or None after marking ``node`` empty or known."""
         self.tick()
+        if self._known_symbolically(branch):
+            self.tree.nodes[node]["outcome"] = "inside a component already found"
+            return None
         pts = self.sampler.points(branch)
         if not pts:
             self.tree.nodes[node]["outcome"] = "empty"
@@ -253,10 +256,29 @@ class Context:
             return None
         return pts
 
+    def _known_symbolically(self, branch: Branch) -> bool:
+        """Does ``branch`` carry every condition of a component found (without exclusions)?
+
+        Then the numeric test below would find all of its points on that
+        component; this decides it without sampling the branch.
+        """
+        if not self.leaves or not branch.conditions:
+            return False
+        have = {str(c) for c in branch.conditions}
+        for leaf, _ in self.leaves:
+            if leaf is branch or not leaf.conditions or leaf.nonzero:
+                continue
+            if len(leaf.conditions) <= len(branch.conditions) and \
+                    all(str(c) in have for c in leaf.conditions):
+                return True
+        return False
+
     def known(self, branch: Branch) -> bool:
         """Is every sample point of ``branch`` on a component already found?"""
         if not self.leaves:
             return False
+        if self._known_symbolically(branch):
+            return True
         pts = self.sampler.points(branch)
         if not pts:
             return False

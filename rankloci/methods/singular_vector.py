@@ -50,6 +50,9 @@ def _svm(ctx: Context, M, branch, parent, level):
     if len(M) > len(M[0]):
         M = transpose(M)
     n, m = len(M), len(M[0])
+    if ctx._known_symbolically(branch):
+        ctx.add_node(parent, branch, shape=_shape(M), outcome="inside a component already found")
+        return
     pts = ctx.sampler.points(branch)
     if not pts:
         node = ctx.add_node(parent, branch, shape=_shape(M), outcome="empty")
@@ -102,6 +105,9 @@ def _svm(ctx: Context, M, branch, parent, level):
 def _reduce(ctx: Context, M, cols, rest, branch, parent, level):
     """On a branch of det J_sq = 0: null vectors, J-dagger, recursion."""
     n = len(M)
+    if ctx._known_symbolically(branch):
+        ctx.add_node(parent, branch, outcome="inside a component already found")
+        return
     pts = ctx.sampler.points(branch)
     if not pts:
         ctx.add_node(parent, branch, outcome="empty")
