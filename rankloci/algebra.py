@@ -25,6 +25,7 @@ than sympy on Jacobian polynomials.
 from __future__ import annotations
 
 import functools
+import itertools
 from dataclasses import dataclass
 
 import flint
@@ -285,10 +286,12 @@ class PolyRing:
         mons, coeffs, owner = [], [], []
         for i, p in enumerate(polys):
             ms = p.monoms()
-            mons.extend(ms)
+            mons.append(ms)
             coeffs.extend(float(c) for c in p.coeffs())
             owner.extend([i] * len(ms))
-        mons = np.array(mons, dtype=np.int64).reshape(-1, nv)
+        chain = itertools.chain.from_iterable
+        mons = np.fromiter(chain(chain(mons)), dtype=np.int64,
+                           count=len(owner) * nv).reshape(-1, nv)
         coeffs = np.array(coeffs, dtype=float)
         owner = np.array(owner, dtype=np.int64)
         used = np.flatnonzero(mons.any(axis=0)) if len(mons) else np.array([], dtype=np.int64)

@@ -21,6 +21,7 @@ starts.  A point is accepted when every condition is below
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -51,6 +52,11 @@ class Branch:
     substitutions: tuple = ()
     implicit: tuple = ()
     nonzero: tuple = ()
+
+    @functools.cached_property
+    def key(self) -> tuple:
+        """The conditions and exclusions as text: equal for equal branches."""
+        return (tuple(str(c) for c in self.conditions), tuple(str(p) for p in self.nonzero))
 
     def excluding(self, p) -> "Branch":
         """This branch without the points where ``p`` vanishes (an open subset).
@@ -157,6 +163,12 @@ def solve_condition(f, ring: PolyRing):
 def apply_substitution(p, sub: Substitution, ring: PolyRing):
     if p.is_zero():
         return p
+    degs = p.degrees()
+    if sub.kind == "linear":
+        if not degs[sub.index]:
+            return p
+    elif not (degs[2 * sub.index] or degs[2 * sub.index + 1]):
+        return p
     vals = list(ring.gens)
     if sub.kind == "linear":
         vals[sub.index] = sub.values[0]
@@ -184,8 +196,7 @@ class BranchSampler:
 
     def points(self, branch: Branch, count: int = 3) -> list[np.ndarray]:
         """Up to ``count`` generator vectors of real points of ``branch``."""
-        key = (tuple(str(c) for c in branch.conditions), tuple(str(p) for p in branch.nonzero),
-               count)
+        key = branch.key + (count,)
         if key in self.cache:
             return self.cache[key]
         pts = self._solve(branch, count)
@@ -208,8 +219,7 @@ class BranchSampler:
         """
         from .tolerances import NEAR_MISS_RTOL
 
-        key = (tuple(str(c) for c in branch.conditions), tuple(str(p) for p in branch.nonzero),
-               count)
+        key = branch.key + (count,)
         return self.closest.get(key, np.inf) <= NEAR_MISS_RTOL
 
     def _unknowns(self, branch: Branch):
@@ -335,8 +345,7 @@ class BranchSampler:
                     with np.errstate(invalid="ignore"):
                         fine &= np.min(np.abs(relative_nonzero(Gx)), axis=1) > EXCLUSION_RTOL
                 best = float(np.min(np.max(R[fine], axis=1))) if fine.any() and R.shape[1] else np.inf
-                key = (tuple(str(c) for c in branch.conditions),
-                       tuple(str(p) for p in branch.nonzero), count)
+                key = branch.key + (count,)
                 self.closest[key] = min(self.closest.get(key, np.inf), best)
             retry = np.isnan(G).any(axis=1)
             if nz and eqs and retry.any():

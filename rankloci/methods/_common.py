@@ -16,7 +16,7 @@ import numpy as np
 import sympy as sp
 
 from ..algebra import PolyRing, abs_poly, irreducible_factors, laplace_det
-from ..branch import Branch, BranchSampler
+from ..branch import Branch, BranchSampler, apply_substitution
 from ..errors import LocusError
 from ..kinematics import trig_normal
 from ..locus import Component
@@ -64,6 +64,7 @@ class Context:
         self.should_stop = should_stop or (lambda: False)
         self._compiled = {}
         self._vanish_cache = {}
+        self._reduced = {}
 
     # --- bookkeeping --------------------------------------------------------
 
@@ -118,6 +119,29 @@ class Context:
             self._compiled[key] = got
         x = np.abs(g) if scale else g
         return got[1](x).reshape(len(M), len(M[0]))
+
+    def reduce_matrix(self, M, branch: Branch):
+        """``M`` with the substitutions of ``branch`` applied (memoised by prefix).
+
+        Sibling branches share their parent's substitutions, so each entry is
+        reduced by the newest substitution only.
+        """
+        return self._reduced_by(M, branch.substitutions)
+
+    def _reduced_by(self, M, subs):
+        if not subs:
+            return M
+        key = (id(M),) + tuple(id(s) for s in subs)
+        got = self._reduced.get(key)
+        # the entry keeps M and the substitutions alive, so their ids cannot be reused
+        if got is None or got[0] is not M or any(a is not b for a, b in zip(got[1], subs)):
+            prev = self._reduced_by(M, subs[:-1])
+            last = subs[-1]
+            got = (M, subs, [[apply_substitution(p, last, self.ring) for p in row] for row in prev])
+            if len(self._reduced) > 4096:
+                self._reduced.clear()
+            self._reduced[key] = got
+        return got[2]
 
     def rank_at(self, M, g) -> int:
         """Numeric rank of ``M`` at ``g``; see :func:`numeric_rank`."""
@@ -199,20 +223,83 @@ class Context:
 
         A substitution a*C + b*S -> (C, S) ~ (b, -a) misses the points where
         a = b = 0; those points satisfy the condition and are covered by
-        their own branches, recursively.
+        their own branches, recursively.  A condition that the branch's
+        substitutions changed, and a and b above, are split into their
+        irreducible factors first, so that a factor like C**2 + S**2, which
+        has no real zero, never becomes a branch.
         """
         if not conditions:
             return [branch]
         c = branch.reduce(conditions[0], self.ring)
-        rest = conditions[1:]
+        rest = list(conditions[1:])
         if c.is_zero():
             return self._cover(branch, rest)
         if c.is_constant():
             return []
+        if c != conditions[0]:
+            fs = self.factors(c)
+            if len(fs) != 1 or fs[0] != c:
+                return [b for f in fs for b in self._cover(branch, [f] + rest)]
         child, exceptional = branch.with_condition(c, self.ring)
-        out = self._cover(child, rest)
+        out = [b for settled in self._settle(branch, child) for b in self._cover(settled, rest)]
         for extra in exceptional:
-            out += self._cover(branch, list(extra) + list(rest))
+            split = [[]]
+            for e in extra:
+                e = branch.reduce(e, self.ring)
+                if e.is_zero():
+                    continue
+                split = [s + [f] for s in split for f in self.factors(e)]
+            for conds in split:
+                out += self._cover(branch, conds + rest)
+        return out
+
+    def _settle(self, parent: Branch, child: Branch) -> list[Branch]:
+        """``child`` with its earlier equations reduced by its newest substitution.
+
+        An implicit equation stays as it was when it was added; a later
+        substitution can turn it into a constant (the branch is empty), into
+        zero (it is implied), or into a product of simpler factors, each of
+        which may be solvable.  Left alone, the root finder would have to
+        find the zeros of something like ``C*S*d3`` through a residual that
+        is almost constant away from them.  An excluded polynomial that the
+        substitution makes zero empties the branch; one it makes a nonzero
+        constant excludes nothing.
+        """
+        if len(child.substitutions) == len(parent.substitutions):
+            return [child]
+        ring = self.ring
+        nonzero = []
+        for e in child.nonzero:
+            r = child.reduce(e, ring)
+            if r.is_zero():
+                return []
+            if not r.is_constant():
+                nonzero.append(r)
+        stale, reduced = [], []
+        for e in child.implicit:
+            r = child.reduce(e, ring)
+            if r != e:
+                stale.append(e)
+                reduced.append(r)
+        if not stale and len(nonzero) == len(child.nonzero):
+            return [child]
+        base = Branch(tuple(c for c in child.conditions if not any(c is e for e in stale)),
+                      child.substitutions,
+                      tuple(e for e in child.implicit if not any(e is x for x in stale)),
+                      tuple(nonzero))
+        out = [base]
+        for r in reduced:
+            if r.is_zero():
+                continue
+            if r.is_constant():
+                return []
+            fs = []
+            for f in self.factors(r):
+                if self.parameter_only(f):
+                    self.special_parameters(f, "an equation reduced on a branch")
+                else:
+                    fs.append(f)
+            out = [b for o in out for f in fs for b in self._cover(o, [f])]
         return out
 
     def factors(self, p):
@@ -264,12 +351,12 @@ class Context:
         """
         if not self.leaves or not branch.conditions:
             return False
-        have = {str(c) for c in branch.conditions}
+        have = set(branch.key[0])
         for leaf, _ in self.leaves:
-            if leaf is branch or not leaf.conditions or leaf.nonzero:
+            if leaf is branch or not leaf.conditions or not self._dense(leaf):
                 continue
             if len(leaf.conditions) <= len(branch.conditions) and \
-                    all(str(c) in have for c in leaf.conditions):
+                    all(c in have for c in leaf.key[0]):
                 return True
         return False
 
@@ -287,10 +374,29 @@ class Context:
                 continue
             if len(leaf.conditions) > len(branch.conditions):
                 continue
-            if all(self.vanishes(c, pts) for c in leaf.conditions) and \
-                    not any(self.vanishes(e, [g]) for e in leaf.nonzero for g in pts):
+            if all(self.vanishes(c, pts) for c in leaf.conditions) and (
+                    self._dense(leaf)
+                    or not any(self.vanishes(e, [g]) for e in leaf.nonzero for g in pts)):
                 return True
         return False
+
+    def _dense(self, leaf: Branch) -> bool:
+        """Is ``leaf``, its exclusions left out, dense in the zero set of its conditions?
+
+        Then every point of that zero set is a limit of rank-deficient points,
+        so it is rank deficient itself, and a branch inside it needs no
+        analysis of its own.  It holds when every condition was solved by
+        fixing an angle at 0 or pi or a generator at a polynomial value: the
+        zero set is then a graph over the free variables (a connected
+        manifold), the excluded set is the zero set of polynomials that do not
+        vanish at the leaf's sample points, and the complement of such a set
+        in a connected manifold is dense.
+        """
+        if not leaf.nonzero:
+            return True
+        if leaf.implicit or any(s.kind == "pair" for s in leaf.substitutions):
+            return False
+        return bool(self.sampler.points(leaf))
 
     def choose_columns(self, M, points, candidates: int = 12):
         """n columns whose square block is regular at the points, and its determinant.
@@ -644,7 +750,7 @@ def _symbolic_direction(ctx, branch, pts, drop):
     """Null vectors of the whole matrix on the branch as expressions, if small."""
     if drop != 1:
         return ()
-    M = branch.reduce_matrix(ctx.M, ctx.ring)
+    M = ctx.reduce_matrix(ctx.M, branch)
     if len(M) > len(M[0]):
         M = transpose(M)
     n = len(M)

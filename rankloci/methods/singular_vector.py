@@ -60,7 +60,7 @@ def _svm(ctx: Context, M, branch, parent, level):
     if ctx.known(branch):
         ctx.add_node(parent, branch, shape=_shape(M), outcome="inside a component already found")
         return
-    M = branch.reduce_matrix(M, ctx.ring)
+    M = ctx.reduce_matrix(M, branch)
     rank = ctx.generic_rank(M, pts)
     if rank < n:
         node = ctx.add_node(parent, branch, shape=_shape(M), k=n - rank)
@@ -91,7 +91,7 @@ def _svm(ctx: Context, M, branch, parent, level):
     pending = []
     for child in children:
         cpts = ctx.sampler.points(child)
-        crank = ctx.generic_rank(child.reduce_matrix(M, ctx.ring), cpts) if cpts else n
+        crank = ctx.generic_rank(ctx.reduce_matrix(M, child), cpts) if cpts else n
         if crank < n:
             cnode = ctx.add_node(node, child, k=n - crank)
             ctx.leaf(child, cnode, "k > redundant columns")
@@ -115,7 +115,7 @@ def _reduce(ctx: Context, M, cols, rest, branch, parent, level):
     if ctx.known(branch):
         ctx.add_node(parent, branch, outcome="inside a component already found")
         return
-    Mb = branch.reduce_matrix(M, ctx.ring)
+    Mb = ctx.reduce_matrix(M, branch)
     Jsq = [[row[c] for c in cols] for row in Mb]
     Jr = [[row[c] for c in rest] for row in Mb]
     r = ctx.generic_rank(Jsq, pts)
@@ -168,7 +168,7 @@ def _minor_branch(ctx: Context, M, branch, parent):
     pts = ctx.open_branch(branch, parent)
     if pts is None:
         return
-    Mb = branch.reduce_matrix(M, ctx.ring)
+    Mb = ctx.reduce_matrix(M, branch)
     if len(Mb) > len(Mb[0]):
         Mb = transpose(Mb)
     if ctx.generic_rank(Mb, pts) < len(Mb):
