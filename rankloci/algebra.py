@@ -111,10 +111,9 @@ class PolyRing:
 
     def variable_indices(self, p) -> set[int]:
         """Generator indices that occur in ``p``."""
-        used = set()
-        for mon in p.monoms():
-            used.update(i for i, e in enumerate(mon) if e)
-        return used
+        if p.is_zero():
+            return set()
+        return {i for i, e in enumerate(p.degrees()) if e}
 
     # --- sympy -> polynomial ------------------------------------------------
 
