@@ -434,14 +434,56 @@ class Context:
             raise LocusError("no regular square block found although the matrix has full rank")
         return best
 
-    def choose_block(self, A, r, points):
-        """Rows and columns of an r x r block of ``A`` regular at the points."""
+    def choose_block(self, A, r, points, candidates: int = 24):
+        """Rows and columns of an r x r block of ``A`` regular at the points.
+
+        The null vectors built from the block's cofactors are independent
+        wherever its determinant d is nonzero, and the points where d
+        vanishes need sub-branches of their own, one per factor of d.
+        Pivoted QR at the first point proposes a block; a regular block
+        (among up to ``candidates``, smallest entries first) whose d has
+        fewer factors in the joint variables, and no more terms, replaces it.
+        """
+        n, m = len(A), len(A[0])
         N = self.numeric(A, points[0])
         norms = np.linalg.norm(N, axis=1)
         N = N / np.where(norms > 0, norms, 1.0)[:, None]
         cols = sorted(_pivots(N, r))
         rows = sorted(_pivots(N[:, cols].T, r))
-        return rows, cols
+        if r == 0 or math.comb(n, r) * math.comb(m, r) > 400:
+            return rows, cols
+
+        def score(rl, cl):
+            d = laplace_det([[A[i][j] for j in cl] for i in rl])
+            if d.is_constant() or self.parameter_only(d):
+                return 0, len(d)
+            return len([f for f in self.factors(d) if not self.parameter_only(f)]), len(d)
+
+        best = (score(rows, cols), rows, cols)
+        if best[0][0] == 0:
+            return rows, cols
+        evaluated = [(self.numeric(A, g), self.numeric(A, g, scale=True)) for g in points]
+        evaluated = [(E, S) for E, S in evaluated if numeric_rank(E, S) == r]
+        size = [[len(p) for p in row] for row in A]
+        blocks = sorted(((rs, cs) for rs in itertools.combinations(range(n), r)
+                         for cs in itertools.combinations(range(m), r)),
+                        key=lambda rc: sum(size[i][j] for i in rc[0] for j in rc[1]))
+        tried = 0
+        for rs, cs in blocks:
+            if tried >= candidates or not evaluated:
+                break
+            rl, cl = list(rs), list(cs)
+            if (rl, cl) == (rows, cols) or not any(
+                    numeric_rank(E[np.ix_(rl, cl)], S[np.ix_(rl, cl)]) == r for E, S in evaluated):
+                continue
+            tried += 1
+            self.tick()
+            sc = score(rl, cl)
+            if sc[0] < best[0][0] and sc[1] <= best[0][1]:
+                best = (sc, rl, cl)
+                if sc[0] == 0:
+                    break
+        return best[1], best[2]
 
 
 def _pivots(N, r):
