@@ -297,6 +297,8 @@ class PolyRing:
         mons = mons[:, used]
         npoly = len(polys)
         top = int(mons.max()) if mons.size else 0
+        powers = np.arange(top + 1)[None, :, None]
+        exponents = [np.ascontiguousarray(mons[:, j]) for j in range(len(used))]
         cols = np.arange(len(used))
         # terms are grouped by polynomial (owner is sorted): sum each group
         present = np.unique(owner)
@@ -309,13 +311,21 @@ class PolyRing:
             X = x[None, :] if single else x
             out = np.zeros((len(X), npoly))
             if len(owner):
-                if len(used):
-                    # powers x_u**e for e <= top, then one gather per monomial exponent
+                if not len(used):
+                    out[:, present] = np.add.reduceat(np.tile(coeffs, (len(X), 1)), starts, axis=1)
+                elif len(X) <= 64:
+                    # terms x points, one gather of the power table per generator used:
+                    # no (point, term, generator) temporary (2-3x faster for large J)
+                    terms = np.repeat(coeffs[:, None], len(X), axis=1)
+                    pw = X[:, used].T[:, None, :] ** powers       # (generator, power, point)
+                    for j, e in enumerate(exponents):
+                        terms *= pw[j][e]
+                    out[:, present] = np.add.reduceat(terms, starts, axis=0).T
+                else:
+                    # many points: one gather for all generators is faster
                     pw = X[:, used, None] ** np.arange(top + 1)
                     terms = np.prod(pw[:, cols, mons], axis=2) * coeffs
-                else:
-                    terms = np.tile(coeffs, (len(X), 1))
-                out[:, present] = np.add.reduceat(terms, starts, axis=1)
+                    out[:, present] = np.add.reduceat(terms, starts, axis=1)
             return out[0] if single else out
 
         return evaluate

@@ -453,8 +453,10 @@ class Context:
         if r == 0 or math.comb(n, r) * math.comb(m, r) > 400:
             return rows, cols
 
-        def score(rl, cl):
+        def score(rl, cl, most=None):
             d = laplace_det([[A[i][j] for j in cl] for i in rl])
+            if most is not None and len(d) > most:
+                return None
             if d.is_constant() or self.parameter_only(d):
                 return 0, len(d)
             return len([f for f in self.factors(d) if not self.parameter_only(f)]), len(d)
@@ -478,8 +480,8 @@ class Context:
                 continue
             tried += 1
             self.tick()
-            sc = score(rl, cl)
-            if sc[0] < best[0][0] and sc[1] <= best[0][1]:
+            sc = score(rl, cl, most=best[0][1])
+            if sc is not None and sc[0] < best[0][0]:
                 best = (sc, rl, cl)
                 if sc[0] == 0:
                     break
@@ -755,7 +757,8 @@ def _with_exclusions(ctx, c: Component) -> Component:
     import dataclasses
 
     branch, _ = c._branch
-    if not branch.nonzero:
+    if not branch.nonzero or ctx._dense(branch):
+        # dense: the whole zero set of the equations is singular (see Context._dense)
         return c
     full = min(len(ctx.M), len(ctx.M[0]))
     closure = branch.closure()
@@ -823,21 +826,23 @@ def _merge_zero_pi(comps: list[Component]) -> list[Component]:
     """
     pairs = {sp.Integer(0): (0, sp.sin), sp.pi: (0, sp.sin),
              sp.pi / 2: (1, sp.cos), -sp.pi / 2: (1, sp.cos)}
-    eq_strings = {}
+    texts = {}
 
-    def strings(c):
+    def text(c):
         # keyed by id, holding the component: a merged component may reuse a freed id
-        got = eq_strings.get(id(c))
+        got = texts.get(id(c))
         if got is None or got[0] is not c:
-            got = (c, [(e, sp.sstr(e)) for e in c.equations])
-            eq_strings[id(c)] = got
-        return got[1]
+            got = (c, [(e.free_symbols, sp.sstr(e)) for e in c.equations],
+                   [(k, (str(k), tuple(map(str, v)))) for k, v in c.solved.items()],
+                   (c.rank_drop, tuple(map(str, c.parameter_conditions)),
+                    tuple(map(sp.sstr, c.excluding))))
+            texts[id(c)] = got
+        return got[1:]
 
     def key_without(c, q):
-        rest = tuple(sorted(t for e, t in strings(c) if q not in e.free_symbols))
-        solved = tuple(sorted((str(k), tuple(map(str, v))) for k, v in c.solved.items() if k != q))
-        return (str(q), rest, solved, c.rank_drop, tuple(map(str, c.parameter_conditions)),
-                tuple(map(sp.sstr, c.excluding)))
+        eqs, solved, other = text(c)
+        rest = tuple(sorted(t for free, t in eqs if q not in free))
+        return (str(q), rest, tuple(sorted(t for k, t in solved if k != q))) + other
 
     changed = True
     while changed:
@@ -848,25 +853,30 @@ def _merge_zero_pi(comps: list[Component]) -> list[Component]:
                 if len(vals) == 1 and vals[0] in pairs:
                     which, _ = pairs[vals[0]]
                     groups.setdefault(key_without(c, q) + (which,), {}).setdefault(vals[0], i)
+        # join every pair found in this pass whose components are still unjoined
+        used, merged_all = set(), []
         for key, by_value in groups.items():
             if len(by_value) != 2:
                 continue
             (va, a), (vb, b) = sorted(by_value.items(), key=lambda kv: float(kv[0]))
+            if a in used or b in used:
+                continue
+            used |= {a, b}
             A, B = comps[a], comps[b]
             q = next(k for k in A.solved if str(k) == key[0])
             solved = dict(A.solved)
             solved[q] = (va, vb)
             func = pairs[va][1]
-            merged = Component(
+            merged_all.append(Component(
                 equations=(func(q),) + tuple(e for e in A.equations if q not in e.free_symbols),
                 solved=solved, free=A.free, dimension=A.dimension, rank_drop=A.rank_drop,
                 direction=A.direction, direction_at_sample=A.direction_at_sample,
                 sample=A.sample, parameter_conditions=A.parameter_conditions,
                 for_model=A.for_model or B.for_model, excluding=A.excluding,
-                _branch=(None, _branch_points(A) + _branch_points(B)))
-            comps = [c for i, c in enumerate(comps) if i not in (a, b)] + [merged]
+                _branch=(None, _branch_points(A) + _branch_points(B))))
+        if merged_all:
+            comps = [c for i, c in enumerate(comps) if i not in used] + merged_all
             changed = True
-            break
     return comps
 
 
