@@ -5,6 +5,7 @@ limit, and the figures are written to benchmarks/results.json and
 benchmarks/results.md.  Usage::
 
     python benchmarks/run.py [--timeout SECONDS] [--models a,b,...] [--numeric-parameters]
+                             [--repeat N]
 """
 
 from __future__ import annotations
@@ -41,7 +42,20 @@ print(json.dumps({"import_s": t1 - t0, "jacobian_s": t2 - t1, "locus_s": t3 - t2
 """
 
 
-def run_case(name, method, numeric, timeout):
+def run_case(name, method, numeric, timeout, repeat=1):
+    """One case in a fresh process; with ``repeat`` > 1 the fastest of that many runs."""
+    best = None
+    for _ in range(repeat):
+        res = _run_once(name, method, numeric, timeout)
+        if res["status"] != "ok":
+            return res
+        if best is None or res["total_s"] < best["total_s"]:
+            best = res
+    best["repeat"] = repeat
+    return best
+
+
+def _run_once(name, method, numeric, timeout):
     start = time.perf_counter()
     try:
         proc = subprocess.run([sys.executable, "-c", CHILD, name, method, "1" if numeric else "0"],
@@ -65,17 +79,20 @@ def main(argv=None):
     ap.add_argument("--models", default="")
     ap.add_argument("--numeric-parameters", action="store_true")
     ap.add_argument("--output", default=str(HERE / "results"))
+    ap.add_argument("--repeat", type=int, default=3,
+                    help="runs per case; the fastest is kept (the machine's load varies)")
     args = ap.parse_args(argv)
     models = args.models.split(",") if args.models else builtin_models()
     rows = []
     for name in models:
         for method in ("svm", "subdeterminant"):
-            res = run_case(name, method, args.numeric_parameters, args.timeout)
+            res = run_case(name, method, args.numeric_parameters, args.timeout, args.repeat)
             res.update(model=name, method=method, numeric_parameters=args.numeric_parameters)
             rows.append(res)
             print(json.dumps(res), file=sys.stderr, flush=True)
     meta = {"python": platform.python_version(), "machine": platform.machine(),
-            "timeout_s": args.timeout, "numeric_parameters": args.numeric_parameters}
+            "timeout_s": args.timeout, "numeric_parameters": args.numeric_parameters,
+            "repeat": args.repeat}
     Path(args.output + ".json").write_text(json.dumps({"meta": meta, "runs": rows}, indent=2) + "\n")
     lines = ["| model | J | method | J build (s) | locus (s) | whole run (s) | peak MB | tree nodes | components | svm speed-up |",
              "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
@@ -94,8 +111,9 @@ def main(argv=None):
         lines.append(f"| {r['model']} | {r['shape'][0]}x{r['shape'][1]} | {r['method']} | {r['jacobian_s']:.2f} | "
                      f"{r['locus_s']:.2f} | {r['total_s']:.2f} | {r['peak_mb']:.0f} | {r['nodes']} | "
                      f"{r['components']} | {ratio} |")
-    header = (f"Python {meta['python']} on {meta['machine']}, one process per case, time limit "
-              f"{args.timeout:.0f} s, parameters {'numeric' if args.numeric_parameters else 'symbolic'}. "
+    header = (f"Python {meta['python']} on {meta['machine']}, one process per case, fastest of "
+              f"{args.repeat} run(s), time limit {args.timeout:.0f} s, parameters "
+              f"{'numeric' if args.numeric_parameters else 'symbolic'}. "
               "'whole run' includes importing the package and building J.\n\n")
     Path(args.output + ".md").write_text(header + "\n".join(lines) + "\n")
 

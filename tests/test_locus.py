@@ -517,6 +517,8 @@ def test_svm_and_subdeterminant_agree_on_raw_matrices(raw):
 @pytest.mark.parametrize("case", [
     ("planar2r", True, "svm"), ("planar3r", False, "svm"), ("planar3r", False, "subdeterminant"),
     ("puma560", True, "svm"), ("puma560", True, "determinant"), ("planar4r", True, "svm"),
+    pytest.param(("mobile10", True, "svm"), marks=pytest.mark.slow),
+    pytest.param(("pa10", False, "svm"), marks=pytest.mark.slow),
 ], ids=lambda c: f"{c[0]}-{'numeric' if c[1] else 'symbolic'}-{c[2]}")
 def test_branch_tree_is_a_rooted_tree_with_outcomes(case):
     name, numeric, method = case
@@ -539,4 +541,6 @@ def _check_tree(locus):
     leaves = [n for n in tree if tree.out_degree(n) == 0]
     no_outcome = [n for n in leaves if not tree.nodes[n].get("outcome")]
     assert not no_outcome, f"leaves without an outcome: {no_outcome}"
+    unfinished = [n for n in leaves if tree.nodes[n]["outcome"] == "refined"]
+    assert not unfinished, f"leaves marked 'refined' (a stop reason is missing): {unfinished}"
     assert len(leaves) >= len(locus.components) or locus.degenerate

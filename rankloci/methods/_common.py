@@ -665,6 +665,11 @@ def _equation_functions(ring, equations, tm):
 def finalize(ctx: Context) -> list[Component]:
     """Components from the leaves: readable, deduplicated, none inside another."""
     ring = ctx.ring
+    for node, data in ctx.tree.nodes(data=True):
+        # a refined branch whose every factor was decided symbolically (a constant, or
+        # parameters only) has no child: no real point for generic parameters
+        if data.get("outcome") == "refined" and ctx.tree.out_degree(node) == 0:
+            data["outcome"] = "empty"
     raw = []
     for branch, node in ctx.leaves:
         pts = ctx.sampler.points(branch)
