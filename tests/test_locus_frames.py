@@ -32,7 +32,7 @@ def _vanish_somewhere(comp_a, locus_b, syms):
     return False
 
 
-@pytest.mark.parametrize("name", ["puma560", "ur5"])
+@pytest.mark.parametrize("name", ["puma560", "ur5", "planar4r", "planar3r_orient"])
 def test_locus_same_in_base_and_middle_frame(name):
     model = load_model(name)
     base = compute_locus(task_matrix(model, frame="base", numeric=True), rng=np.random.default_rng(SEED))
@@ -44,11 +44,26 @@ def test_locus_same_in_base_and_middle_frame(name):
             assert _vanish_somewhere(comp, b, syms), (name, comp.equations)
 
 
-def test_directions_are_left_null_vectors_in_model_frame():
-    model = load_model("puma560")
+def test_planar_arm_uses_a_middle_frame_and_a_spatial_arm_does_not():
+    """A planar arm's link frames are its base frame turned about z, so vx, vy (and wz) keep
+    their rank there and the middle frame is used.  The PUMA 560's are not: with the task
+    (vx, vy) its middle frame would mix vz into vx and vy, so the model's frame is kept."""
+    planar = task_matrix(load_model("planar4r"), frame="auto")
+    assert planar.frame == 2, planar.frame
+    puma = task_matrix(load_model("puma560"), task="planar", frame="auto")
+    assert puma.frame == load_model("puma560").frame, puma.frame
+
+
+@pytest.mark.parametrize("name", ["puma560", "planar4r", "planar3r_orient"])
+def test_directions_are_left_null_vectors_in_model_frame(name):
+    """The locus is computed in a middle frame; the directions reported at the sample points
+    must be left null vectors of J in the model's own frame and task rows."""
+    model = load_model(name)
     tm = task_matrix(model, frame="auto", numeric=True)
+    assert tm.frame != model.frame, "the test needs a locus computed in another frame"
     locus = directions_in_model_frame(compute_locus(tm, rng=np.random.default_rng(SEED)), model, tm)
-    J = sp.lambdify(model.variables, geometric_jacobian(model, frame="base").subs(model.parameters))
+    J_model = task_matrix(model, numeric=True).matrix
+    J = sp.lambdify(model.variables, J_model)
     for comp in locus.components:
         A = np.array(J(*[comp.sample[str(v)] for v in model.variables]), dtype=float)
         smax = np.linalg.svd(A, compute_uv=False)[0]
