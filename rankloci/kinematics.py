@@ -238,12 +238,20 @@ def numeric_frames(model: RobotModel, q, params=None):
     import numpy as np
 
     params = dict(model.parameters if params is None else params)
-    subs = {**{k: float(v) for k, v in params.items()}, **{k: float(v) for k, v in q.items()}}
+    names, funcs = _factor_functions(model)
+    values = {**{k: float(v) for k, v in params.items()}, **{k: float(v) for k, v in q.items()}}
+    args = [values.get(s, float(model.parameters.get(s, 0.0))) for s in names]
     poses = [np.eye(4)]
-    for F in _factors(model):
-        A = np.array(sp.Matrix(F).evalf(subs=subs), dtype=float)
-        poses.append(poses[-1] @ A)
+    for f in funcs:
+        poses.append(poses[-1] @ np.array(f(*args), dtype=float).reshape(4, 4))
     return poses
+
+
+@lru_cache(maxsize=64)
+def _factor_functions(model: RobotModel):
+    """The factors of :func:`_factors` as numpy functions of (variables, parameters)."""
+    names = list(model.variables) + list(model.parameters)
+    return names, [sp.lambdify(names, sp.Matrix(F), modules="numpy") for F in _factors(model)]
 
 
 def velocity_map(model: RobotModel, q, frame, point, params=None):
