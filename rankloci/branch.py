@@ -94,9 +94,6 @@ class Branch:
             p = apply_substitution(p, sub, ring)
         return p
 
-    def reduce_matrix(self, M, ring):
-        return [[self.reduce(p, ring) for p in row] for row in M]
-
 
 def _pair_parts(f, ring: PolyRing, i: int):
     """(a, b) with f = a*C_i + b*S_i if f is linear in pair i, else None."""

@@ -13,8 +13,7 @@ import dataclasses
 
 import numpy as np
 
-from .kinematics import velocity_map
-from .matrix import _turns_about_z
+from .kinematics import turns_about_z, velocity_map
 from .model import RobotModel
 
 __all__ = ["directions_in_model_frame"]
@@ -33,7 +32,7 @@ def directions_in_model_frame(locus, model, tm):
     # the task rows must map among themselves: whole 3-row blocks, or the planar rows when
     # the frame is the model's frame turned about z (the same point)
     planar = (set(rows) <= {0, 1, 5} and tm.point == "tool"
-              and _turns_about_z(model, tm.frame))
+              and turns_about_z(model, tm.frame))
     if rows not in ([0, 1, 2, 3, 4, 5], [0, 1, 2], [3, 4, 5]) and not planar:
         return locus
     comps = []

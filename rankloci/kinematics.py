@@ -37,6 +37,7 @@ __all__ = [
     "relative_transforms",
     "augmented_rows",
     "trig_normal",
+    "turns_about_z",
 ]
 
 
@@ -156,6 +157,19 @@ def relative_transforms(model: RobotModel, frame="base") -> tuple[sp.ImmutableMa
     return _relative_cached(model, frame_position(model, frame))
 
 
+def turns_about_z(model: RobotModel, frame) -> bool:
+    """Is ``frame`` the model's own frame turned about its z axis, for every q?
+
+    Decided exactly: the third row and column of the relative rotation must
+    expand to (0, 0, 1).  Then vx, vy and wz seen from ``frame`` are those of
+    the model's frame turned about z, which keeps the rank of those rows (a
+    planar arm).  Anything not identically so (a spatial arm) answers False.
+    """
+    R = relative_transforms(model, model.frame)[frame_position(model, frame)][:3, :3]
+    return all(sp.expand(R[i, j]) == (1 if i == j == 2 else 0)
+               for i, j in ((2, 0), (2, 1), (2, 2), (0, 2), (1, 2)))
+
+
 def forward_kinematics(model: RobotModel, frame="base") -> sp.Matrix:
     """Pose of the tool frame as a 4x4 homogeneous transform, seen from ``frame``.
 
@@ -240,7 +254,7 @@ def numeric_frames(model: RobotModel, q, params=None):
     params = dict(model.parameters if params is None else params)
     names, funcs = _factor_functions(model)
     values = {**{k: float(v) for k, v in params.items()}, **{k: float(v) for k, v in q.items()}}
-    args = [values.get(s, float(model.parameters.get(s, 0.0))) for s in names]
+    args = [values[s] if s in values else float(model.parameters[s]) for s in names]
     poses = [np.eye(4)]
     for f in funcs:
         poses.append(poses[-1] @ np.array(f(*args), dtype=float).reshape(4, 4))

@@ -15,7 +15,7 @@ import sympy as sp
 
 from .errors import ExpressionError, ModelError
 from .expr import parse_expression
-from .kinematics import augmented_rows, geometric_jacobian
+from .kinematics import augmented_rows, geometric_jacobian, turns_about_z
 from .model import MatrixModel, RobotModel, task_rows
 
 __all__ = ["TaskMatrix", "task_matrix", "parse_constraints"]
@@ -86,25 +86,11 @@ def _small_frame(model: RobotModel, rows, point):
         return middle, middle
     if tuple(rows) in ((0, 1, 2), (3, 4, 5)):
         return middle, point
-    if set(rows) <= {0, 1, 5} and _turns_about_z(model, middle):
+    if set(rows) <= {0, 1, 5} and turns_about_z(model, middle):
         # a planar arm: vx, vy (and wz) of the middle frame are those of the model's
         # frame turned about z, so the rank is the same
         return middle, point
     return model.frame, point
-
-
-def _turns_about_z(model: RobotModel, frame) -> bool:
-    """Is ``frame`` the model's frame turned about its z axis, for every q?
-
-    Decided exactly: the third row and column of the relative rotation must
-    expand to (0, 0, 1).  Anything that is not identically so (a spatial
-    arm) answers False, and the model's own frame is kept.
-    """
-    from .kinematics import frame_position, relative_transforms
-
-    R = relative_transforms(model, model.frame)[frame_position(model, frame)][:3, :3]
-    return all(sp.expand(R[i, j]) == (1 if i == j == 2 else 0)
-               for i, j in ((2, 0), (2, 1), (2, 2), (0, 2), (1, 2)))
 
 
 def parse_constraints(model, texts: Sequence[str]) -> tuple[tuple[str, sp.Expr], ...]:
