@@ -42,9 +42,9 @@ def svd_decision(J):
 
 def main(argv=None):
     from rankloci.io import load_model
-    from rankloci.matrix import task_matrix
+    from rankloci.jacobian import task_matrix
     from rankloci.numeric.batch_jacobian import BatchJacobian
-    from rankloci.numeric.crosscheck import NumericMatrix
+    from rankloci.numeric.equations import NumericMatrix
 
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--model", default="pa10")

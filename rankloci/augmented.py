@@ -99,7 +99,7 @@ def expand_preset(model, text: str):
 
 def parse_augment(model, texts):
     """Constraints from ``--augment`` texts: presets first, else plain expressions."""
-    from .matrix import parse_constraints
+    from .jacobian import parse_constraints
 
     out = []
     for t in texts:
@@ -111,15 +111,15 @@ def parse_augment(model, texts):
 # --- classification ---------------------------------------------------------------------------
 
 def _numeric(tm):
-    from .numeric.crosscheck import NumericMatrix
+    from .numeric.equations import NumericMatrix
 
     return NumericMatrix(sp.Matrix(tm.matrix).subs(tm.parameters), tm.variables, tm.angles)
 
 
 def _equations(comp, tm):
-    from .numeric.crosscheck import _Equations
+    from .numeric.equations import Equations
 
-    return _Equations(comp.equations, tm.variables, tm.parameters, comp.excluding)
+    return Equations(comp.equations, tm.variables, tm.parameters, comp.excluding)
 
 
 def _singular(J) -> bool:
@@ -132,11 +132,12 @@ def _meeting_point(comp, base_comp, tm, nm, rng, tries):
     """A real point on both components where J is singular, or None."""
     from scipy.optimize import least_squares
 
-    from .numeric.crosscheck import ON_COMPONENT_RESIDUAL, _Equations
+    from .numeric.equations import Equations
+    from .tolerances import ON_COMPONENT_RESIDUAL
 
-    both = _Equations(tuple(comp.equations) + tuple(base_comp.equations), tm.variables,
+    both = Equations(tuple(comp.equations) + tuple(base_comp.equations), tm.variables,
                       tm.parameters)
-    if both._f is None:
+    if both.empty:
         return None
     for q0 in nm.random_q(rng, tries):
         q = least_squares(both, q0, method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15,
@@ -162,7 +163,7 @@ def classify(aug, base, tm_aug, tm_base, *, rng=None, samples: int = 4, tries: i
         Random starts when looking for a point a component shares with a
         component of J's locus.
     """
-    from .numeric.crosscheck import _points_on
+    from .numeric.equations import points_on
 
     rng = np.random.default_rng(0) if rng is None else rng
     nm = _numeric(tm_base)
@@ -174,7 +175,7 @@ def classify(aug, base, tm_aug, tm_base, *, rng=None, samples: int = 4, tries: i
             continue
         eqs = _equations(comp, tm_base)
         pts = [np.array([comp.sample[str(v)] for v in tm_base.variables], dtype=float)]
-        pts += _points_on(eqs, nm, rng, samples)
+        pts += points_on(eqs, nm, rng, samples)
         singular = [_singular(nm(q)) for q in pts]
         if all(singular):
             out.append(dataclasses.replace(comp, kind="kinematic"))
@@ -195,7 +196,7 @@ def classify(aug, base, tm_aug, tm_base, *, rng=None, samples: int = 4, tries: i
 
 def base_matrix(model, tm):
     """J without any constraint row, in the frame and about the point ``tm`` uses."""
-    from .matrix import task_matrix
+    from .jacobian import task_matrix
     from .model import RobotModel
 
     task = tm.rows if isinstance(model, RobotModel) and tm.rows else None
@@ -215,7 +216,7 @@ def augmented_locus(model, tm, method: str | None = None, *, seed: int = 0, prog
     Examples
     --------
     >>> from rankloci.io import load_model
-    >>> from rankloci.matrix import task_matrix
+    >>> from rankloci.jacobian import task_matrix
     >>> m = load_model("planar3r_orient")
     >>> locus = augmented_locus(m, task_matrix(m, numeric=True))
     >>> [(str(c.equations[0]), c.kind) for c in locus.components]

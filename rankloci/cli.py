@@ -92,7 +92,7 @@ def _task_arg(text):
 def _load_task_matrix(args, progress=None):
     from .augmented import parse_augment
     from .io import load_model
-    from .matrix import task_matrix
+    from .jacobian import task_matrix
 
     model = load_model(args.model, base_link=getattr(args, "base_link", None),
                        tip_link=getattr(args, "tip_link", None))
@@ -186,7 +186,7 @@ def cmd_locus(args) -> int:
     import numpy as np
 
     from .augmented import augmented_locus
-    from .methods._common import LocusTimeout
+    from .errors import LocusTimeout
     from .render_text import locus_json, locus_latex, locus_text, tree_dot, tree_json, tree_text
 
     if args.tree and Path(args.tree).suffix not in (".dot", ".json", ".txt"):
@@ -238,7 +238,7 @@ def cmd_check(args) -> int:
 
     from .errors import ModelError
     from .io import load_model
-    from .matrix import task_matrix
+    from .jacobian import task_matrix
     from .numeric.crosscheck import cross_check, parse_locus, render_check_text
 
     if args.samples < 1:
@@ -272,7 +272,7 @@ def cmd_check(args) -> int:
     report = cross_check(locus, J.matrix, J.variables, angles=J.angles, parameters=J.parameters,
                          samples=args.samples, rng=np.random.default_rng(args.seed),
                          seed=args.seed)
-    from .numeric.singular import singular_cross_check
+    from .exact.singular import singular_cross_check
 
     exact = singular_cross_check(task_matrix(model, frame="auto", numeric=True), locus,
                                  rng=np.random.default_rng(args.seed))

@@ -12,6 +12,7 @@ __all__ = [
     "ExpressionError",
     "ShapeError",
     "LocusError",
+    "LocusTimeout",
 ]
 
 
@@ -77,3 +78,7 @@ class ShapeError(RanklociError):
 
 class LocusError(RanklociError):
     """A locus computation cannot be carried out on this input."""
+
+
+class LocusTimeout(LocusError):
+    """The computation was stopped because its time budget ran out."""

@@ -9,13 +9,53 @@ lost there.
 
 from __future__ import annotations
 
+import enum
 from dataclasses import dataclass, field
 
 import sympy as sp
 
-__all__ = ["Component", "Locus", "SCHEMA"]
+__all__ = ["Component", "Locus", "Outcome", "SCHEMA"]
 
 SCHEMA = "rankloci.locus/1"
+
+
+class Outcome(enum.StrEnum):
+    """Why a node of the branch tree stopped (or that it was refined).
+
+    The branch tree (``Locus.tree``, a networkx DiGraph) stores one of these
+    in each node's ``"outcome"`` attribute.  Being a ``str``, an outcome
+    prints, compares and exports (JSON, Graphviz) as its text.
+    """
+
+    #: The branch was split further: its children carry the outcomes.
+    REFINED = "refined"
+    #: The branch has no real point.
+    EMPTY = "empty"
+    #: Every point of the branch lies on a component found before.
+    KNOWN = "inside a component already found"
+    #: The chosen null vectors vanish on the branch: the whole matrix has full rank at its
+    #: generic points, which are covered by the sub-branch where the null vectors degenerate.
+    COVERED = "null vectors vanish (covered by its own branch)"
+    #: A component leaf whose branch turned out to have no real point when the
+    #: components were formed.
+    NO_REAL_POINT = "component leaf without a real point"
+    #: The whole matrix is rank deficient everywhere.
+    DEGENERATE = "degenerate"
+    #: Singular vector method: more null vectors than redundant columns, a component.
+    BEYOND_REDUNDANCY = "k > redundant columns"
+    #: A factor of the determinant of a square (level) matrix: a component.
+    NO_REDUNDANT_COLUMN = "no redundant column"
+    #: Subdeterminant method: every maximal minor vanishes on the branch, a component.
+    ALL_MINORS_VANISH = "all minors vanish"
+
+    @property
+    def is_component(self) -> bool:
+        """Is a leaf with this outcome a component of the locus?"""
+        return self in _COMPONENT_OUTCOMES
+
+
+_COMPONENT_OUTCOMES = frozenset({Outcome.DEGENERATE, Outcome.BEYOND_REDUNDANCY,
+                                 Outcome.NO_REDUNDANT_COLUMN, Outcome.ALL_MINORS_VANISH})
 
 
 @dataclass(frozen=True)
@@ -74,7 +114,16 @@ class Component:
     excluding: tuple = ()
     kind: str | None = None
     meets: tuple = ()
-    _branch: object = field(default=None, repr=False, compare=False)
+
+    @property
+    def exists_for_model(self) -> bool:
+        """Is this a component of the model's own locus?
+
+        It is when it has real points for the model's parameter values and
+        needs no special parameter values; the others are kept apart as
+        special-parameter components.
+        """
+        return self.for_model and not self.parameter_conditions
 
     def to_dict(self) -> dict:
         return {

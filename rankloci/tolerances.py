@@ -101,3 +101,75 @@ EXCLUSION_RTOL = 1e-4
 #: where convergence is quadratic.  A branch with no real point keeps a
 #: residual of order 1e-2 and up.
 NEAR_MISS_RTOL = 1e-4
+
+# ---------------------------------------------------------------------------
+# Forming components from the leaves (rankloci.methods.finalize)
+# ---------------------------------------------------------------------------
+
+#: Central-difference step (in radians, or units of a polynomial variable) for
+#: the gradient of a component's equations at its sample point.  The truncation
+#: error is O(h**2) = 1e-12 and the rounding error O(eps / h) = 1e-10, both
+#: small against the gradients' O(1) entries.
+DIMENSION_STEP = 1e-6
+
+#: The dimension of a component is the number of joint variables minus the
+#: numeric rank of its equations' gradient (rows scaled to unit norm): singular
+#: values at most DIMENSION_RTOL times the largest count as zero.  With the
+#: difference error of DIMENSION_STEP (~1e-10), 1e-7 leaves three orders of
+#: margin; independent equations of the built-in models give ratios of 1e-3 and up.
+DIMENSION_RTOL = 1e-7
+
+#: A probe point of one component lies on another when every equation of the
+#: other is at most CONTAINED_ATOL there.  The points are sample points accurate
+#: to ROOT_XTOL (relative to the terms' size, of order one for unit-scale
+#: models), rotated in free variables that the other's equations do not see,
+#: so an on-component residual stays below ~1e-10; points off it give
+#: residuals of 1e-3 and up.
+CONTAINED_ATOL = 1e-7
+
+#: At such a point an excluded expression counts as vanishing when it is at most
+#: CONTAINED_EXCLUSION_RTOL times the sum of its coefficients' absolute values.
+CONTAINED_EXCLUSION_RTOL = 1e-7
+
+#: A point where an exclusion vanishes is in the closure of a component when
+#: points of the component with the exclusion nonzero lie near it: starts
+#: perturbed by NEAR_ADMITTED_STEP are projected back onto the equations, and
+#: must land within NEAR_ADMITTED_RADIUS (both in radians) with every
+#: exclusion above NEAR_ADMITTED_EXCLUSION_RTOL times its coefficient size (a
+#: perturbation of 1e-3 moves a simple zero of an exclusion by about as much).
+NEAR_ADMITTED_STEP = 1e-3
+NEAR_ADMITTED_RADIUS = 0.05
+NEAR_ADMITTED_EXCLUSION_RTOL = 1e-6
+
+# ---------------------------------------------------------------------------
+# Numeric cross-check of a locus (rankloci.numeric.crosscheck)
+# ---------------------------------------------------------------------------
+
+#: A point counts as on a component when every equation, divided by the sum of the absolute
+#: values of its coefficients (a trig polynomial is then at most 1), is at most this.  Root
+#: finding reaches ~1e-15; ROOT_XTOL (1e-12) is the package's accuracy goal; one order above it.
+ON_COMPONENT_RESIDUAL = 1e-11
+
+#: On-locus points must have sigma_min/sigma_max at most this: the package's RANK_RTOL, >= 3
+#: orders above the ~1e-12 that points accurate to ON_COMPONENT_RESIDUAL give (sigma_min is
+#: Lipschitz in q with a constant ~sigma_max).
+ON_LOCUS_RTOL = RANK_RTOL
+
+#: Off-locus configurations keep every component's largest scaled equation above this: 1e-2 is
+#: ~0.01 rad from the component, where sigma_min/sigma_max is ~1e-2 * (a constant of order 1),
+#: six orders above RANK_RTOL, so a full-rank J is expected there.
+OFF_LOCUS_MIN_RESIDUAL = 1e-2
+
+#: A completeness-probe minimum counts as singular when sigma_min/sigma_max <= this (RANK_RTOL).
+PROBE_SINGULAR_RTOL = RANK_RTOL
+
+#: A singular probe point is covered when some component's scaled equations are all at most this.
+#: A minimiser stops within ~ratio/|grad ratio| (~1e-8 rad) of a smooth locus, ~1e-6 rad near
+#: tangential intersections; scaled trig equations change by at most their degree (<= 8) per
+#: radian, so 1e-6 accepts those while a missing component leaves residuals of 1e-2 or more.
+COVER_RESIDUAL = 1e-6
+
+#: The largest maximal minor relative to the product of row norms "vanishes" at or below this:
+#: it is about (sigma_min/sigma_max) * sigma_max^n / prod(row norms); row norms within a factor
+#: ~100 of sigma_max over the rows leave it within 1e2 of RANK_RTOL.
+MINOR_RTOL = 1e2 * RANK_RTOL

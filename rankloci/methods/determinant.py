@@ -4,30 +4,27 @@ from __future__ import annotations
 
 from ..algebra import laplace_det
 from ..errors import LocusError
-from ._common import Context
+from ..locus import Outcome
+from ..tree.branch import Branch
+from ..tree.context import Context
+from ..tree.cover import children
 
 __all__ = ["determinant_tree"]
 
 
 def determinant_tree(ctx: Context) -> bool:
-    from ..branch import Branch
-
+    """Grow the branch tree in ``ctx``; return True if the matrix is degenerate."""
     n, m = len(ctx.M), len(ctx.M[0])
     if n != m:
         raise LocusError(f"the determinant method needs a square matrix, this one is {n}x{m}; "
-                         "use --method svm or subdeterminant")
+                         "use the svm or subdeterminant method")
     root = Branch()
     D = laplace_det(ctx.M)
     if D.is_zero():
-        node = ctx.add_node(None, root, outcome="degenerate")
-        ctx.leaf(root, node, "degenerate")
+        node = ctx.add_node(None, root, outcome=Outcome.DEGENERATE)
+        ctx.leaf(root, node, Outcome.DEGENERATE)
         return True
-    node = ctx.add_node(None, root, outcome="refined", columns=list(range(1, m + 1)))
+    node = ctx.add_node(None, root, outcome=Outcome.REFINED, columns=list(range(1, m + 1)))
     for f in ctx.factors(D):
-        for child in ctx.children(root, f):
-            cnode = ctx.add_node(node, child, k=1)
-            if ctx.sampler.points(child):
-                ctx.leaf(child, cnode, "no redundant column")
-            else:
-                ctx.tree.nodes[cnode]["outcome"] = "empty"
+        ctx.leaves_below(node, children(ctx, root, f), Outcome.NO_REDUNDANT_COLUMN, k=1)
     return False

@@ -21,21 +21,27 @@ A matrix with more rows than columns is handled through its transpose
 
 from __future__ import annotations
 
-from ._common import Context, left_null_vectors, transpose
+from ..algebra import transpose
+from ..locus import Outcome
+from ..tree.branch import Branch
+from ..tree.context import Context
+from ..tree import prune
+from ..tree.cover import children
+from .blocks import choose_columns
+from .null_vectors import left_null_vectors
 
 __all__ = ["singular_vector_tree"]
 
 
 def singular_vector_tree(ctx: Context) -> bool:
     """Grow the branch tree in ``ctx``; return True if the matrix is degenerate."""
-    from ..branch import Branch
-
     root = Branch()
     pts = ctx.sampler.points(root)
     M = ctx.M if len(ctx.M) <= len(ctx.M[0]) else transpose(ctx.M)
-    if ctx.generic_rank(M, pts) < len(M):
-        node = ctx.add_node(None, root, shape=_shape(M), k=len(M) - ctx.generic_rank(M, pts))
-        ctx.leaf(root, node, "degenerate")
+    rank = ctx.probe.generic_rank(M, pts)
+    if rank < len(M):
+        node = ctx.add_node(None, root, shape=_shape(M), k=len(M) - rank)
+        ctx.leaf(root, node, Outcome.DEGENERATE)
         return True
     _svm(ctx, M, root, None, level=0)
     return False
@@ -46,55 +52,42 @@ def _shape(M):
 
 
 def _svm(ctx: Context, M, branch, parent, level):
-    ctx.tick()
+    """One level: split on the factors of a square block's determinant."""
     if len(M) > len(M[0]):
         M = transpose(M)
     n, m = len(M), len(M[0])
-    if ctx._known_symbolically(branch):
-        ctx.add_node(parent, branch, shape=_shape(M), outcome="inside a component already found")
+    node = ctx.add_node(parent, branch, shape=_shape(M))
+    pts = ctx.open_branch(branch, node)
+    if pts is None:
         return
-    pts = ctx.sampler.points(branch)
-    if not pts:
-        node = ctx.add_node(parent, branch, shape=_shape(M), outcome="empty")
-        return
-    if ctx.known(branch):
-        ctx.add_node(parent, branch, shape=_shape(M), outcome="inside a component already found")
-        return
-    M = ctx.reduce_matrix(M, branch)
-    rank = ctx.generic_rank(M, pts)
+    M = ctx.substitute(M, branch)
+    rank = ctx.probe.generic_rank(M, pts)
     if rank < n:
-        node = ctx.add_node(parent, branch, shape=_shape(M), k=n - rank)
-        ctx.leaf(branch, node, "k > redundant columns")
+        ctx.annotate(node, k=n - rank)
+        ctx.leaf(branch, node, Outcome.BEYOND_REDUNDANCY)
         return
-    cols, D = ctx.choose_columns(M, pts)
+    cols, D = choose_columns(ctx, M, pts)
     rest = [c for c in range(m) if c not in cols]
-    node = ctx.add_node(parent, branch, shape=_shape(M), columns=[c + 1 for c in cols],
-                        outcome="refined", level=level)
+    ctx.annotate(node, columns=[c + 1 for c in cols], outcome=Outcome.REFINED, level=level)
     ctx.progress(f"branch {node}: {n}x{m} matrix, determinant of columns {[c + 1 for c in cols]}")
-    children = []
+    branches = []
     for f in ctx.factors(D):
         if rest and ctx.parameter_only(f):
             ctx.special_parameters(f, f"det of columns {[c + 1 for c in cols]} at branch {node}")
             continue
-        children.extend(ctx.children(branch, f))
+        branches.extend(children(ctx, branch, f))
     if not rest:
-        for child in children:
-            ctx.tick()
-            cnode = ctx.add_node(node, child, shape=_shape(M), k=1)
-            if ctx.sampler.points(child):
-                ctx.leaf(child, cnode, "no redundant column")
-            else:
-                ctx.tree.nodes[cnode]["outcome"] = "empty"
+        ctx.leaves_below(node, branches, Outcome.NO_REDUNDANT_COLUMN, shape=_shape(M), k=1)
         return
     # Branches on which the whole matrix is rank deficient first: they are the
     # largest components, and everything inside them is pruned afterwards.
     pending = []
-    for child in children:
+    for child in branches:
         cpts = ctx.sampler.points(child)
-        crank = ctx.generic_rank(ctx.reduce_matrix(M, child), cpts) if cpts else n
+        crank = ctx.probe.generic_rank(ctx.substitute(M, child), cpts) if cpts else n
         if crank < n:
             cnode = ctx.add_node(node, child, k=n - crank)
-            ctx.leaf(child, cnode, "k > redundant columns")
+            ctx.leaf(child, cnode, Outcome.BEYOND_REDUNDANCY)
         else:
             pending.append(child)
     for child in pending:
@@ -105,34 +98,30 @@ def _svm(ctx: Context, M, branch, parent, level):
 def _reduce(ctx: Context, M, cols, rest, branch, parent, level):
     """On a branch of det J_sq = 0: null vectors, J-dagger, recursion."""
     n = len(M)
-    if ctx._known_symbolically(branch):
-        ctx.add_node(parent, branch, outcome="inside a component already found")
+    node = ctx.add_node(parent, branch)
+    pts = ctx.open_branch(branch, node)
+    if pts is None:
         return
-    pts = ctx.sampler.points(branch)
-    if not pts:
-        ctx.add_node(parent, branch, outcome="empty")
-        return
-    if ctx.known(branch):
-        ctx.add_node(parent, branch, outcome="inside a component already found")
-        return
-    Mb = ctx.reduce_matrix(M, branch)
+    Mb = ctx.substitute(M, branch)
     Jsq = [[row[c] for c in cols] for row in Mb]
     Jr = [[row[c] for c in rest] for row in Mb]
-    r = ctx.generic_rank(Jsq, pts)
+    r = ctx.probe.generic_rank(Jsq, pts)
     k = n - r
     if k == 0:
         # the factor has real points but J_sq is regular there: not a branch
-        ctx.add_node(parent, branch, outcome="empty", k=0)
+        ctx.annotate(node, outcome=Outcome.EMPTY, k=0)
         return
     if k > len(rest):
-        node = ctx.add_node(parent, branch, k=k)
-        ctx.leaf(branch, node, "k > redundant columns")
+        ctx.annotate(node, k=k)
+        ctx.leaf(branch, node, Outcome.BEYOND_REDUNDANCY)
         return
     U, d = left_null_vectors(ctx, Jsq, r, pts)
-    Jdag = [[sum((u[j] * Jr[j][c] for j in range(n) if not u[j].is_zero() and not Jr[j][c].is_zero()),
-                 ctx.ring.ctx.constant(0)) for c in range(len(rest))] for u in U]
-    node = ctx.add_node(parent, branch, k=k, outcome="refined", shape=f"{k}x{len(rest)}",
-                        columns=[c + 1 for c in cols])
+    zero = ctx.ring.ctx.constant(0)
+    Jdag = [[sum((u[j] * Jr[j][c] for j in range(n)
+                  if not u[j].is_zero() and not Jr[j][c].is_zero()), zero)
+             for c in range(len(rest))] for u in U]
+    ctx.annotate(node, k=k, outcome=Outcome.REFINED, shape=f"{k}x{len(rest)}",
+                 columns=[c + 1 for c in cols])
     # The null vectors U prove rank deficiency only where d != 0: the levels
     # below live on that open set.  Where d = 0 they prove nothing; there the
     # matrix of this level is rank deficient exactly where all its maximal
@@ -149,10 +138,10 @@ def _reduce(ctx: Context, M, cols, rest, branch, parent, level):
         below = below.excluding(g)
     _svm(ctx, Jdag, below, node, level + 1)
     for g in degenerate:
-        for child in ctx.children(branch, g):
-            if ctx.known(child):
+        for child in children(ctx, branch, g):
+            if prune.known(ctx, child):
                 continue
-            sub = ctx.add_node(node, child, outcome="refined", note="null vectors degenerate")
+            sub = ctx.add_node(node, child, outcome=Outcome.REFINED, note="null vectors degenerate")
             _minor_branch(ctx, M, child, sub)
 
 
@@ -168,18 +157,13 @@ def _minor_branch(ctx: Context, M, branch, parent):
     pts = ctx.open_branch(branch, parent)
     if pts is None:
         return
-    Mb = ctx.reduce_matrix(M, branch)
+    Mb = ctx.substitute(M, branch)
     if len(Mb) > len(Mb[0]):
         Mb = transpose(Mb)
-    if ctx.generic_rank(Mb, pts) < len(Mb):
-        ctx.leaf(branch, parent, "all minors vanish")
+    if ctx.probe.generic_rank(Mb, pts) < len(Mb):
+        ctx.leaf(branch, parent, Outcome.ALL_MINORS_VANISH)
         return
-    cols, D = ctx.choose_columns(Mb, pts, candidates=3)
-    ctx.tree.nodes[parent]["columns"] = [c + 1 for c in cols]
-    for f in ctx.factors(D):
-        if ctx.parameter_only(f):
-            ctx.special_parameters(f, "a minor on a branch")
-            continue
-        for child in ctx.children(branch, f):
-            node = ctx.add_node(parent, child, outcome="refined")
-            _minor_branch(ctx, M, child, node)
+    cols, D = choose_columns(ctx, Mb, pts, candidates=3)
+    ctx.annotate(parent, columns=[c + 1 for c in cols])
+    ctx.split(branch, parent, D, "a minor on a branch",
+              lambda child, node: _minor_branch(ctx, M, child, node))

@@ -13,35 +13,31 @@ from __future__ import annotations
 import itertools
 from functools import reduce
 
-from ..algebra import laplace_det
-from ._common import Context, transpose
+from ..algebra import laplace_det, transpose
+from ..locus import Outcome
+from ..tree.branch import Branch
+from ..tree.context import Context
+from ..tree.cover import children
 
-__all__ = ["subdeterminant_tree"]
+__all__ = ["subdeterminant_tree", "maximal_minors"]
 
 
 def subdeterminant_tree(ctx: Context) -> bool:
-    from ..branch import Branch
-
+    """Grow the branch tree in ``ctx``; return True if the matrix is degenerate."""
     minors = maximal_minors(ctx, ctx.M)
     ctx.progress(f"{len(minors)} maximal minors computed")
     nonzero = [p for p in minors if not p.is_zero()]
     root = Branch()
     if not nonzero:
-        node = ctx.add_node(None, root, outcome="degenerate", minors=len(minors))
-        ctx.leaf(root, node, "degenerate")
+        node = ctx.add_node(None, root, outcome=Outcome.DEGENERATE, minors=len(minors))
+        ctx.leaf(root, node, Outcome.DEGENERATE)
         return True
     g = reduce(lambda a, b: a.gcd(b), nonzero)
-    node = ctx.add_node(None, root, outcome="refined", minors=len(minors))
+    node = ctx.add_node(None, root, outcome=Outcome.REFINED, minors=len(minors))
     if not g.is_constant():
         for f in ctx.factors(g):
-            for child in ctx.children(root, f):
-                cnode = ctx.add_node(node, child, outcome="refined")
-                if ctx.sampler.points(child):
-                    ctx.leaf(child, cnode, "all minors vanish")
-                else:
-                    ctx.tree.nodes[cnode]["outcome"] = "empty"
-    rest = [p / g for p in nonzero]
-    minors_branch(ctx, rest, root, node)
+            ctx.leaves_below(node, children(ctx, root, f), Outcome.ALL_MINORS_VANISH)
+    _minors_branch(ctx, [p / g for p in nonzero], root, node)
     return False
 
 
@@ -57,21 +53,16 @@ def maximal_minors(ctx: Context, M) -> list:
     return out
 
 
-def minors_branch(ctx: Context, minors, branch, parent):
+def _minors_branch(ctx: Context, minors, branch, parent):
     """Branch until every minor vanishes on the branch (a component) or the branch is empty."""
     pts = ctx.open_branch(branch, parent)
     if pts is None:
         return
     reduced = [branch.reduce(p, ctx.ring) for p in minors]
-    alive = [p for p in reduced if not ctx.vanishes(p, pts)]
+    alive = [p for p in reduced if not ctx.probe.vanishes(p, pts)]
     if not alive:
-        ctx.leaf(branch, parent, "all minors vanish")
+        ctx.leaf(branch, parent, Outcome.ALL_MINORS_VANISH)
         return
-    pick = min(alive, key=len)
-    for f in ctx.factors(pick):
-        if ctx.parameter_only(f) and branch.conditions:
-            ctx.special_parameters(f, "a minor on a branch")
-            continue
-        for child in ctx.children(branch, f):
-            node = ctx.add_node(parent, child, outcome="refined")
-            minors_branch(ctx, alive, child, node)
+    ctx.split(branch, parent, min(alive, key=len), "a minor on a branch",
+              lambda child, node: _minors_branch(ctx, alive, child, node),
+              keep_parameter_only=not branch.conditions)

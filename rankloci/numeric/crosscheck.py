@@ -26,7 +26,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from ..tolerances import EXCLUSION_RTOL, RANK_RTOL
+from ..tolerances import (COVER_RESIDUAL, MINOR_RTOL, OFF_LOCUS_MIN_RESIDUAL, ON_COMPONENT_RESIDUAL,
+                          ON_LOCUS_RTOL, PROBE_SINGULAR_RTOL, RANK_RTOL)
+from .equations import MAX_TRIES, Equations, NumericMatrix, minimise_ratio, points_on
 from .fsp import dependent_rows
 from .minors import relative_max_minor
 from .svd import numeric_rank_drop, sigma_ratio
@@ -36,110 +38,6 @@ __all__ = ["cross_check", "parse_locus", "render_check_text", "CheckReport", "Co
 
 SCHEMA = "rankloci.check/1"
 
-#: A point counts as on a component when every equation, divided by the sum of the absolute
-#: values of its coefficients (a trig polynomial is then at most 1), is at most this.  Root
-#: finding reaches ~1e-15; ROOT_XTOL (1e-12) is the package's accuracy goal; one order above it.
-ON_COMPONENT_RESIDUAL = 1e-11
-
-#: On-locus points must have sigma_min/sigma_max at most this: the package's RANK_RTOL, >= 3
-#: orders above the ~1e-12 that points accurate to ON_COMPONENT_RESIDUAL give (sigma_min is
-#: Lipschitz in q with a constant ~sigma_max).
-ON_LOCUS_RTOL = RANK_RTOL
-
-#: Off-locus configurations keep every component's largest scaled equation above this: 1e-2 is
-#: ~0.01 rad from the component, where sigma_min/sigma_max is ~1e-2 * (a constant of order 1),
-#: six orders above RANK_RTOL, so a full-rank J is expected there.
-OFF_LOCUS_MIN_RESIDUAL = 1e-2
-
-#: A completeness-probe minimum counts as singular when sigma_min/sigma_max <= this (RANK_RTOL).
-PROBE_SINGULAR_RTOL = RANK_RTOL
-
-#: A singular probe point is covered when some component's scaled equations are all at most this.
-#: A minimiser stops within ~ratio/|grad ratio| (~1e-8 rad) of a smooth locus, ~1e-6 rad near
-#: tangential intersections; scaled trig equations change by at most their degree (<= 8) per
-#: radian, so 1e-6 accepts those while a missing component leaves residuals of 1e-2 or more.
-COVER_RESIDUAL = 1e-6
-
-#: The largest maximal minor relative to the product of row norms "vanishes" at or below this:
-#: it is about (sigma_min/sigma_max) * sigma_max^n / prod(row norms); row norms within a factor
-#: ~100 of sigma_max over the rows leave it within 1e2 of RANK_RTOL.
-MINOR_RTOL = 1e2 * RANK_RTOL
-
-_MAX_TRIES = 40  # random starts per requested point (root finding, off-locus draws)
-
-
-# --- numeric J ------------------------------------------------------------------------------
-
-class NumericMatrix:
-    """J(q) and its derivatives as numpy functions, lambdified once, evaluated in batches."""
-
-    def __init__(self, matrix, variables, angles=()):
-        M = sp.Matrix(matrix)
-        self.shape = M.shape
-        self.variables = tuple(variables)
-        self.angles = frozenset(angles)
-        self._J = sp.lambdify(self.variables, list(M), modules="numpy")
-        self._dJ = sp.lambdify(self.variables, [list(M.diff(v)) for v in self.variables],
-                               modules="numpy")
-
-    def batch(self, Q) -> np.ndarray:
-        """J at each row of Q (shape (N, n)): an array of shape (N, rows, cols)."""
-        Q = np.atleast_2d(np.asarray(Q, dtype=float))
-        vals = self._J(*Q.T)
-        N = Q.shape[0]
-        return np.stack([np.broadcast_to(np.asarray(v, dtype=float), (N,)) for v in vals],
-                        axis=-1).reshape((N,) + self.shape)
-
-    def __call__(self, q) -> np.ndarray:
-        return self.batch(np.asarray(q, dtype=float)[None, :])[0]
-
-    def derivatives(self, q) -> np.ndarray:
-        """dJ/dq_k at q: shape (n, rows, cols)."""
-        vals = self._dJ(*np.asarray(q, dtype=float))
-        return np.array([[float(x) for x in row] for row in vals]).reshape((-1,) + self.shape)
-
-    def random_q(self, rng, n: int) -> np.ndarray:
-        """n random configurations: angles uniform in [-pi, pi), other variables normal."""
-        cols = [rng.uniform(-np.pi, np.pi, n) if v in self.angles else rng.normal(size=n)
-                for v in self.variables]
-        return np.stack(cols, axis=-1) if cols else np.zeros((n, 0))
-
-
-class _Equations:
-    """A component's equations as a scaled numpy function of the joint variables."""
-
-    def __init__(self, equations, variables, parameters, excluding=()):
-        exprs = [sp.expand(sp.sympify(e).subs(parameters)) for e in equations]
-        self.scales = np.array([_coefficient_norm(e) for e in exprs], dtype=float)
-        self._f = sp.lambdify(tuple(variables), exprs, modules="numpy") if exprs else None
-        excl = [sp.expand(sp.sympify(e).subs(parameters)) for e in excluding]
-        self.excl_scales = np.array([_coefficient_norm(e) for e in excl], dtype=float)
-        self._g = sp.lambdify(tuple(variables), excl, modules="numpy") if excl else None
-
-    def excluded_values(self, q) -> np.ndarray:
-        """The excluded expressions at q, each divided by its coefficient norm."""
-        if self._g is None:
-            return np.zeros(0)
-        return np.array(self._g(*q), dtype=float).reshape(-1) / self.excl_scales
-
-    def admits(self, q) -> bool:
-        """Is q outside the excluded sets (see EXCLUSION_RTOL)?"""
-        v = self.excluded_values(q)
-        return not v.size or float(np.min(np.abs(v))) > EXCLUSION_RTOL
-
-    def __call__(self, q) -> np.ndarray:
-        if self._f is None:
-            return np.zeros(0)
-        return np.array(self._f(*q), dtype=float).reshape(-1) / self.scales
-
-    def residual(self, q) -> float:
-        v = self(q)
-        return float(np.max(np.abs(v))) if v.size else 0.0
-
-
-def _coefficient_norm(e) -> float:
-    total = sum(abs(complex(t.as_coeff_Mul()[0])) for t in sp.Add.make_args(e))
-    return float(total) if total > 0 else 1.0
 
 
 # --- results --------------------------------------------------------------------------------
@@ -232,50 +130,6 @@ def _point(nm: NumericMatrix, q) -> PointCheck:
                       minor=relative_max_minor(J))
 
 
-def _points_on(eqs: _Equations, nm: NumericMatrix, rng, n: int) -> list:
-    from scipy.optimize import least_squares
-
-    if eqs._f is None:
-        return list(nm.random_q(rng, n))
-    out = []
-    opts = dict(method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15)
-    for q0 in nm.random_q(rng, _MAX_TRIES * n):
-        q = least_squares(eqs, q0, max_nfev=200 * len(q0), **opts).x
-        if eqs.residual(q) <= ON_COMPONENT_RESIDUAL and not eqs.admits(q):
-            # landed in an excluded set: solve again with t * e(q) = 1 (Rabinowitsch)
-            m = len(q0)
-            t0 = 1.0 / np.clip(np.abs(eqs.excluded_values(q0)), 1e-3, None)
-
-            def lifted(x):
-                return np.concatenate([eqs(x[:m]), eqs.excluded_values(x[:m]) * x[m:] - 1.0])
-
-            q = least_squares(lifted, np.concatenate([q0, t0]), max_nfev=200 * (m + len(t0)),
-                              **opts).x[:m]
-        if eqs.residual(q) <= ON_COMPONENT_RESIDUAL and eqs.admits(q):
-            out.append(q)
-            if len(out) == n:
-                break
-    return out
-
-
-def _minimise_ratio(nm: NumericMatrix, q0):
-    """Local minimum of (sigma_min/sigma_max)^2 from q0 (BFGS, analytic gradient)."""
-    from scipy.optimize import minimize
-
-    def f(q):
-        U, s, Vt = np.linalg.svd(nm(q), full_matrices=False)
-        if s[0] == 0:
-            return 0.0, np.zeros_like(q)
-        r = s[-1] / s[0]
-        dJ = nm.derivatives(q)
-        ds_min = np.einsum("i,kij,j->k", U[:, -1], dJ, Vt[-1])
-        ds_max = np.einsum("i,kij,j->k", U[:, 0], dJ, Vt[0])
-        return r * r, 2 * r * (ds_min * s[0] - s[-1] * ds_max) / s[0] ** 2
-
-    res = minimize(f, q0, jac=True, method="BFGS", options={"gtol": 1e-20, "maxiter": 400})
-    return res.x
-
-
 def _findings_at(label: str, p: PointCheck, singular: bool) -> list:
     out = []
     if singular and not p.fsp_dependent:
@@ -316,7 +170,7 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
     Examples
     --------
     >>> from rankloci.io import load_model
-    >>> from rankloci.matrix import task_matrix
+    >>> from rankloci.jacobian import task_matrix
     >>> from rankloci.methods import compute_locus
     >>> tm = task_matrix(load_model("planar2r"), numeric=True)
     >>> report = cross_check(compute_locus(tm), tm.matrix, tm.variables, angles=tm.angles,
@@ -346,9 +200,9 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
         if comp.parameter_conditions or not comp.for_model:
             skipped.append(eq_text)
             continue
-        eqs = _Equations([prepared(e) for e in comp.equations], nm.variables, {},
+        eqs = Equations([prepared(e) for e in comp.equations], nm.variables, {},
                          [prepared(e) for e in comp.excluding])
-        pts = [_point(nm, q) for q in _points_on(eqs, nm, rng, samples)]
+        pts = [_point(nm, q) for q in points_on(eqs, nm, rng, samples)]
         fails = tuple(p for p in pts if p.sigma_ratio > ON_LOCUS_RTOL)
         for p in pts:
             if p.sigma_ratio <= ON_LOCUS_RTOL:
@@ -364,13 +218,13 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
         else:
             msg, ok = "", True
         checked.append(ComponentCheck(i, eq_text, tuple(pts), fails, ok, msg))
-    all_eqs = [c for c in (_Equations([prepared(e) for e in comp.equations], nm.variables, {})
+    all_eqs = [c for c in (Equations([prepared(e) for e in comp.equations], nm.variables, {})
                            for comp in locus.components
                            if not comp.parameter_conditions and comp.for_model)]
 
     # off-locus
     off = []
-    for q in nm.random_q(rng, _MAX_TRIES * samples):
+    for q in nm.random_q(rng, MAX_TRIES * samples):
         if all(e.residual(q) > OFF_LOCUS_MIN_RESIDUAL for e in all_eqs):
             off.append(_point(nm, q))
             if len(off) == samples:
@@ -383,7 +237,7 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
     # completeness
     singular, uncovered = 0, []
     for q0 in nm.random_q(rng, samples):
-        p = _point(nm, _minimise_ratio(nm, q0))
+        p = _point(nm, minimise_ratio(nm, q0))
         if p.sigma_ratio > PROBE_SINGULAR_RTOL:
             continue
         singular += 1

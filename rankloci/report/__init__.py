@@ -179,10 +179,11 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
     >>> [f.name for f in report.figures]
     ['planar2r-sigma-1.png', 'planar2r-manipulability.png', 'planar2r-tree.png']
     """
-    from ..matrix import task_matrix
+    from ..jacobian import task_matrix
     from ..methods import compute_locus
-    from ..methods._common import LocusTimeout
-    from ..numeric.crosscheck import NumericMatrix, cross_check
+    from ..errors import LocusTimeout
+    from ..numeric.crosscheck import cross_check
+    from ..numeric.equations import NumericMatrix
     from . import analysis as A
     from .mathfmt import jacobian_display
 
@@ -248,7 +249,7 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
             locus, model_tm.matrix, model_tm.variables, angles=model_tm.angles,
             parameters=params, samples=samples, rng=rng(seed), seed=seed))
         if exact:
-            from ..numeric.singular import singular_cross_check
+            from ..exact.singular import singular_cross_check
 
             exact_result = timed("Singular cross-check", lambda: singular_cross_check(
                 task_matrix(model, frame="auto", numeric=True), locus, rng=rng(seed)))
@@ -414,13 +415,13 @@ def _slice_point_without_locus(nm, rng):
     A minimum of sigma_min/sigma_max from the best of some random starts, when it is
     singular (the slice then shows a piece of the locus); else a random regular one.
     """
-    from ..numeric.crosscheck import _minimise_ratio
+    from ..numeric.equations import minimise_ratio
     from ..tolerances import RANK_RTOL
     from .analysis import regular_point, sigma_ratios
 
     start = regular_point(nm, rng)
     try:
-        q = _minimise_ratio(nm, start)
+        q = minimise_ratio(nm, start)
     except (ValueError, np.linalg.LinAlgError):  # pragma: no cover - numeric trouble
         q = None
     if q is not None and float(sigma_ratios(nm.batch(q[None, :]))[0]) <= RANK_RTOL:
@@ -429,8 +430,8 @@ def _slice_point_without_locus(nm, rng):
 
 
 def _figures(model, model_tm, locus, nm, params, seed, dot):
-    from ..matrix import task_matrix
-    from ..numeric.crosscheck import NumericMatrix
+    from ..jacobian import task_matrix
+    from ..numeric.equations import NumericMatrix
     from . import analysis as A
     from .figures import augmented_png, heatmap_png, manipulability_png, tree_png
 

@@ -19,8 +19,8 @@ import networkx as nx
 import numpy as np
 import sympy as sp
 
-from ..numeric.crosscheck import COVER_RESIDUAL, NumericMatrix, _Equations, _points_on
-from ..tolerances import REGULAR_MIN_RATIO
+from ..numeric.equations import Equations, NumericMatrix, points_on
+from ..tolerances import COVER_RESIDUAL, REGULAR_MIN_RATIO
 
 __all__ = ["SliceData", "PathData", "Comparison", "slice_grid", "slice_joints", "path_through",
            "compare_loci", "tree_summary", "model_components", "sigma_ratios",
@@ -64,14 +64,14 @@ def _equation_function(comp, nm: NumericMatrix, parameters):
         e = e.xreplace({s: by_name[s.name] for s in e.free_symbols if s.name in by_name})
         e = e.subs({s: params[s.name] for s in e.free_symbols if s.name in params})
         exprs.append(e)
-    return _Equations(exprs, nm.variables, {})
+    return Equations(exprs, nm.variables, {})
 
 
 def component_points(comp, nm: NumericMatrix, parameters, rng, n: int) -> list[np.ndarray]:
     """The component's sample point and up to ``n`` more points solved onto it."""
     eqs = _equation_function(comp, nm, parameters)
     first = np.array([comp.sample[v.name] for v in nm.variables], dtype=float)
-    return [first] + [np.asarray(q) for q in _points_on(eqs, nm, rng, n)]
+    return [first] + [np.asarray(q) for q in points_on(eqs, nm, rng, n)]
 
 
 # --- slices ----------------------------------------------------------------------------------
@@ -159,14 +159,12 @@ def slice_grid(nm: NumericMatrix, locus_components, parameters, axes, point, *, 
                      tuple(curves))
 
 
-def _component_on_slice(eqs: _Equations, Q, axes, xs, ys, point):
+def _component_on_slice(eqs: Equations, Q, axes, xs, ys, point):
     import contourpy
 
-    if eqs._f is None:
+    if eqs.empty:
         return [], np.zeros((0, 2))
-    raw = eqs._f(*np.moveaxis(Q, -1, 0))
-    vals = np.stack([np.broadcast_to(np.asarray(v, dtype=float), Q.shape[:2]) for v in raw])
-    vals = vals / eqs.scales[:, None, None]
+    vals = eqs.batch(Q)
     # equations constant on the slice: they hold on all of it or on none of it
     active = []
     for k in range(vals.shape[0]):

@@ -14,7 +14,7 @@ import sympy as sp
 
 from rankloci.io import load_model
 from rankloci.locus import Component
-from rankloci.matrix import task_matrix
+from rankloci.jacobian import task_matrix
 from rankloci.methods import compute_locus
 from rankloci.numeric.crosscheck import cross_check, parse_locus, render_check_text
 from rankloci.numeric.minors import relative_max_minor

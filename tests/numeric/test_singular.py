@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from rankloci.io import load_model
-from rankloci.matrix import task_matrix
+from rankloci.jacobian import task_matrix
 from rankloci.methods import compute_locus
-from rankloci.numeric.singular import singular_available, singular_cross_check
+from rankloci.exact.singular import singular_available, singular_cross_check
 
 SEED = 4
 

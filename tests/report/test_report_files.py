@@ -57,7 +57,7 @@ def loci():
     import numpy as np
 
     from rankloci.io import load_model
-    from rankloci.matrix import task_matrix
+    from rankloci.jacobian import task_matrix
     from rankloci.methods import compute_locus
 
     out = {}

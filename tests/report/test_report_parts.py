@@ -80,7 +80,7 @@ def test_long_equations_are_broken_within_the_line_width():
 
 @pytest.mark.parametrize("name", ["planar3r", "puma560", "ssrms", "mobile10"])
 def test_jacobian_display_is_equal_to_the_jacobian(name):
-    from rankloci.matrix import task_matrix
+    from rankloci.jacobian import task_matrix
 
     tm = task_matrix(load_model(name), frame="auto")
     jd = jacobian_display(tm.matrix, tm.variables, tm.parameters)
@@ -98,7 +98,7 @@ def test_jacobian_display_is_equal_to_the_jacobian(name):
 
 
 def test_wide_jacobian_is_laid_out_in_columns_that_fit():
-    from rankloci.matrix import task_matrix
+    from rankloci.jacobian import task_matrix
     from rankloci.report.content import _matrix_blocks
 
     tm = task_matrix(load_model("ssrms"), frame="auto")
@@ -134,9 +134,9 @@ def test_tree_summary_keeps_paths_to_components():
 
 
 def test_compare_loci_sees_a_missing_component():
-    from rankloci.matrix import task_matrix
+    from rankloci.jacobian import task_matrix
     from rankloci.methods import compute_locus
-    from rankloci.numeric.crosscheck import NumericMatrix
+    from rankloci.numeric.equations import NumericMatrix
 
     model = load_model("planar3r")
     tm = task_matrix(model, frame="auto", numeric=True)

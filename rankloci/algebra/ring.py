@@ -26,15 +26,16 @@ from __future__ import annotations
 
 import functools
 import itertools
+import math
 from dataclasses import dataclass
 
 import flint
 import numpy as np
 import sympy as sp
 
-from .errors import LocusError
+from ..errors import LocusError
 
-__all__ = ["PolyRing", "laplace_det", "irreducible_factors", "abs_poly"]
+__all__ = ["PolyRing"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -76,9 +77,6 @@ class PolyRing:
 
     def S(self, i):
         return self.gens[2 * i + 1]
-
-    def index_of(self, name: str) -> int:
-        return self.names.index(name)
 
     @property
     def n_angles(self) -> int:
@@ -279,6 +277,21 @@ class PolyRing:
 
     # --- numeric evaluation ---------------------------------------------------
 
+    def joint_values(self, g) -> dict:
+        """Joint variable -> value at the generator vector ``g`` (angles in (-pi, pi])."""
+        out = {}
+        for i, q in enumerate(self.angles):
+            v = 2.0 * math.atan2(g[2 * i + 1], g[2 * i])
+            out[q] = math.remainder(v, 2 * math.pi)
+        for j, x in enumerate(self.others):
+            out[x] = g[2 * self.n_angles + j]
+        return out
+
+    def parameter_values(self, g) -> dict:
+        """Parameter -> value at the generator vector ``g``."""
+        base = 2 * self.n_angles + len(self.others)
+        return {p: g[base + j] for j, p in enumerate(self.params)}
+
     def compile(self, polys):
         """Vectorised evaluator of several polynomials at numeric generator values."""
         nv = len(self.names)
@@ -329,92 +342,3 @@ class PolyRing:
             return out[0] if single else out
 
         return evaluate
-
-    def point_values(self, q: dict, params: dict) -> np.ndarray:
-        """Generator values at joint values ``q`` and parameter values ``params``."""
-        x = []
-        for a in self.angles:
-            x += [np.cos(q[a] / 2), np.sin(q[a] / 2)]
-        x += [q[o] for o in self.others]
-        x += [params[p] for p in self.params]
-        return np.array(x, dtype=float)
-
-
-def laplace_det(M):
-    """Determinant by Laplace expansion along rows, sharing minors (2**n subproducts).
-
-    Jacobians are sparse and their entries small; with the minors of the
-    lower rows memoised this beats fraction-free (Bareiss) elimination, whose
-    exact divisions of large intermediate polynomials dominate (PUMA 560,
-    6x6 in a middle frame: 0.004 s against 0.46 s).  Rows homogeneous in
-    each (C, S) pair give a homogeneous determinant.
-    """
-    n = len(M)
-    if n == 0:
-        raise ValueError("empty matrix")
-    memo = {}
-
-    def minor(r, cols):
-        # determinant of rows r..n-1 and the columns in ``cols`` (a sorted tuple)
-        if r == n - 1:
-            return M[r][cols[0]]
-        key = (r, cols)
-        got = memo.get(key)
-        if got is not None:
-            return got
-        total = None
-        for pos, c in enumerate(cols):
-            a = M[r][c]
-            if a.is_zero():
-                continue
-            sub = minor(r + 1, cols[:pos] + cols[pos + 1:])
-            if sub.is_zero():
-                continue
-            term = a * sub
-            if pos % 2:
-                term = -term
-            total = term if total is None else total + term
-        if total is None:
-            total = M[r][cols[0]] * 0
-        memo[key] = total
-        return total
-
-    return minor(0, tuple(range(n)))
-
-
-def irreducible_factors(p, ring: PolyRing):
-    """Distinct irreducible, non-constant factors of ``p``, spurious ones removed.
-
-    ``C**2 + S**2`` has no zero on the circle and is dropped.
-    """
-    if p.is_zero():
-        raise ValueError("zero polynomial has no factorisation")
-    _, facs = p.factor()
-    out = []
-    for f, _ in facs:
-        if f.is_constant():
-            continue
-        if _is_circle(f, ring):
-            continue
-        lc = f.leading_coefficient()
-        out.append(f / lc)
-    return out
-
-
-def _is_circle(f, ring):
-    for i in range(ring.n_angles):
-        C, S = ring.C(i), ring.S(i)
-        g = C * C + S * S
-        if f == g:
-            return True
-    return False
-
-
-def abs_poly(p, ring: PolyRing):
-    """``p`` with every coefficient replaced by its absolute value.
-
-    Evaluated at the absolute values of the generators it bounds |p| and
-    measures the size of p's terms, the scale against which "p vanishes
-    here" is decided.
-    """
-    return ring.ctx.from_dict({m: abs(c) for m, c in zip(p.monoms(), p.coeffs())})

@@ -3,11 +3,14 @@
 :func:`task_matrix` turns a :class:`RobotModel` (through its geometric
 Jacobian) or a :class:`MatrixModel` into a :class:`TaskMatrix`, optionally
 augmented with the gradients of constraint functions g(q) and with the
-parameters replaced by their numeric values.
+parameters replaced by their numeric values.  :func:`pivot_constant_columns`
+takes out the constant pivot columns (a prismatic base joint in the base
+frame, say) before a locus is computed.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from typing import Mapping, Sequence
 
@@ -18,7 +21,8 @@ from .expr import parse_expression
 from .kinematics import augmented_rows, geometric_jacobian, turns_about_z
 from .model import MatrixModel, RobotModel, task_rows
 
-__all__ = ["TaskMatrix", "task_matrix", "parse_constraints"]
+__all__ = ["TaskMatrix", "task_matrix", "parse_constraints", "pivot_constant_columns",
+           "lift_directions"]
 
 _ROW_NAMES = ("vx", "vy", "vz", "wx", "wy", "wz")
 
@@ -159,3 +163,62 @@ def task_matrix(model, *, task=None, frame=None, point="tool", augment: Sequence
                     frame=frame if robot else None, point=point if robot else None,
                     rows=tuple(rows) if robot else ())
     return tm.numeric_parameters() if numeric else tm
+
+
+def pivot_constant_columns(tm):
+    """``tm`` without the rows and columns of constant pivot columns, and the pivots.
+
+    A column whose entries in the remaining rows are numbers, exactly one of
+    them nonzero (a prismatic base joint in the base frame, say), is a pivot:
+    column operations clear its row elsewhere, so rank J = 1 + rank of J
+    without that row and column.  Only for matrices with at least as many
+    columns as rows (then the left null vectors of the rest, with zeros in
+    the pivot rows, are those of J).
+
+    Returns
+    -------
+    TaskMatrix, list of (row, column)
+    """
+    J = tm.matrix
+    if J.rows > J.cols:
+        return tm, []
+    rows, cols = list(range(J.rows)), list(range(J.cols))
+    pivots = []
+    found = True
+    while found and rows:
+        found = False
+        for j in cols:
+            entries = [J[i, j] for i in rows]
+            if all(e.is_number for e in entries):
+                nonzero = [i for i, e in zip(rows, entries) if e != 0]
+                if len(nonzero) == 1:
+                    pivots.append((nonzero[0], j))
+                    rows.remove(nonzero[0])
+                    cols.remove(j)
+                    found = True
+                    break
+    if not pivots:
+        return tm, []
+    labels = tuple(tm.row_labels[i] for i in rows) if tm.row_labels else ()
+    return dataclasses.replace(tm, matrix=sp.ImmutableMatrix(J.extract(rows, cols)),
+                               row_labels=labels), pivots
+
+
+def lift_directions(comp, pivot_rows, n_rows):
+    """``comp`` with the lost directions of the reduced matrix made directions of J.
+
+    The pivot rows of :func:`pivot_constant_columns` get zeros.
+    """
+    if not pivot_rows:
+        return comp
+    keep = [i for i in range(n_rows) if i not in pivot_rows]
+
+    def lift(vec, zero):
+        out = [zero] * n_rows
+        for i, x in zip(keep, vec):
+            out[i] = x
+        return tuple(out)
+
+    return dataclasses.replace(
+        comp, direction=tuple(lift(v, sp.Integer(0)) for v in comp.direction),
+        direction_at_sample=tuple(lift(v, 0.0) for v in comp.direction_at_sample))

@@ -165,7 +165,7 @@ def _compare(primes, gens, cs, tm, locus, rng):
 
 def _real_point(func, scales, n_angles, rng, starts=30):
     """A real point of a prime in (c, s) coordinates, on the circles, or None."""
-    from ..branch import gauss_newton
+    from ..numeric.gauss_newton import gauss_newton
 
     scales = np.maximum(np.array(scales), 1e-300)
 

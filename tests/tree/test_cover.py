@@ -10,10 +10,11 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from rankloci.branch import Branch
+from rankloci.tree.branch import Branch
 from rankloci.io.toml_model import parse_model
-from rankloci.matrix import task_matrix
-from rankloci.methods._common import Context
+from rankloci.jacobian import task_matrix
+from rankloci.tree.context import Context
+from rankloci.tree.cover import cover
 
 RAW = 'variables = ["x", "y"]\nmatrix = [["sin(x)*cos(y) + sin(y)", "cos(x)"]]\n'
 
@@ -38,9 +39,9 @@ def test_implicit_equation_is_reduced_by_a_later_substitution():
     ctx = _context()
     x, y = ctx.tm.variables
     E = ctx.ring.from_sympy(sp.sin(x) * sp.cos(y) + sp.sin(y))
-    (b,) = ctx._cover(Branch(), [E])
+    (b,) = cover(ctx, Branch(), [E])
     assert b.implicit, "E should not be solvable for one angle"
-    out = ctx._cover(b, [ctx.ring.S(1)])
+    out = cover(ctx, b, [ctx.ring.S(1)])
     assert len(out) == 2, [[str(c) for c in o.conditions] for o in out]
     seen = set()
     for o in out:
@@ -60,9 +61,9 @@ def test_reduced_equation_that_becomes_constant_empties_the_branch():
     ctx = _context()
     x, y = ctx.tm.variables
     E3 = ctx.ring.from_sympy(sp.sin(x) * sp.sin(y) + sp.cos(y) + 3)
-    (b,) = ctx._cover(Branch(), [E3])
+    (b,) = cover(ctx, Branch(), [E3])
     assert b.implicit
-    assert ctx._cover(b, [ctx.ring.S(1)]) == []
+    assert cover(ctx, b, [ctx.ring.S(1)]) == []
 
 
 def test_exceptional_piece_never_carries_a_circle_factor():
@@ -73,7 +74,7 @@ def test_exceptional_piece_never_carries_a_circle_factor():
     C, S = ctx.ring.C, ctx.ring.S
     a = C(1) * C(1) + S(1) * S(1)
     f = a * C(0) + S(1) * S(0)
-    out = ctx._cover(Branch(), [f])
+    out = cover(ctx, Branch(), [f])
     circle = str(a)
     for o in out:
         assert all(str(c) != circle for c in o.conditions), [str(c) for c in o.conditions]

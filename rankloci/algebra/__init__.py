@@ -1,0 +1,11 @@
+"""Exact polynomial algebra for rank-deficiency loci.
+
+:mod:`~rankloci.algebra.ring` holds the ring of half-angle coordinates and
+the conversions between sympy expressions and its polynomials;
+:mod:`~rankloci.algebra.polys` the determinants and factorisations done in it.
+"""
+
+from .polys import abs_poly, irreducible_factors, laplace_det, transpose
+from .ring import PolyRing
+
+__all__ = ["PolyRing", "laplace_det", "irreducible_factors", "abs_poly", "transpose"]

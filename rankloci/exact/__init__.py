@@ -1,0 +1,1 @@
+"""Exact cross-checks by external computer algebra (Singular)."""

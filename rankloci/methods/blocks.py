@@ -1,0 +1,134 @@
+"""Block choice: which square block of a matrix to take the determinant of.
+
+The singular vector method splits a branch on the factors of the
+determinant of an n x n block (:func:`choose_columns`), and builds null
+vectors from the cofactors of an r x r block (:func:`choose_block`).  Any
+block regular on the branch is correct; these choose one whose determinant
+is small and has few factors, so that the branches below stay simple.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..algebra import laplace_det
+from ..errors import LocusError
+from ..tree.probe import numeric_rank
+
+if TYPE_CHECKING:
+    from ..tree.context import Context
+
+__all__ = ["choose_columns", "choose_block"]
+
+#: At most this many column sets are ranked by size when choosing a block.
+MAX_COLUMN_SETS = 5000
+#: Blocks of the null-vector level are searched only when there are at most this many.
+MAX_BLOCKS = 400
+
+
+def choose_columns(ctx: "Context", M, points, candidates: int = 12):
+    """n columns whose square block is regular at the points, and its determinant.
+
+    Among up to ``candidates`` regular blocks (smallest entries first) the
+    one with the fewest determinant terms wins: its factors, and so the
+    branches below it, are the simplest.
+    """
+    n, m = len(M), len(M[0])
+    size = [sum(len(M[i][j]) for i in range(n)) for j in range(m)]
+    combos = itertools.combinations(range(m), n)
+    if math.comb(m, n) > MAX_COLUMN_SETS:
+        combos = itertools.islice(combos, MAX_COLUMN_SETS)
+    ranked = sorted(combos, key=lambda cs: sum(size[c] for c in cs))
+    best = None
+    tried = 0
+    # a block is regular on the branch if it is regular at one of its points
+    # where the whole matrix has full rank (a sample point may happen to lie
+    # on a smaller subset where more is singular)
+    evaluated = [ctx.probe.evaluated(M, g) for g in points]
+    evaluated = [(A, S) for A, S in evaluated if numeric_rank(A, S) == n]
+    for cols in ranked:
+        cl = list(cols)
+        if not any(numeric_rank(A[:, cl], S[:, cl]) == n for A, S in evaluated):
+            continue
+        sub = [[row[c] for c in cols] for row in M]
+        ctx.tick()
+        D = laplace_det(sub)
+        if best is None or len(D) < len(best[1]):
+            best = (list(cols), D)
+        tried += 1
+        if tried >= candidates:
+            break
+    if best is None:
+        raise LocusError("no regular square block found although the matrix has full rank")
+    return best
+
+def choose_block(ctx: "Context", A, r, points, candidates: int = 24):
+    """Rows and columns of an r x r block of ``A`` regular at the points.
+
+    The null vectors built from the block's cofactors are independent
+    wherever its determinant d is nonzero, and the points where d
+    vanishes need sub-branches of their own, one per factor of d.
+    Pivoted QR at the first point proposes a block; a regular block
+    (among up to ``candidates``, smallest entries first) whose d has
+    fewer factors in the joint variables, and no more terms, replaces it.
+    """
+    n, m = len(A), len(A[0])
+    N = ctx.probe.values(A, points[0])
+    norms = np.linalg.norm(N, axis=1)
+    N = N / np.where(norms > 0, norms, 1.0)[:, None]
+    cols = sorted(_pivots(N, r))
+    rows = sorted(_pivots(N[:, cols].T, r))
+    if r == 0 or math.comb(n, r) * math.comb(m, r) > MAX_BLOCKS:
+        return rows, cols
+
+    def score(rl, cl, most=None):
+        d = laplace_det([[A[i][j] for j in cl] for i in rl])
+        if most is not None and len(d) > most:
+            return None
+        if d.is_constant() or ctx.parameter_only(d):
+            return 0, len(d)
+        return len([f for f in ctx.factors(d) if not ctx.parameter_only(f)]), len(d)
+
+    best = (score(rows, cols), rows, cols)
+    if best[0][0] == 0:
+        return rows, cols
+    evaluated = [ctx.probe.evaluated(A, g) for g in points]
+    evaluated = [(E, S) for E, S in evaluated if numeric_rank(E, S) == r]
+    size = [[len(p) for p in row] for row in A]
+    blocks = sorted(((rs, cs) for rs in itertools.combinations(range(n), r)
+                     for cs in itertools.combinations(range(m), r)),
+                    key=lambda rc: sum(size[i][j] for i in rc[0] for j in rc[1]))
+    tried = 0
+    for rs, cs in blocks:
+        if tried >= candidates or not evaluated:
+            break
+        rl, cl = list(rs), list(cs)
+        if (rl, cl) == (rows, cols) or not any(
+                numeric_rank(E[np.ix_(rl, cl)], S[np.ix_(rl, cl)]) == r for E, S in evaluated):
+            continue
+        tried += 1
+        ctx.tick()
+        sc = score(rl, cl, most=best[0][1])
+        if sc is not None and sc[0] < best[0][0]:
+            best = (sc, rl, cl)
+            if sc[0] == 0:
+                break
+    return best[1], best[2]
+
+
+def _pivots(N, r):
+    """Indices of r columns of N chosen greedily by largest remaining norm (pivoted QR)."""
+    R = N.astype(float).copy()
+    chosen = []
+    for _ in range(r):
+        norms = np.linalg.norm(R, axis=0)
+        norms[chosen] = -1.0
+        j = int(np.argmax(norms))
+        chosen.append(j)
+        v = R[:, j] / max(np.linalg.norm(R[:, j]), 1e-300)
+        R = R - np.outer(v, v @ R)
+    return chosen

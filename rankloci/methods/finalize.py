@@ -1,0 +1,368 @@
+"""From the leaves of a branch tree to the components of a :class:`~rankloci.locus.Locus`.
+
+Each component leaf becomes a :class:`~rankloci.locus.Component`: its
+equations in readable form (:mod:`.readable`), its dimension (the rank of
+the equations' gradient at a sample point), its rank drop and lost
+directions there, and the exclusions it needs.  Then leaves q = 0 and q = pi
+that agree otherwise are joined into sin q = 0, duplicates and components
+inside another are dropped, and lost directions are added as expressions
+where they are small.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from functools import reduce
+
+import numpy as np
+import sympy as sp
+
+from ..algebra import transpose
+from ..locus import Component, Outcome
+from ..numeric.gauss_newton import gauss_newton
+from ..tolerances import (CONTAINED_ATOL, CONTAINED_EXCLUSION_RTOL, DIMENSION_RTOL,
+                          DIMENSION_STEP, NEAR_ADMITTED_EXCLUSION_RTOL, NEAR_ADMITTED_RADIUS,
+                          NEAR_ADMITTED_STEP)
+from ..tree import prune
+from ..tree.branch import Branch
+from ..tree.context import Context
+from ..tree.cover import children
+from .null_vectors import left_null_vectors
+from .readable import readable_equations
+
+__all__ = ["finalize"]
+
+
+def _equation_functions(ring, equations, tm):
+    """Numeric functions of (q, params) for sympy equations."""
+    syms = list(tm.variables) + list(ring.params)
+    return sp.lambdify(syms, list(equations), modules="numpy"), syms
+
+
+@dataclass(frozen=True, eq=False)
+class _Candidate:
+    """A component being formed, with the branch it came from and that branch's points.
+
+    ``branch`` is None for a component merged from two leaves (q = 0 and q = pi).
+    """
+
+    comp: Component
+    branch: Branch | None
+    points: tuple
+
+    def replace(self, **changes) -> "_Candidate":
+        return dataclasses.replace(self, comp=dataclasses.replace(self.comp, **changes))
+
+
+def finalize(ctx: Context) -> list[Component]:
+    """Components from the leaves: readable, deduplicated, none inside another."""
+    ring = ctx.ring
+    for node, data in ctx.tree.nodes(data=True):
+        # a refined branch whose every factor was decided symbolically (a constant, or
+        # parameters only) has no child: no real point for generic parameters
+        if data.get("outcome") == Outcome.REFINED and ctx.tree.out_degree(node) == 0:
+            data["outcome"] = Outcome.EMPTY
+    raw = []
+    for branch, node in ctx.leaves:
+        pts = ctx.sampler.points(branch)
+        if not pts:
+            ctx.annotate(node, outcome=Outcome.NO_REAL_POINT)
+            continue
+        eqs = []
+        for c in branch.conditions:
+            e = ring.to_sympy(c)
+            if e != 0 and e not in eqs and -e not in eqs:
+                eqs.append(e)
+        raw.append((eqs, branch, pts, node))
+    if ctx.sampler.fell_back:
+        ctx.notes.append(f"{len(ctx.sampler.fell_back)} branch(es) have real points for the "
+                         "model's parameter values but none were found for random nearby values: "
+                         "the components found there may exist only in a range of parameters")
+    cands = [_component(ctx, eqs, branch, pts) for eqs, branch, pts, _ in raw]
+    cands = [_with_exclusions(ctx, c) for c in cands]
+    cands = _merge_zero_pi(cands)
+    cands = _remove_contained(ctx, cands)
+    comps = [_with_direction(ctx, c) for c in cands]
+    comps.sort(key=lambda c: (len(c.parameter_conditions) > 0, -c.dimension, c.rank_drop,
+                              [sp.sstr(e) for e in c.equations]))
+    return comps
+
+
+def _component(ctx: Context, eqs, branch, pts) -> _Candidate:
+    ring, tm = ctx.ring, ctx.tm
+    model_pts = ctx.model_sampler.points(branch) if ctx.model_sampler is not ctx.sampler else pts
+    for_model = bool(model_pts)
+    g = model_pts[0] if model_pts else pts[0]
+    qv = ring.joint_values(g)
+    pv = ring.parameter_values(g)
+    joint = set(tm.variables)
+    param_conds = tuple(e for e in eqs if not (e.free_symbols & joint))
+    eqs_j = tuple(e for e in eqs if e.free_symbols & joint)
+    used = set().union(*(e.free_symbols for e in eqs_j)) if eqs_j else set()
+    free = tuple(v for v in tm.variables if v not in used)
+    eqs_j, solved = readable_equations(eqs_j, tm.variables)
+    eqs_j = tuple(eqs_j)
+    used = set().union(*(e.free_symbols for e in eqs_j)) if eqs_j else set()
+    free = tuple(v for v in tm.variables if v not in used)
+    # dimension: joint variables minus the rank of the equations' gradient
+    dim = len(tm.variables)
+    if eqs_j:
+        f, syms = _equation_functions(ring, eqs_j, tm)
+        x0 = np.array([qv[v] for v in tm.variables] + [pv[p] for p in ring.params], dtype=float)
+        h = DIMENSION_STEP
+        grads = []
+        for j in range(len(tm.variables)):
+            xp, xm = x0.copy(), x0.copy()
+            xp[j] += h
+            xm[j] -= h
+            grads.append((np.array(f(*xp), dtype=float) - np.array(f(*xm), dtype=float)) / (2 * h))
+        G = np.array(grads).T
+        # equations differ in scale by orders of magnitude: compare directions
+        norms = np.linalg.norm(G, axis=1)
+        G = G[norms > 0] / norms[norms > 0, None]
+        s = np.linalg.svd(G, compute_uv=False) if len(G) else np.zeros(1)
+        dim = len(tm.variables) - int(np.sum(s > DIMENSION_RTOL * max(s[0], 1e-300)))
+    # rank drop and lost directions at the sample point
+    A = ctx.probe.values(ctx.M, g)
+    n, m = A.shape
+    U, s, Vt = np.linalg.svd(A)
+    rank = ctx.probe.rank_at(ctx.M, g)
+    drop = min(n, m) - rank
+    if n <= m:
+        dirs = tuple(tuple(float(x) for x in U[:, rank + i]) for i in range(drop))
+    else:
+        dirs = tuple(tuple(float(x) for x in Vt[rank + i, :]) for i in range(drop))
+    sample = {str(v): float(qv[v]) for v in tm.variables}
+    for p in ring.params:
+        if any(p in e.free_symbols for e in param_conds):
+            sample[str(p)] = float(pv[p])
+    comp = Component(equations=eqs_j + param_conds,
+                     solved=solved, free=free, dimension=dim, rank_drop=drop,
+                     direction=(), direction_at_sample=dirs, sample=sample,
+                     parameter_conditions=param_conds, for_model=for_model)
+    return _Candidate(comp, branch, tuple(model_pts or pts))
+
+
+def _with_exclusions(ctx: Context, cand: _Candidate) -> _Candidate:
+    """Keep the excluded sets of a leaf that the equations alone would let in.
+
+    A leaf below a null-vector level lives where the block determinant d of
+    that level is nonzero.  Where the equations of the leaf and a factor g
+    of d vanish together at points where J has full rank, the equations
+    alone would describe too much: g != 0 becomes part of the component.
+    """
+    branch = cand.branch
+    if not branch.nonzero or prune.dense(ctx, branch):
+        # dense: the whole zero set of the equations is singular (see tree.prune.dense)
+        return cand
+    full = ctx.full_rank
+    closure = branch.closure()
+    keep = []
+    for e in branch.nonzero:
+        for g in ctx.factors(closure.reduce(e, ctx.ring)):
+            if ctx.parameter_only(g):
+                continue
+            for part in children(ctx, closure, g):
+                pts = ctx.sampler.points(part)
+                if any(ctx.probe.rank_at(ctx.M, x) == full for x in pts):
+                    expr = ctx.ring.to_sympy(g)
+                    if expr.could_extract_minus_sign():
+                        expr = -expr
+                    if expr not in keep:
+                        keep.append(expr)
+                    break
+    return cand.replace(excluding=tuple(keep)) if keep else cand
+
+
+MAX_DIRECTION_TERMS = 400
+
+
+def _with_direction(ctx: Context, cand: _Candidate) -> Component:
+    """The component, with its lost direction as expressions where they are small."""
+    if cand.branch is None:
+        return cand.comp
+    return dataclasses.replace(cand.comp, direction=_symbolic_direction(
+        ctx, cand.branch, list(cand.points), cand.comp.rank_drop))
+
+
+def _symbolic_direction(ctx, branch, pts, drop):
+    """Null vectors of the whole matrix on the branch as expressions, if small."""
+    if drop != 1:
+        return ()
+    M = ctx.substitute(ctx.M, branch)
+    if len(M) > len(M[0]):
+        M = transpose(M)
+    n = len(M)
+    vecs, _ = left_null_vectors(ctx, M, n - 1, pts)
+    if not vecs:
+        return ()
+    u = vecs[0]
+    if sum(len(p) for p in u) > MAX_DIRECTION_TERMS:
+        return ()
+    nonzero = [p for p in u if not p.is_zero()]
+    if not nonzero:
+        return ()
+    common = reduce(lambda a, b: a.gcd(b), nonzero)
+    if not common.is_constant():
+        u = [p / common if not p.is_zero() else p for p in u]
+    return (tuple(ctx.ring.to_sympy(p) if not p.is_zero() else sp.Integer(0) for p in u),)
+
+
+def _merge_zero_pi(cands: list[_Candidate]) -> list[_Candidate]:
+    """Join q = 0 and q = pi into sin(q) = 0, and q = pi/2 and q = -pi/2 into cos(q) = 0.
+
+    Only components that agree in everything else are joined.
+    """
+    pairs = {sp.Integer(0): (0, sp.sin), sp.pi: (0, sp.sin),
+             sp.pi / 2: (1, sp.cos), -sp.pi / 2: (1, sp.cos)}
+    texts = {}
+
+    def text(cand):
+        got = texts.get(cand)
+        if got is None:
+            c = cand.comp
+            got = ([(e.free_symbols, sp.sstr(e)) for e in c.equations],
+                   [(k, (str(k), tuple(map(str, v)))) for k, v in c.solved.items()],
+                   (c.rank_drop, tuple(map(str, c.parameter_conditions)),
+                    tuple(map(sp.sstr, c.excluding))))
+            texts[cand] = got
+        return got
+
+    def key_without(cand, q):
+        eqs, solved, other = text(cand)
+        rest = tuple(sorted(t for free, t in eqs if q not in free))
+        return (str(q), rest, tuple(sorted(t for k, t in solved if k != q))) + other
+
+    changed = True
+    while changed:
+        changed = False
+        groups = {}
+        for i, cand in enumerate(cands):
+            for q, vals in cand.comp.solved.items():
+                if len(vals) == 1 and vals[0] in pairs:
+                    which, _ = pairs[vals[0]]
+                    groups.setdefault(key_without(cand, q) + (which,), {}).setdefault(vals[0], i)
+        # join every pair found in this pass whose components are still unjoined
+        used, merged_all = set(), []
+        for key, by_value in groups.items():
+            if len(by_value) != 2:
+                continue
+            (va, a), (vb, b) = sorted(by_value.items(), key=lambda kv: float(kv[0]))
+            if a in used or b in used:
+                continue
+            used |= {a, b}
+            A, B = cands[a].comp, cands[b].comp
+            q = next(k for k in A.solved if str(k) == key[0])
+            solved = dict(A.solved)
+            solved[q] = (va, vb)
+            func = pairs[va][1]
+            merged = dataclasses.replace(
+                A, equations=(func(q),) + tuple(e for e in A.equations if q not in e.free_symbols),
+                solved=solved, for_model=A.for_model or B.for_model)
+            merged_all.append(_Candidate(merged, None, cands[a].points + cands[b].points))
+        if merged_all:
+            cands = [c for i, c in enumerate(cands) if i not in used] + merged_all
+            changed = True
+    return cands
+
+
+def _vanish_at(funcs, points, nvars: int, rng) -> bool:
+    """Is every point in the component whose numeric functions are ``funcs``?
+
+    The equations must vanish at each point (``CONTAINED_ATOL``).  A point
+    where an exclusion vanishes too may still be in the closure of the
+    component: it is, when points of the equations' zero set with the
+    exclusions nonzero lie arbitrarily near (tested by projecting small
+    perturbations back onto the equations).
+    """
+    f, g, gscale = funcs
+    for x in points:
+        if np.any(np.abs(np.array(f(*x), dtype=float)) > CONTAINED_ATOL):
+            return False
+        if g is not None and np.any(np.abs(np.array(g(*x), dtype=float))
+                                    <= CONTAINED_EXCLUSION_RTOL * gscale):
+            if not _near_admitted(f, g, gscale, x, nvars, rng):
+                return False
+    return True
+
+
+def _near_admitted(f, g, gscale, x, nvars, rng, tries: int = 6) -> bool:
+    """Are there points of {f = 0} with g != 0 within NEAR_ADMITTED_RADIUS of ``x``?"""
+    def rows(Y):
+        return np.array([np.array(f(*np.concatenate([y, x[nvars:]])), dtype=float).ravel()
+                         for y in Y])
+
+    for _ in range(tries):
+        y0 = x[:nvars] + NEAR_ADMITTED_STEP * rng.standard_normal(nvars)
+        y = gauss_newton(rows, y0)
+        if y is None or np.max(np.abs(rows(y[None, :])[0])) > CONTAINED_ATOL \
+                or np.max(np.abs(y - x[:nvars])) > NEAR_ADMITTED_RADIUS:
+            continue
+        vals = np.abs(np.array(g(*np.concatenate([y, x[nvars:]])), dtype=float))
+        if np.all(vals > NEAR_ADMITTED_EXCLUSION_RTOL * gscale):
+            return True
+    return False
+
+
+def _remove_contained(ctx: Context, cands: list[_Candidate]) -> list[_Candidate]:
+    """Drop duplicates and components contained in another one."""
+    tm, ring = ctx.tm, ctx.ring
+    syms = list(tm.variables) + list(ring.params)
+    pvals = {p: float(tm.parameters[p]) for p in ring.params}
+
+    def pts_of(cand):
+        c = cand.comp
+        x = [c.sample[str(v)] for v in tm.variables]
+        x += [c.sample.get(str(p), pvals[p]) for p in ring.params]
+        out = [np.array(x)]
+        # the other sample points of the branch: one point may be special (on the
+        # intersection with another component), independent points rarely all are
+        for g in cand.points[1:]:
+            qv, pv = ring.joint_values(g), ring.parameter_values(g)
+            out.append(np.array([qv[v] for v in tm.variables] + [pv[p] for p in ring.params]))
+        return out
+
+    # more points per component: rotate the free variables
+    def probe(cand):
+        out = []
+        for base in pts_of(cand):
+            out.append(base)
+            for k in range(1, 3):
+                x = base.copy()
+                for i, v in enumerate(tm.variables):
+                    if v in cand.comp.free:
+                        x[i] = ((base[i] + 1.3 * k + np.pi) % (2 * np.pi)) - np.pi
+                out.append(x)
+        return out
+
+    compiled = {}
+
+    def functions(k):
+        if k not in compiled:
+            c = k.comp
+            f = sp.lambdify(syms, list(c.equations), modules="numpy")
+            g = sp.lambdify(syms, list(c.excluding), modules="numpy") if c.excluding else None
+            excl = [sp.expand(e.subs(pvals)) for e in c.excluding]
+            gscale = np.array([sum(abs(float(t.as_coeff_Mul()[0])) for t in sp.Add.make_args(e))
+                               for e in excl]) if excl else None
+            compiled[k] = (f, g, gscale)
+        return compiled[k]
+
+    keep = []
+    order = sorted(range(len(cands)),
+                   key=lambda i: (-cands[i].comp.dimension, len(cands[i].comp.equations)))
+    for i in order:
+        c = cands[i].comp
+        # c is redundant when each of its points lies on some component kept so far (a
+        # leaf may be reducible, its pieces inside different components)
+        others = [k for k in keep
+                  if not (k.comp.parameter_conditions and not c.parameter_conditions)]
+        contained = bool(others) and all(
+            any(_vanish_at(functions(k), [x], len(tm.variables), ctx.rng)
+                if k.comp.equations else True
+                for k in others)
+            for x in probe(cands[i]))
+        if not contained:
+            keep.append(cands[i])
+    return keep

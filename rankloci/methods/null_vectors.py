@@ -1,0 +1,48 @@
+"""Left null vectors of a square polynomial matrix on a branch, fraction free.
+
+On a branch where the n x n block J_sq has rank r, its n - r left null
+vectors are built from the cofactors of an r x r block that is regular on
+the branch: exact polynomials, no division.  They are independent wherever
+that block's determinant d is nonzero; the caller analyses the points where
+d = 0 on their own sub-branch.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from ..algebra import laplace_det
+from .blocks import choose_block
+
+if TYPE_CHECKING:
+    from ..tree.context import Context
+
+__all__ = ["left_null_vectors"]
+
+
+def left_null_vectors(ctx: "Context", A, rank, points):
+    """Left null vectors of ``A`` (n x n, rank ``rank`` on the branch), fraction free.
+
+    Returns the vectors and the polynomial ``d`` (the determinant of the
+    regular block used): the vectors are independent wherever d != 0.
+    """
+    n = len(A)
+    rows, cols = choose_block(ctx, A, rank, points)
+    block = [[A[i][j] for j in cols] for i in rows]
+    d = laplace_det(block) if rank else ctx.ring.ctx.constant(1)
+    vectors = []
+    zero = ctx.ring.ctx.constant(0)
+    for i in range(n):
+        if i in rows:
+            continue
+        order = rows + [i]
+        u = [zero] * n
+        for t, r in enumerate(order):
+            rest = [order[s] for s in range(len(order)) if s != t]
+            if rest:
+                minor = laplace_det([[A[x][j] for j in cols] for x in rest])
+            else:
+                minor = ctx.ring.ctx.constant(1)
+            u[r] = minor if t % 2 == 0 else -minor
+        vectors.append(u)
+    return vectors, d

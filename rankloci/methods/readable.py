@@ -1,0 +1,98 @@
+"""Equations of a component in the form a reader wants: solved where they can be.
+
+A condition like ``S_q`` (q = 0) or ``C_q*a - S_q*b`` becomes, back in
+sympy, ``sin(q/2)`` or ``a*cos(q/2) - b*sin(q/2)``; here each equation in one
+angle is solved for that angle where its half-angle form allows it, and the
+value is substituted into the other equations.
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from ..kinematics import trig_normal
+
+__all__ = ["solved_value", "readable_equations"]
+
+
+def solved_value(e, q):
+    """Values of q on {e = 0} when e depends on q alone and is a half-angle line."""
+    if e.free_symbols != {q}:
+        return None
+    C, S = sp.Dummy("C"), sp.Dummy("S")
+    h = e.subs({sp.cos(q / 2): C, sp.sin(q / 2): S})
+    if h.has(q):
+        # full angles: sin(q), cos(q) in the equation
+        h2 = sp.expand(e.subs({sp.cos(q): C ** 2 - S ** 2, sp.sin(q): 2 * C * S}))
+        if h2.has(q):
+            return None
+        h = h2
+    try:
+        poly = sp.Poly(h, C, S)
+    except sp.PolynomialError:
+        return None
+    if not poly.is_homogeneous:
+        return None
+    vals = []
+    d = poly.total_degree()
+    ht = sp.Poly(h.subs(C, 1), S)
+    if ht.degree() < d:
+        vals.append(sp.pi)            # C = 0 is a root: q = pi
+    if ht.degree() > 0:
+        try:
+            found = sp.roots(ht, filter="R")
+        except (sp.PolynomialError, NotImplementedError):
+            return None
+        real_count = sum(1 for r in sp.Poly(ht, S).nroots() if abs(sp.im(r)) < 1e-12)
+        if sum(found.values()) < real_count:
+            return None
+        for t in found:
+            v = 2 * sp.atan(t)
+            if v.has(sp.atan) and len(sp.sstr(v)) > 40:
+                return None
+            vals.append(v)
+    return tuple(sorted(set(vals), key=lambda x: float(x))) if vals else None
+
+
+def readable_equations(eqs, variables):
+    """Substitute each solved variable into the other equations; return eqs and solved."""
+    solved = {}
+    eqs = list(eqs)
+    changed = True
+    while changed:
+        changed = False
+        for i, e in enumerate(eqs):
+            for q in variables:
+                if q in solved:
+                    continue
+                vals = solved_value(e, q)
+                if vals is None or len(vals) != 1:
+                    continue
+                solved[q] = vals
+                rest = []
+                for j, f in enumerate(eqs):
+                    if j == i:
+                        continue
+                    g = trig_normal(f.subs(q, vals[0]))
+                    if g != 0:
+                        rest.append(g)
+                eqs = [e] + rest
+                changed = True
+                break
+            if changed:
+                break
+    out = []
+    for e in eqs:
+        if e.is_number:
+            continue
+        if e.could_extract_minus_sign():
+            e = -e
+        if e not in out:
+            out.append(e)
+    for q in variables:
+        if q not in solved:
+            for e in out:
+                vals = solved_value(e, q)
+                if vals:
+                    solved[q] = vals
+    return out, solved

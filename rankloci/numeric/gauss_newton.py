@@ -1,0 +1,70 @@
+"""Minimum-norm Gauss-Newton from many starts at once."""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["gauss_newton", "gauss_newton_rows"]
+
+
+def gauss_newton(residual, x0, *, max_iter: int = 60, h: float = 1e-7):
+    """:func:`gauss_newton_rows` from one start; returns the final point or None."""
+    x = gauss_newton_rows(residual, np.asarray(x0, dtype=float)[None, :], max_iter=max_iter, h=h)[0]
+    return x if np.all(np.isfinite(x)) else None
+
+
+def gauss_newton_rows(residual, X0, *, max_iter: int = 60, h: float = 1e-7):
+    """Minimum-norm Gauss-Newton from several starts at once (the rows of ``X0``).
+
+    ``residual`` maps rows of unknowns (shape (B, n)) to rows of residuals,
+    so that every start, and every column of the forward-difference
+    Jacobians, is evaluated in one call.  Each step solves J dx = -r in the
+    least-squares, minimum-norm sense, with step halving while the residual
+    grows.  A start stops when its residual is below 1e-14, when a step
+    cannot reduce it, or when it has not halved in 8 steps (no convergence
+    in sight).  Returns the final rows (NaN where not finite).
+    """
+    X = np.array(X0, dtype=float)
+    S, n = X.shape
+    if n == 0:
+        return X           # nothing left to move: the caller checks the residual
+    R = residual(X)
+    norm = np.linalg.norm(R, axis=1)
+    norm[~np.isfinite(norm)] = np.inf
+    active = np.isfinite(norm)
+    shifts = np.vstack([np.zeros(n), h * np.eye(n)])
+    history = [norm.copy()]
+    for it in range(max_iter):
+        active &= norm >= 1e-14
+        if it >= 8:
+            active &= norm <= 0.5 * history[it - 8]
+        if not active.any():
+            break
+        idx = np.flatnonzero(active)
+        P = (X[idx, None, :] + shifts[None, :, :]).reshape(-1, n)
+        RR = residual(P).reshape(len(idx), n + 1, -1)
+        J = np.transpose((RR[:, 1:, :] - RR[:, :1, :]) / h, (0, 2, 1))
+        if not np.all(np.isfinite(J)):
+            ok = np.all(np.isfinite(J), axis=(1, 2))
+            active[idx[~ok]] = False
+            idx, J = idx[ok], J[ok]
+            if not len(idx):
+                continue
+        dX = -np.einsum("anm,am->an", np.linalg.pinv(J), R[idx])
+        step = np.ones(len(idx))
+        pending = np.ones(len(idx), dtype=bool)
+        while pending.any():
+            k = np.flatnonzero(pending)
+            Xn = X[idx[k]] + step[k, None] * dX[k]
+            Rn = residual(Xn)
+            nn = np.linalg.norm(Rn, axis=1)
+            better = np.isfinite(nn) & (nn < norm[idx[k]])
+            rows = idx[k[better]]
+            X[rows], R[rows], norm[rows] = Xn[better], Rn[better], nn[better]
+            pending[k[better]] = False
+            step[k[~better]] /= 2
+            stuck = k[~better][step[k[~better]] <= 1e-4]
+            pending[stuck] = False
+            active[idx[stuck]] = False
+        history.append(norm.copy())
+    return X

@@ -1,0 +1,204 @@
+"""One locus computation: its ring, its matrix, its branch tree, its leaves and notes.
+
+A method (:mod:`rankloci.methods`) grows the tree through a
+:class:`Context`: it opens branches, adds nodes, and records the leaves that
+are components.  The algebra of branches lives in :mod:`.branch` and
+:mod:`.cover`, their points in :mod:`.sampler`, the numeric tests in
+:mod:`.probe`, and the pruning of branches inside components already found
+in :mod:`.prune`.
+"""
+
+from __future__ import annotations
+
+import networkx as nx
+import numpy as np
+import sympy as sp
+
+from ..algebra import PolyRing, irreducible_factors
+from ..errors import LocusError, LocusTimeout
+from ..locus import Outcome
+from . import cover, prune
+from .branch import Branch, SubstitutedMatrices
+from .probe import Probe
+from .sampler import BranchSampler
+
+__all__ = ["Context"]
+
+
+class Context:
+    """State of one locus computation.
+
+    Parameters
+    ----------
+    tm : TaskMatrix
+        The matrix (after constant pivot columns were taken out).
+    method : str
+        The method's name, for messages.
+    rng : numpy.random.Generator
+        The random source of every numeric probe.
+    progress : callable, optional
+        Called with one-line progress messages.
+    should_stop : callable, optional
+        Polled at every node; when it returns True the computation raises
+        :class:`~rankloci.errors.LocusTimeout`.
+    """
+
+    def __init__(self, tm, *, method: str, rng: np.random.Generator, progress=None,
+                 should_stop=None):
+        self.tm = tm
+        self.method = method
+        angles = tuple(tm.angles)
+        others = tuple(v for v in tm.variables if v not in angles)
+        used = set().union(*(e.free_symbols for e in tm.matrix)) if len(tm.matrix) else set()
+        params = tuple(sorted((p for p in tm.parameters if p in used), key=lambda s: s.name))
+        unknown = used - set(tm.variables) - set(params)
+        if unknown:
+            raise LocusError(f"the matrix uses symbols that are neither variables nor parameters: "
+                             f"{', '.join(sorted(map(str, unknown)))}")
+        self.ring = PolyRing(angles, others, params)
+        self.M = self.ring.from_sympy_rows(sp.Matrix(tm.matrix))
+        self.shape = tm.matrix.shape
+        self.rng = rng
+        #: the model's own parameter values (of the parameters the matrix uses)
+        self.model_values = {p: float(tm.parameters[p]) for p in params}
+        # Zero tests in the tree use generic parameter values, so that a
+        # polynomial is "zero" only when it is zero for all parameters; the
+        # model's own values are used for the samples reported to the user.
+        generic = {p: _generic_value(v, self.rng) for p, v in self.model_values.items()}
+        self.model_sampler = BranchSampler(self.ring, self.model_values, self.rng) if params else None
+        self.sampler = BranchSampler(self.ring, generic, self.rng, fallback=self.model_sampler)
+        if self.model_sampler is None:
+            self.model_sampler = self.sampler
+        self.probe = Probe(self.ring)
+        self.substituted = SubstitutedMatrices(self.ring)
+        self.tree = nx.DiGraph()
+        self.leaves: list[tuple[Branch, int]] = []
+        self.notes: list[str] = []
+        self.progress = progress or (lambda msg: None)
+        self.should_stop = should_stop or (lambda: False)
+
+    @property
+    def full_rank(self) -> int:
+        """min(rows, cols) of the matrix."""
+        return min(len(self.M), len(self.M[0]))
+
+    # --- the tree -------------------------------------------------------------------------
+
+    def tick(self):
+        """Raise :class:`LocusTimeout` if the caller asked to stop."""
+        if self.should_stop():
+            raise LocusTimeout(
+                f"the {self.method} computation did not finish within its time budget "
+                f"({self.tree.number_of_nodes()} branches explored)")
+
+    def add_node(self, parent, branch: Branch, **attrs) -> int:
+        """A new node of the tree for ``branch`` below ``parent`` (None: a root)."""
+        node = self.tree.number_of_nodes()
+        cond = branch.conditions[-1] if branch.conditions else None
+        label = sp.sstr(self.ring.to_sympy(cond)) if cond is not None else "(all configurations)"
+        self.tree.add_node(node, condition=label, depth=len(branch.conditions), **attrs)
+        if parent is not None:
+            self.tree.add_edge(parent, node)
+        return node
+
+    def annotate(self, node: int, **attrs):
+        """Set attributes (``outcome``, ``columns``, ``k`` ...) of a node."""
+        self.tree.nodes[node].update(attrs)
+
+    def open_branch(self, branch: Branch, node: int):
+        """Sample points of ``branch``, or None after marking ``node`` empty or known."""
+        self.tick()
+        if prune.known_symbolically(self, branch):
+            self.annotate(node, outcome=Outcome.KNOWN)
+            return None
+        pts = self.sampler.points(branch)
+        if not pts:
+            self.annotate(node, outcome=Outcome.EMPTY)
+            return None
+        if prune.known(self, branch):
+            self.annotate(node, outcome=Outcome.KNOWN)
+            return None
+        return pts
+
+    def leaf(self, branch: Branch, node: int, outcome: Outcome):
+        """Record a terminal branch, if the whole matrix really loses rank on it.
+
+        A branch of J-dagger where the chosen null vectors vanish is no
+        component: J has full rank at its generic points, and those points
+        are covered by the sub-branch on which the null vectors degenerate.
+        """
+        pts = self.sampler.points(branch)
+        if prune.known(self, branch):
+            self.annotate(node, outcome=Outcome.KNOWN)
+            return
+        if pts and self.probe.generic_rank(self.M, pts) == self.full_rank:
+            self.annotate(node, outcome=Outcome.COVERED)
+            return
+        self.annotate(node, outcome=outcome)
+        self.leaves.append((branch, node))
+        self.progress(f"component found at branch {node} ({outcome}): "
+                      f"{', '.join(sp.sstr(self.ring.to_sympy(c)) for c in branch.conditions)}")
+
+    def leaves_below(self, parent: int, children, outcome: Outcome, **attrs):
+        """One node per child branch below ``parent``: a leaf, or empty without real points."""
+        for child in children:
+            self.tick()
+            node = self.add_node(parent, child, **attrs)
+            if self.sampler.points(child):
+                self.leaf(child, node, outcome)
+            else:
+                self.annotate(node, outcome=Outcome.EMPTY)
+
+    def split(self, branch: Branch, parent: int, p, where: str, then, *,
+              keep_parameter_only: bool = False):
+        """A refined node for each branch of ``branch`` on a factor of ``p``, passed to ``then``.
+
+        Factors in the parameters alone are noted (see
+        :meth:`special_parameters`) and not followed, unless
+        ``keep_parameter_only``.  ``then(child, node)`` carries on below.
+        """
+        for f in self.factors(p):
+            if self.parameter_only(f) and not keep_parameter_only:
+                self.special_parameters(f, where)
+                continue
+            for child in cover.children(self, branch, f):
+                then(child, self.add_node(parent, child, outcome=Outcome.REFINED))
+
+    # --- algebra with notes -----------------------------------------------------------------
+
+    def substitute(self, M, branch: Branch):
+        """``M`` with the substitutions of ``branch`` applied (memoised)."""
+        return self.substituted.of(M, branch)
+
+    def factors(self, p):
+        """The irreducible factors of ``p`` that can vanish on the circle."""
+        return irreducible_factors(p, self.ring)
+
+    def parameter_only(self, f) -> bool:
+        """Does ``f`` involve parameters only (no joint variable)?"""
+        joint = 2 * self.ring.n_angles + len(self.ring.others)
+        return all(i >= joint for i in self.ring.variable_indices(f))
+
+    def special_parameters(self, f, where: str):
+        """Note a parameter-only factor that is not analysed further."""
+        text = sp.sstr(self.ring.to_sympy(f))
+        vals = np.array([0.0] * len(self.ring.names))
+        base = 2 * self.ring.n_angles + len(self.ring.others)
+        for j, p in enumerate(self.ring.params):
+            vals[base + j] = self.model_values[p]
+        if any(n.startswith((f"the model's parameter values satisfy {text} = 0",
+                             f"for parameters with {text} = 0")) for n in self.notes):
+            return
+        if self.probe.vanishes(f, [vals]):
+            note = (f"the model's parameter values satisfy {text} = 0, a special case of the "
+                    f"symbolic analysis ({where}); rerun with --numeric-parameters")
+        else:
+            note = f"for parameters with {text} = 0 the analysis differs ({where}); not pursued"
+        if note not in self.notes:
+            self.notes.append(note)
+
+
+def _generic_value(value: float, rng) -> float:
+    """A random value near ``value`` that satisfies no special relation."""
+    scale = abs(value) if value else 1.0
+    return float(np.sign(value or 1.0) * scale * rng.uniform(0.6, 1.4))

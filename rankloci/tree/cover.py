@@ -1,0 +1,155 @@
+"""Covering: the branches of ``branch`` intersected with new conditions.
+
+Solving a condition can lose points (a substitution a*C + b*S = 0 ->
+(C, S) ~ (b, -a) misses a = b = 0), can make earlier equations simpler
+(they are reduced again and split into factors), and can leave an equation
+whose real points are all critical points of it (a sum of squares), which
+no root finder reaches: those are replaced by the branches of the gradient.
+The functions here return branches that together cover exactly the real
+points asked for.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import sympy as sp
+
+from ..tolerances import NEAR_MISS_RTOL
+from .branch import Branch
+
+if TYPE_CHECKING:
+    from .context import Context
+
+__all__ = ["children", "cover"]
+
+
+def children(ctx: "Context", branch: Branch, f) -> list[Branch]:
+    """Branches covering ``branch`` intersected with {f = 0}.
+
+    A child whose equation has real points only where its gradient
+    vanishes too (a sum of squares, say) is replaced by the branches
+    of those critical points, which the sampler can reach.
+    """
+    out = []
+    for child in cover(ctx, branch, [f]):
+        if child.implicit and _critical_only(ctx, child):
+            ctx.progress(f"real points of {sp.sstr(ctx.ring.to_sympy(child.implicit[-1]))} "
+                         "= 0 only where its gradient vanishes: adding the gradient")
+            out.extend(_critical_branches(ctx, child))
+        else:
+            out.append(child)
+    return out
+
+def _critical_branches(ctx: "Context", child: Branch) -> list[Branch]:
+    """``child`` and the gradient of its last equation, split on the gradient's factors."""
+    branches = [child]
+    for d in ctx.ring.gradient(child.implicit[-1]):
+        nxt = []
+        for b in branches:
+            dr = b.reduce(d, ctx.ring)
+            if dr.is_zero():
+                nxt.append(b)
+                continue
+            for g in ctx.factors(dr):
+                nxt.extend(c for c in cover(ctx, b, [g]) if ctx.sampler.points(c))
+        branches = nxt
+    return branches
+
+def _critical_only(ctx: "Context", child: Branch) -> bool:
+    """Are the real points of the child's last equation critical points of it?
+
+    Either the sampler came close without converging (see
+    BranchSampler.near_miss), or every sample point has a gradient that
+    vanishes relative to the size of its terms (NEAR_MISS_RTOL): points
+    of a genuine hypersurface have gradients of order one.
+    """
+    pts = ctx.sampler.points(child)
+    if not pts:
+        return ctx.sampler.near_miss(child)
+    return ctx.probe.gradient_vanishes(child.implicit[-1], pts, NEAR_MISS_RTOL)
+
+
+def cover(ctx: "Context", branch: Branch, conditions) -> list[Branch]:
+    """Branches covering ``branch`` and all of ``conditions``.
+
+    A substitution a*C + b*S -> (C, S) ~ (b, -a) misses the points where
+    a = b = 0; those points satisfy the condition and are covered by
+    their own branches, recursively.  A condition that the branch's
+    substitutions changed, and a and b above, are split into their
+    irreducible factors first, so that a factor like C**2 + S**2, which
+    has no real zero, never becomes a branch.
+    """
+    if not conditions:
+        return [branch]
+    c = branch.reduce(conditions[0], ctx.ring)
+    rest = list(conditions[1:])
+    if c.is_zero():
+        return cover(ctx, branch, rest)
+    if c.is_constant():
+        return []
+    if c != conditions[0]:
+        fs = ctx.factors(c)
+        if len(fs) != 1 or fs[0] != c:
+            return [b for f in fs for b in cover(ctx, branch, [f] + rest)]
+    child, exceptional = branch.with_condition(c, ctx.ring)
+    out = [b for settled in _settle(ctx, branch, child) for b in cover(ctx, settled, rest)]
+    for extra in exceptional:
+        split = [[]]
+        for e in extra:
+            e = branch.reduce(e, ctx.ring)
+            if e.is_zero():
+                continue
+            split = [s + [f] for s in split for f in ctx.factors(e)]
+        for conds in split:
+            out += cover(ctx, branch, conds + rest)
+    return out
+
+def _settle(ctx: "Context", parent: Branch, child: Branch) -> list[Branch]:
+    """``child`` with its earlier equations reduced by its newest substitution.
+
+    An implicit equation stays as it was when it was added; a later
+    substitution can turn it into a constant (the branch is empty), into
+    zero (it is implied), or into a product of simpler factors, each of
+    which may be solvable.  Left alone, the root finder would have to
+    find the zeros of something like ``C*S*d3`` through a residual that
+    is almost constant away from them.  An excluded polynomial that the
+    substitution makes zero empties the branch; one it makes a nonzero
+    constant excludes nothing.
+    """
+    if len(child.substitutions) == len(parent.substitutions):
+        return [child]
+    ring = ctx.ring
+    nonzero = []
+    for e in child.nonzero:
+        r = child.reduce(e, ring)
+        if r.is_zero():
+            return []
+        if not r.is_constant():
+            nonzero.append(r)
+    stale, reduced = [], []
+    for e in child.implicit:
+        r = child.reduce(e, ring)
+        if r != e:
+            stale.append(e)
+            reduced.append(r)
+    if not stale and len(nonzero) == len(child.nonzero):
+        return [child]
+    base = Branch(tuple(c for c in child.conditions if not any(c is e for e in stale)),
+                  child.substitutions,
+                  tuple(e for e in child.implicit if not any(e is x for x in stale)),
+                  tuple(nonzero))
+    out = [base]
+    for r in reduced:
+        if r.is_zero():
+            continue
+        if r.is_constant():
+            return []
+        fs = []
+        for f in ctx.factors(r):
+            if ctx.parameter_only(f):
+                ctx.special_parameters(f, "an equation reduced on a branch")
+            else:
+                fs.append(f)
+        out = [b for o in out for f in fs for b in cover(ctx, o, [f])]
+    return out

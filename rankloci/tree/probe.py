@@ -1,0 +1,111 @@
+"""Numeric probes of polynomial matrices at points of a branch.
+
+The tree decides "is this matrix of full rank on the branch" and "does this
+polynomial vanish on the branch" at sample points (see
+:mod:`rankloci.tree.sampler`).  A :class:`Probe` compiles the polynomials
+once and keeps them, so that a matrix met again on a sibling branch is not
+compiled again.  Every decision is relative: a value is zero when it is
+small against the size of its terms (``ZERO_RTOL``), and a matrix is rank
+deficient when sigma_min <= ``RANK_RTOL`` * sigma_max.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..algebra import PolyRing, abs_poly
+from ..tolerances import RANK_RTOL, ZERO_RTOL
+
+__all__ = ["Probe", "numeric_rank"]
+
+#: How many compiled matrices (and polynomials) a probe keeps before it starts afresh.
+_MATRIX_CACHE = 512
+_POLY_CACHE = 4096
+
+
+def numeric_rank(A, sizes) -> int:
+    """Rank of the evaluated matrix ``A`` whose entries have term sizes ``sizes``.
+
+    Rows are scaled to unit norm first (row scaling keeps the rank and
+    removes the arbitrary powers of C**2 + S**2); a row whose entries all
+    vanish relative to the size of their terms (ZERO_RTOL) is a zero row.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> numeric_rank(np.array([[1.0, 2.0], [2.0, 4.0]]), np.ones((2, 2)))
+    1
+    """
+    norms = np.linalg.norm(A, axis=1)
+    nz = norms > ZERO_RTOL * np.linalg.norm(sizes, axis=1)
+    if not np.any(nz):
+        return 0
+    B = A[nz] / norms[nz, None]
+    s = np.linalg.svd(B, compute_uv=False)
+    return int(np.sum(s > RANK_RTOL * s[0]))
+
+
+class Probe:
+    """Values, ranks and zero tests of polynomial matrices of one ring at points.
+
+    Points are generator vectors of the ring (see
+    :meth:`rankloci.algebra.PolyRing.names`).  Compiled functions are cached
+    by the identity of the polynomials; each cache entry keeps its
+    polynomials alive, so an id cannot be reused while its entry exists.
+    """
+
+    def __init__(self, ring: PolyRing):
+        self.ring = ring
+        self._matrices = {}
+        self._polys = {}
+
+    def values(self, M, g, *, scale: bool = False) -> np.ndarray:
+        """Values of the entries of ``M`` at ``g`` (or, with ``scale``, the size of their terms)."""
+        flat = [p for row in M for p in row]
+        key = (scale,) + tuple(id(p) for p in flat)
+        got = self._matrices.get(key)
+        if got is None or any(a is not b for a, b in zip(got[0], flat)):
+            polys = [abs_poly(p, self.ring) for p in flat] if scale else flat
+            got = (flat, self.ring.compile(polys))
+            if len(self._matrices) > _MATRIX_CACHE:
+                self._matrices.clear()
+            self._matrices[key] = got
+        x = np.abs(g) if scale else g
+        return got[1](x).reshape(len(M), len(M[0]))
+
+    def evaluated(self, M, g) -> tuple[np.ndarray, np.ndarray]:
+        """The values of ``M`` at ``g`` and the sizes of their terms."""
+        return self.values(M, g), self.values(M, g, scale=True)
+
+    def rank_at(self, M, g) -> int:
+        """Numeric rank of ``M`` at ``g``; see :func:`numeric_rank`."""
+        return numeric_rank(*self.evaluated(M, g))
+
+    def generic_rank(self, M, points) -> int:
+        """The largest numeric rank of ``M`` at the points (its rank on the branch)."""
+        return max(self.rank_at(M, g) for g in points)
+
+    def vanishes(self, p, points) -> bool:
+        """Does ``p`` vanish at every point (relative to the size of its terms)?"""
+        if p.is_zero():
+            return True
+        got = self._polys.get(id(p))
+        if got is None or got[0] is not p:
+            if len(self._polys) > _POLY_CACHE:
+                self._polys.clear()
+            got = (p, self.ring.compile([p]), self.ring.compile([abs_poly(p, self.ring)]))
+            self._polys[id(p)] = got
+        _, val, scale = got
+        G = np.asarray(points, dtype=float)
+        return bool(np.all(np.abs(val(G)[:, 0])
+                           <= ZERO_RTOL * np.maximum(scale(np.abs(G))[:, 0], 1e-300)))
+
+    def gradient_vanishes(self, p, points, rtol: float) -> bool:
+        """Does the gradient of ``p`` vanish at every point, relative to its terms' size?"""
+        grad = [d for d in self.ring.gradient(p) if not d.is_zero()]
+        if not grad:
+            return False
+        val = self.ring.compile(grad)
+        size = self.ring.compile([abs_poly(d, self.ring) for d in grad])
+        G = np.asarray(points, dtype=float)
+        return bool(np.all(np.abs(val(G)) <= rtol * np.maximum(size(np.abs(G)), 1e-300)))

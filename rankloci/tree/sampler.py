@@ -1,0 +1,199 @@
+"""Real points of branches, found numerically.
+
+Everything that needs a *point* of a branch (is it empty, what is the
+generic rank of a matrix on it, does a polynomial vanish on it) asks a
+:class:`BranchSampler`: real points found by least squares from random
+starts.  A point is accepted when every condition is below ``ROOT_XTOL``
+relative to the size of its terms, and every excluded polynomial is above
+``EXCLUSION_RTOL``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..algebra import PolyRing, abs_poly
+from ..numeric.gauss_newton import gauss_newton_rows
+from .branch import Branch
+
+__all__ = ["BranchSampler"]
+
+
+@dataclass
+class BranchSampler:
+    """Finds real points of branches, for a fixed ring and parameter values."""
+
+    ring: PolyRing
+    param_values: dict
+    rng: np.random.Generator
+    n_starts: int = 24
+    cache: dict = field(default_factory=dict)
+    _sub_eval: dict = field(default_factory=dict)
+    closest: dict = field(default_factory=dict)
+    #: sampler with the model's own parameter values, asked when these values give no point
+    fallback: "BranchSampler | None" = None
+    fell_back: set = field(default_factory=set)
+
+    def points(self, branch: Branch, count: int = 3) -> list[np.ndarray]:
+        """Up to ``count`` generator vectors of real points of ``branch``."""
+        key = branch.key + (count,)
+        if key in self.cache:
+            return self.cache[key]
+        pts = self._solve(branch, count)
+        if not pts and self.fallback is not None:
+            # real points can exist for some parameter values only (a semi-algebraic
+            # condition no zero test sees): the model's own values decide then
+            pts = self.fallback.points(branch, count)
+            if pts:
+                self.fell_back.add(key)
+        self.cache[key] = pts
+        return pts
+
+    def near_miss(self, branch: Branch, count: int = 3) -> bool:
+        """Did the solve of a branch without points get close to a real point?
+
+        Gauss-Newton converges only linearly to a point where the equations
+        and their gradient vanish together (a real zero set of lower
+        dimension than the equations suggest, like that of x**2 + y**2), and
+        stops short of ROOT_XTOL there.
+        """
+        from ..tolerances import NEAR_MISS_RTOL
+
+        key = branch.key + (count,)
+        return self.closest.get(key, np.inf) <= NEAR_MISS_RTOL
+
+    def _unknowns(self, branch: Branch):
+        """Which angles, other variables and parameters are free to vary."""
+        ring = self.ring
+        na = ring.n_angles
+        solved_angles = {s.index for s in branch.substitutions if s.kind != "linear"}
+        solved_gens = {s.index for s in branch.substitutions if s.kind == "linear"}
+        angles = [i for i in range(na) if i not in solved_angles]
+        n_other = len(ring.others)
+        others = [2 * na + j for j in range(n_other) if 2 * na + j not in solved_gens]
+        param_gens = [2 * na + n_other + j for j in range(len(ring.params))]
+        joint_gens = set(range(2 * na + n_other))
+        free_params = set()
+        for c in branch.conditions:
+            used = ring.variable_indices(c)
+            if not used & joint_gens:
+                free_params |= used
+        free_params -= solved_gens
+        params = [g for g in param_gens if g in free_params]
+        return angles, others, params
+
+    def generators_batch(self, branch: Branch, angles, others, params, X):
+        """Generator vectors (rows) from rows of free unknowns; NaN rows where undefined."""
+        ring = self.ring
+        na = ring.n_angles
+        X = np.asarray(X, dtype=float)
+        G = np.zeros((len(X), len(ring.names)))
+        k = 0
+        for i in angles:
+            G[:, 2 * i], G[:, 2 * i + 1] = np.cos(X[:, k] / 2), np.sin(X[:, k] / 2)
+            k += 1
+        for j in others:
+            G[:, j] = X[:, k]
+            k += 1
+        base = 2 * na + len(ring.others)
+        for j, p in enumerate(ring.params):
+            G[:, base + j] = float(self.param_values.get(p, 0.0))
+        for j in params:
+            G[:, j] = X[:, k]
+            k += 1
+        # substitutions, last first: each expresses generators in later-solved ones
+        for sub in reversed(branch.substitutions):
+            got = self._sub_eval.get(id(sub))
+            if got is None or got[0] is not sub:
+                got = (sub, ring.compile(list(sub.values)))
+                self._sub_eval[id(sub)] = got
+            vals = got[1](G)
+            if sub.kind == "linear":
+                G[:, sub.index] = vals[:, 0]
+            else:
+                norm = np.hypot(vals[:, 0], vals[:, 1])
+                with np.errstate(invalid="ignore", divide="ignore"):
+                    G[:, 2 * sub.index] = np.where(norm > 0, vals[:, 0] / norm, np.nan)
+                    G[:, 2 * sub.index + 1] = np.where(norm > 0, vals[:, 1] / norm, np.nan)
+        return G
+
+    def _solve(self, branch: Branch, count: int):
+        from ..tolerances import EXCLUSION_RTOL, ROOT_XTOL
+
+        angles, others, params = self._unknowns(branch)
+        eqs = list(branch.implicit)
+        ev = self.ring.compile(eqs) if eqs else None
+        scale_ev = self.ring.compile([abs_poly(e, self.ring) for e in eqs]) if eqs else None
+        nz = list(branch.nonzero)
+        nz_ev = self.ring.compile(nz) if nz else None
+        nz_scale = self.ring.compile([abs_poly(e, self.ring) for e in nz]) if nz else None
+        n_x = len(angles) + len(others) + len(params)
+        found = []
+
+        def relative_nonzero(G):
+            return nz_ev(G) / np.maximum(nz_scale(np.abs(G)), 1e-300)
+
+        def residual(X):
+            """Residual rows of the unknown rows X (the last columns are Rabinowitsch's t)."""
+            G = self.generators_batch(branch, angles, others, params, X[:, :n_x])
+            parts = []
+            if eqs:
+                parts.append(ev(G) / np.maximum(scale_ev(np.abs(G)), 1e-300))
+            if X.shape[1] > n_x:
+                # Rabinowitsch: t * e(q) = 1 keeps e away from zero
+                parts.append(relative_nonzero(G) * X[:, n_x:] - 1.0)
+            R = np.concatenate(parts, axis=1)
+            R[np.isnan(G).any(axis=1)] = 1e3
+            return R
+
+        def accepted(X):
+            """Generator rows of the solved unknown rows X, NaN rows where not accepted."""
+            G = self.generators_batch(branch, angles, others, params, X[:, :n_x])
+            bad = np.isnan(G).any(axis=1)
+            if eqs:
+                R = ev(G) / np.maximum(scale_ev(np.abs(G)), 1e-300)
+                bad |= ~(np.max(np.abs(R), axis=1) <= ROOT_XTOL)
+            if nz:
+                bad |= ~(np.min(np.abs(relative_nonzero(G)), axis=1) > EXCLUSION_RTOL)
+            G[bad] = np.nan
+            return G
+
+        starts = self.n_starts if (eqs or nz) else count
+        chunk = 8 if (eqs or nz) else count
+        done = 0
+        while done < starts and len(found) < count:
+            size = min(chunk, starts - done)
+            done += size
+            X0 = np.concatenate([
+                self.rng.uniform(-np.pi, np.pi, (size, len(angles))),
+                self.rng.uniform(-2.0, 2.0, (size, len(others))),
+                self.rng.uniform(-2.0, 2.0, (size, len(params))),
+            ], axis=1)
+            X = gauss_newton_rows(residual, X0) if eqs else X0
+            G = accepted(X)
+            if eqs:
+                # how close the solves came, among rows not rejected for an exclusion
+                Gx = self.generators_batch(branch, angles, others, params, X[:, :n_x])
+                R = np.abs(residual(X[:, :n_x]))
+                fine = ~np.isnan(Gx).any(axis=1)
+                if nz:
+                    with np.errstate(invalid="ignore"):
+                        fine &= np.min(np.abs(relative_nonzero(Gx)), axis=1) > EXCLUSION_RTOL
+                best = float(np.min(np.max(R[fine], axis=1))) if fine.any() and R.shape[1] else np.inf
+                key = branch.key + (count,)
+                self.closest[key] = min(self.closest.get(key, np.inf), best)
+            retry = np.isnan(G).any(axis=1)
+            if nz and eqs and retry.any():
+                # a plain solve that landed in the excluded set: solve again, kept away from it
+                G0 = self.generators_batch(branch, angles, others, params, X0[retry])
+                V0 = np.nan_to_num(relative_nonzero(G0), nan=1.0)
+                T0 = 1.0 / np.where(np.abs(V0) > 1e-3, V0, 1e-3)
+                G[retry] = accepted(gauss_newton_rows(residual, np.concatenate([X0[retry], T0], axis=1)))
+            for g in G:
+                if not np.isnan(g).any() and len(found) < count:
+                    found.append(g)
+        return found
+
+
