@@ -147,9 +147,14 @@ def _compare(primes, gens, cs, tm, locus, rng):
         return bool(np.all(vals <= ON_SET_RTOL * np.array(scales[k])))
 
     findings = []
-    comps = [c for c in locus.components if not c.parameter_conditions and c.for_model]
+    comps = [c for c in locus.components if c.exists_for_model]
     for c in comps:
-        x = cs_point({v: c.sample[str(v)] for v in tm.variables})
+        q = _component_point(c, tm, rng)
+        if q is None:
+            findings.append(f"component {[sp.sstr(e) for e in c.equations]} has no real point "
+                            "that could be found")
+            continue
+        x = cs_point(q)
         if not any(on_prime(k, x) for k in range(len(polys))):
             findings.append(f"component {[sp.sstr(e) for e in c.equations]} is on no prime")
     comp_funcs = [(sp.lambdify(list(tm.variables), list(c.equations)), c) for c in comps]
@@ -161,6 +166,17 @@ def _compare(primes, gens, cs, tm, locus, rng):
         if not any(np.all(np.abs(np.array(f(*q), dtype=float)) < ON_SET_RTOL * 10) for f, _ in comp_funcs):
             findings.append(f"prime {primes[k]} has a real point on no component")
     return findings
+
+
+def _component_point(comp, tm, rng):
+    """A point of ``comp``: its sample, or (for a locus read from a file) one solved for."""
+    if all(str(v) in comp.sample for v in tm.variables):
+        return {v: comp.sample[str(v)] for v in tm.variables}
+    from ..numeric.equations import Equations, NumericMatrix, points_on
+
+    eqs = Equations(comp.equations, tm.variables, {}, excluding=comp.excluding)
+    found = points_on(eqs, NumericMatrix(tm.matrix, tm.variables, tm.angles), rng, 1)
+    return dict(zip(tm.variables, found[0])) if found else None
 
 
 def _real_point(func, scales, n_angles, rng, starts=30):
