@@ -1,0 +1,296 @@
+"""The subcommands of the ``rankloci`` command line, one function each.
+
+Each takes the parsed arguments and returns the exit code: :data:`EXIT_OK`,
+or :data:`EXIT_FAILED` when a check fails or a computation runs out of time.
+Bad input raises (a :class:`~rankloci.errors.RanklociError` or a
+:class:`~rankloci.cli.parser.UsageError`); :func:`rankloci.cli.main` turns
+that into :data:`EXIT_USAGE`.  Heavy libraries are imported inside the
+functions so that ``rankloci --help`` stays fast.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+
+from .output import progress_printer, write_atomic
+from .parser import UsageError
+
+__all__ = ["COMMANDS", "EXIT_OK", "EXIT_FAILED", "EXIT_USAGE"]
+
+EXIT_OK, EXIT_FAILED, EXIT_USAGE = 0, 1, 2
+
+
+def cmd_models(args) -> int:
+    from ..io import builtin_models, models_dir
+    from ..io.toml_model import read_model
+    from ..model import RobotModel
+
+    rows = []
+    for name in builtin_models():
+        model = read_model(models_dir() / f"{name}.toml", require_source=True)
+        if isinstance(model, RobotModel):
+            joints = model.dof
+            shape = f"{len(model.task) + len(model.augment)}x{joints}"
+        else:
+            joints = len(model.variables)
+            shape = f"{model.matrix.rows + len(model.augment)}x{model.matrix.cols}"
+        source = " ".join(model.source.split())
+        rows.append((name, str(joints), shape, source))
+    if args.format == "json":
+        print(json.dumps([dict(zip(("name", "joints", "shape", "source"), r)) for r in rows], indent=2))
+        return EXIT_OK
+    width = max(len(r[0]) for r in rows) if rows else 4
+    print(f"{'name':<{width}}  joints  shape  source")
+    for name, n, shape, source in rows:
+        if len(source) > 70:
+            source = source[:67] + "..."
+        print(f"{name:<{width}}  {n:>6}  {shape:>5}  {source}")
+    return EXIT_OK
+
+
+def _load_task_matrix(args, progress=None):
+    from ..augmented import parse_augment
+    from ..io import load_model
+    from ..jacobian import task_matrix
+
+    model = load_model(args.model, base_link=getattr(args, "base_link", None),
+                       tip_link=getattr(args, "tip_link", None))
+    extra = parse_augment(model, args.augment or ())
+    if progress:
+        progress(f"building the symbolic matrix of {model.name}")
+    frame = args.frame if args.frame is not None else getattr(args, "frame_default", None)
+    tm = task_matrix(model, task=args.task, frame=frame,
+                     point=getattr(args, "point", "tool"), augment=extra,
+                     numeric=getattr(args, "numeric", False))
+    return model, tm
+
+
+def cmd_jacobian(args) -> int:
+    import sympy as sp
+
+    from ..model import RobotModel
+
+    model, tm = _load_task_matrix(args)
+    if isinstance(model, RobotModel) is False and args.point != "tool":
+        raise UsageError("--point applies to robot models only")
+    J = tm.matrix
+    if args.format == "json":
+        out = {
+            "schema": "rankloci.jacobian/1",
+            "model": tm.name,
+            "variables": [v.name for v in tm.variables],
+            "parameters": {k.name: float(v) for k, v in tm.parameters.items()},
+            "rows": list(tm.row_labels),
+            "matrix": [[sp.sstr(J[i, j]) for j in range(J.cols)] for i in range(J.rows)],
+        }
+        print(json.dumps(out, indent=2))
+    elif args.format == "latex":
+        print(r"\begin{bmatrix}")
+        for i in range(J.rows):
+            print(" & ".join(sp.latex(J[i, j]) for j in range(J.cols)) + (r" \\" if i < J.rows - 1 else ""))
+        print(r"\end{bmatrix}")
+    else:
+        print(f"# {tm.name}: {J.rows}x{J.cols} matrix in {', '.join(v.name for v in tm.variables)}")
+        if tm.parameters:
+            print("# parameters: " + ", ".join(f"{k} = {float(v):g}" for k, v in tm.parameters.items()))
+        for i in range(J.rows):
+            for j in range(J.cols):
+                print(f"J[{tm.row_labels[i]}, {tm.variables[j]}] = {sp.sstr(J[i, j])}")
+    return EXIT_OK
+
+
+def _deadline(seconds):
+    import time
+
+    if seconds is None or seconds <= 0:
+        return None
+    end = time.monotonic() + seconds
+    return lambda: time.monotonic() > end
+
+
+def cmd_locus(args) -> int:
+    import time
+    from pathlib import Path
+
+    from ..augmented import augmented_locus
+    from ..errors import LocusTimeout
+    from ..render_text import locus_json, locus_latex, locus_text, tree_dot, tree_json, tree_text
+
+    if args.tree and Path(args.tree).suffix not in (".dot", ".json", ".txt"):
+        raise UsageError(f"--tree {args.tree!r}: the file must end in .dot, .json or .txt")
+    if args.tree and not Path(args.tree).resolve().parent.is_dir():
+        raise UsageError(f"--tree {args.tree!r}: directory does not exist")
+    progress = progress_printer(args.quiet)
+    model, tm = _load_task_matrix(args, progress)
+    method = args.method
+    if method is None:
+        method = "determinant" if tm.shape[0] == tm.shape[1] else "svm"
+    if method == "determinant" and tm.shape[0] != tm.shape[1]:
+        raise UsageError(f"--method determinant needs a square matrix; this one is "
+                          f"{tm.shape[0]}x{tm.shape[1]}")
+    if progress:
+        progress(f"{tm.name}: {tm.shape[0]}x{tm.shape[1]} matrix, method {method}, seed {args.seed}")
+    try:
+        locus = augmented_locus(model, tm, method, seed=args.seed, progress=progress,
+                                should_stop=_deadline(args.timeout), clock=time.perf_counter)
+    except LocusTimeout as e:
+        print(f"rankloci: error: {e}; raise --timeout (now {args.timeout:g} s) or try "
+              f"--numeric-parameters", file=sys.stderr)
+        return EXIT_FAILED
+    if tm.frame is not None and (tm.frame, tm.point) != (getattr(model, "frame", None), "tool"):
+        import dataclasses
+
+        where = f"link frame {tm.frame}" if isinstance(tm.frame, int) else f"the {tm.frame} frame"
+        about = f", about the origin of link frame {tm.point}" if isinstance(tm.point, int) else ""
+        locus = dataclasses.replace(locus, notes=locus.notes + (
+            f"J was computed in {where}{about} (same rank); symbolic lost directions are "
+            f"expressed there, the directions at the sample points in the model's frame",))
+    if args.tree:
+        text = {".dot": tree_dot, ".json": tree_json, ".txt": tree_text}[Path(args.tree).suffix](locus.tree)
+        write_atomic(args.tree, text + "\n")
+    if args.format == "json":
+        print(locus_json(locus, rows=list(tm.row_labels), seed=args.seed))
+    elif args.format == "latex":
+        print(locus_latex(locus))
+    else:
+        print(locus_text(locus, row_labels=tm.row_labels))
+        if args.show_tree:
+            print()
+            print(tree_text(locus.tree))
+    return EXIT_OK
+
+
+def cmd_check(args) -> int:
+    import numpy as np
+
+    from ..errors import ModelError
+    from ..io import load_model
+    from ..jacobian import task_matrix
+    from ..numeric.crosscheck import cross_check, parse_locus, render_check_text
+
+    if args.samples < 1:
+        raise UsageError(f"--samples must be at least 1, got {args.samples}")
+    progress = progress_printer(args.quiet)
+    model = load_model(args.model)
+    if args.locus:
+        try:
+            with open(args.locus, encoding="utf-8") as fh:
+                data = json.load(fh)
+        except OSError as e:
+            raise ModelError(f"cannot read: {e.strerror}", file=args.locus) from None
+        except (json.JSONDecodeError, UnicodeDecodeError) as e:
+            raise ModelError(f"not JSON: {e}", file=args.locus) from None
+        try:
+            locus = parse_locus(data, model)
+        except ModelError as e:
+            raise e.located(file=args.locus) from None
+    else:
+        from ..methods import compute_locus
+
+        tm = task_matrix(model, frame="auto", numeric=args.numeric)
+        method = "determinant" if tm.shape[0] == tm.shape[1] else "svm"
+        if progress:
+            progress(f"{tm.name}: computing the locus ({method}, seed {args.seed})")
+        locus = compute_locus(tm, method, rng=np.random.default_rng(args.seed), progress=progress)
+    J = task_matrix(model)  # the model's own frame; parameters substituted by cross_check
+    if progress:
+        progress(f"{model.name}: checking {len(locus.components)} component(s), "
+                 f"{args.samples} samples, seed {args.seed}")
+    report = cross_check(locus, J.matrix, J.variables, angles=J.angles, parameters=J.parameters,
+                         samples=args.samples, rng=np.random.default_rng(args.seed),
+                         seed=args.seed)
+    from ..exact.singular import singular_cross_check
+
+    exact = singular_cross_check(task_matrix(model, frame="auto", numeric=True), locus,
+                                 rng=np.random.default_rng(args.seed))
+    ok = report.ok and exact.status != "disagree"
+    if args.format == "json":
+        print(json.dumps({**report.to_dict(), "singular": exact.to_dict(), "ok": ok}, indent=2))
+    else:
+        print(render_check_text(report))
+        line = f"Singular (minimal associated primes of the maximal minors): {exact.status}, {exact.reason}"
+        print(line)
+        for finding in exact.findings:
+            print(f"  {finding}")
+    return EXIT_OK if ok else EXIT_FAILED
+
+
+def cmd_report(args) -> int:
+    import shutil
+    import time
+    from pathlib import Path
+
+    from ..io import builtin_models, load_model
+    from ..report import FORMATS, ReportError, build_report, read_model_notes, write_report
+
+    formats = [f.strip() for f in args.format.split(",") if f.strip()]
+    bad = [f for f in formats if f not in FORMATS]
+    if bad or not formats:
+        raise UsageError(f"--format {args.format!r}: give a comma list of {', '.join(FORMATS)}")
+    if args.samples < 1:
+        raise UsageError(f"--samples must be at least 1, got {args.samples}")
+    if args.timeout < 0:
+        raise UsageError(f"--timeout must be 0 (no limit) or positive, got {args.timeout:g}")
+    specs = builtin_models() if args.model == "all" else [args.model]
+    models = [load_model(spec, base_link=args.base_link, tip_link=args.tip_link)
+              for spec in specs]  # bad input fails here, before any writing
+    if args.model == "all":
+        targets = [Path(args.output or "reports") / m.name for m in models]
+    else:
+        targets = [Path(args.output) if args.output else Path("reports") / models[0].name]
+    for out in targets:
+        if out.exists() and not out.is_dir():
+            raise UsageError(f"-o {str(out)!r}: exists and is not a directory")
+    progress = progress_printer(args.quiet)
+    latex = None
+    if "pdf" in formats:
+        latex = next(((kind, exe) for kind in ("latexmk", "pdflatex")
+                      if (exe := shutil.which(kind))), None)
+        if latex is None:
+            print("rankloci: note: PDF skipped: neither latexmk nor pdflatex is installed",
+                  file=sys.stderr)
+    dot = shutil.which("dot")
+    stamp = ""
+    if args.timestamp:
+        import datetime
+
+        stamp = datetime.datetime.now().astimezone().isoformat(timespec="seconds")
+    status = EXIT_OK
+    for model, out in zip(models, targets):
+        t0 = time.perf_counter()
+        report = build_report(model, seed=args.seed, samples=args.samples, numeric=args.numeric,
+                              timeout=args.timeout, clock=time.perf_counter, progress=progress,
+                              dot=dot, model_notes=read_model_notes(model), stamp=stamp)
+        try:
+            paths = write_report(report, out, formats=formats, fragment=args.fragment,
+                                 latex=latex, timings=not args.no_timings)
+        except ReportError as e:
+            print(f"rankloci: error: {model.name}: {e}", file=sys.stderr)
+            status = EXIT_FAILED
+            continue
+        if report.locus is None:
+            print(f"rankloci: note: {model.name}: the locus did not finish within "
+                  f"{args.timeout:g} s; the report says so", file=sys.stderr)
+        check_ok = report.check is None or (report.check.ok and (
+            report.exact is None or report.exact.status != "disagree"))
+        if not check_ok:
+            print(f"rankloci: {model.name}: the numeric cross-check FAILED; see the report",
+                  file=sys.stderr)
+            status = EXIT_FAILED
+        if progress:
+            progress(f"{model.name}: report written to {out} in {time.perf_counter() - t0:.1f} s")
+        for p in paths:
+            if p.suffix in (".md", ".tex", ".pdf"):
+                print(p)
+    return status
+
+
+#: Subcommand name -> the function that runs it.
+COMMANDS = {
+    "models": cmd_models,
+    "jacobian": cmd_jacobian,
+    "locus": cmd_locus,
+    "check": cmd_check,
+    "report": cmd_report,
+}

@@ -1,0 +1,221 @@
+"""The argument parser of the ``rankloci`` command line.
+
+Only argument definitions live here: what each subcommand accepts, the
+argument types that check a value before any work is done, and the help
+examples.  Which function runs a subcommand is decided in
+:mod:`rankloci.cli.commands`.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+__all__ = ["UsageError", "ArgumentParser", "build_parser", "frame_arg", "task_arg"]
+
+
+class UsageError(Exception):
+    """The command line itself is wrong: an unknown option, a bad value, a missing file name."""
+
+
+class ArgumentParser(argparse.ArgumentParser):
+    """An argument parser whose errors are a :class:`UsageError`, not an exit."""
+
+    def error(self, message):
+        raise UsageError(message)
+
+
+def frame_arg(text: str):
+    """``base``, ``tool`` or a link number, as ``--frame`` and ``--point`` take it.
+
+    Examples
+    --------
+    >>> frame_arg("tool"), frame_arg("3")
+    ('tool', 3)
+    """
+    if text in ("base", "tool"):
+        return text
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not 'base', 'tool' or a link number") from None
+
+
+def task_arg(text: str):
+    """A task name, or a comma-separated list of rows of the 6-row Jacobian.
+
+    Examples
+    --------
+    >>> task_arg("planar"), task_arg("0,1,5")
+    ('planar', [0, 1, 5])
+    """
+    from ..model import TASKS, task_rows
+
+    if text in TASKS:
+        return text
+    try:
+        rows = [int(x) for x in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not one of {', '.join(TASKS)} or a comma-separated row list like 0,1,5"
+        ) from None
+    try:
+        return list(task_rows(rows))
+    except ValueError as e:  # task_rows names the bad row
+        raise argparse.ArgumentTypeError(str(e)) from None
+
+
+EPILOG_JACOBIAN = """examples:
+  rankloci jacobian planar2r
+  rankloci jacobian puma560 --frame tool --format latex
+  rankloci jacobian ssrms --augment q3 --numeric --format json
+  rankloci jacobian my_robot.urdf --tip tool0
+"""
+
+EPILOG_LOCUS = """examples:
+  rankloci locus puma560
+  rankloci locus ssrms --numeric-parameters --format json > ssrms.json
+  rankloci locus planar4r --augment "q1 + q2 + q3 + q4" --tree tree.dot
+  rankloci locus pa10 --augment "lock(q3)"      # J, J_aug, kinds of J_aug's components
+  rankloci locus pa10 --augment "elbow(z)" --format json
+  rankloci locus my_matrix.toml --method subdeterminant --show-tree
+
+The locus is printed as components: equations that vanish on each, the solved
+form where there is one, dimension, rank drop and the lost task direction.
+"""
+
+EPILOG_CHECK = """examples:
+  rankloci check planar2r
+  rankloci check puma560 --numeric-parameters --samples 20 --seed 7
+  rankloci locus puma560 --numeric-parameters --format json > puma.json
+  rankloci check puma560 --locus puma.json --format json
+
+Samples points on each component (J must be rank deficient there), random
+configurations away from every component (J must be full rank) and minima of
+sigma_min/sigma_max (each singular one must lie on a component).  The SVD
+decides; FSP reducer and maximal-minor disagreements are listed as findings.
+Exit 0 when every check passes, 1 when one fails, 2 on bad input.
+"""
+
+EPILOG_MODELS = """examples:
+  rankloci models
+  rankloci models --format json
+"""
+
+EPILOG_REPORT = """examples:
+  rankloci report puma560
+  rankloci report planar3r -o out/planar3r --format md --samples 20 --seed 7
+  rankloci report ssrms --fragment --format tex,pdf
+  rankloci report all -o reports --timeout 120
+
+Writes DIR/NAME.md, DIR/NAME.tex and, when latexmk or pdflatex is installed,
+DIR/NAME.pdf, with the PNG figures beside them (default DIR: reports/NAME/;
+with 'all', one directory per built-in model under -o).  The report holds the
+model, the symbolic Jacobian, the locus component by component with its
+reading, heat maps of sigma_min/sigma_max, the branch tree, the numeric
+cross-check, the method comparison and the timings.  Equal seeds give equal
+reports, the timing table aside (--no-timings leaves it out).  Exit 0 when
+written, 1 when the cross-check fails or LaTeX fails, 2 on bad input.
+"""
+
+
+def _model_args(p):
+    p.add_argument("model", metavar="MODEL|FILE",
+                   help="a built-in model name (see 'rankloci models') or a .toml/.urdf file")
+    p.add_argument("--task", type=task_arg, default=None,
+                   help="rows of the 6-row Jacobian: full, position, orientation, planar, or e.g. 0,1,5")
+    p.add_argument("--frame", type=frame_arg, default=None,
+                   help="frame the Jacobian is expressed in: base, tool, or a link number 0..n")
+    p.add_argument("--augment", action="append", metavar="EXPR",
+                   help="constraint function g(q) whose gradient is stacked under J (repeatable): "
+                        "an expression, or a preset: lock(q3), sum(q1, q2, q3), position(k, x|y|z), "
+                        "elbow(z), wrist(x) (points the model names)")
+    p.add_argument("--base-link", dest="base_link", help="URDF only: first link of the chain")
+    p.add_argument("--tip", dest="tip_link", help="URDF only: last link of the chain")
+
+
+def build_parser() -> ArgumentParser:
+    """The parser of ``rankloci``; ``args.command`` names the subcommand (None if none)."""
+    raw = argparse.RawDescriptionHelpFormatter
+    parser = ArgumentParser(
+        prog="rankloci",
+        description="Closed-form rank-deficiency (singularity) loci of robot Jacobians "
+                    "and symbolic matrices.",
+        epilog="examples:\n  rankloci models\n  rankloci jacobian puma560\n"
+               "\nrun 'rankloci COMMAND --help' for the options of a command.",
+        formatter_class=raw,
+    )
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=ArgumentParser)
+
+    p = sub.add_parser("models", help="list the built-in models", epilog=EPILOG_MODELS,
+                       formatter_class=raw)
+    p.add_argument("--format", choices=("text", "json"), default="text")
+
+    p = sub.add_parser("jacobian", help="print the symbolic Jacobian of a model",
+                       epilog=EPILOG_JACOBIAN, formatter_class=raw)
+    _model_args(p)
+    p.add_argument("--point", type=frame_arg, default="tool",
+                   help="reference point: origin of base, tool, or link frame 0..n (default tool)")
+    p.add_argument("--numeric", action="store_true", help="replace parameters by their values")
+    p.add_argument("--format", choices=("text", "latex", "json"), default="text")
+
+    p = sub.add_parser("locus", help="compute the rank-deficiency (singularity) locus",
+                       epilog=EPILOG_LOCUS, formatter_class=raw)
+    _model_args(p)
+    p.add_argument("--method", choices=("svm", "subdeterminant", "determinant"), default=None,
+                   help="svm (default) or subdeterminant; determinant for a square matrix "
+                        "(the default when the matrix is square)")
+    p.add_argument("--numeric-parameters", dest="numeric", action="store_true",
+                   help="replace the geometric parameters by their values before the algebra")
+    p.add_argument("--format", choices=("text", "json", "latex"), default="text")
+    p.add_argument("--tree", metavar="FILE", help="write the branch tree to FILE.dot, FILE.json or FILE.txt")
+    p.add_argument("--show-tree", action="store_true", help="also draw the branch tree in the terminal")
+    p.add_argument("--seed", type=int, default=0, help="seed of the numeric probes (default 0)")
+    p.add_argument("--timeout", type=float, default=600.0,
+                   help="give up after this many seconds (default 600; 0 = never)")
+    p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
+    p.set_defaults(frame_default="auto")
+
+    p = sub.add_parser("check", help="cross-check a locus numerically against the SVD of J",
+                       epilog=EPILOG_CHECK, formatter_class=raw)
+    p.add_argument("model", metavar="MODEL|FILE",
+                   help="a built-in model name (see 'rankloci models') or a .toml/.urdf file")
+    p.add_argument("--locus", metavar="LOCUS.json",
+                   help="check this rankloci.locus/1 file instead of computing the locus")
+    p.add_argument("--samples", type=int, default=10,
+                   help="points per component, off-locus points and probe starts (default 10)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the random points (default 0)")
+    p.add_argument("--format", choices=("text", "json"), default="text")
+    p.add_argument("--numeric-parameters", dest="numeric", action="store_true",
+                   help="replace the geometric parameters by their values before the algebra")
+    p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
+
+    p = sub.add_parser("report", help="write a report (Markdown, LaTeX, PDF, figures) on a model",
+                       epilog=EPILOG_REPORT, formatter_class=raw)
+    p.add_argument("model", metavar="MODEL|FILE|all",
+                   help="a built-in model name, a .toml/.urdf file, or 'all' built-in models")
+    p.add_argument("-o", "--output", metavar="DIR",
+                   help="directory to write into (default reports/NAME; with 'all', the parent "
+                        "directory, default reports)")
+    p.add_argument("--format", default="md,tex,pdf", metavar="LIST",
+                   help="comma list of md, tex, pdf (default all three; pdf only when latexmk "
+                        "or pdflatex is installed)")
+    p.add_argument("--samples", type=int, default=10,
+                   help="cross-check points per component, off-locus points and probe starts "
+                        "(default 10)")
+    p.add_argument("--seed", type=int, default=0, help="seed of every random choice (default 0)")
+    p.add_argument("--fragment", action="store_true",
+                   help="write the .tex without a preamble, to \\input into a paper")
+    p.add_argument("--numeric-parameters", dest="numeric", action="store_true",
+                   help="replace the geometric parameters by their values before the algebra")
+    p.add_argument("--timeout", type=float, default=600.0,
+                   help="seconds per locus computation (default 600; 0 = never); when it runs "
+                        "out the report is written without the locus and says so")
+    p.add_argument("--no-timings", dest="no_timings", action="store_true",
+                   help="leave out the timing table (then equal seeds give identical files)")
+    p.add_argument("--timestamp", action="store_true",
+                   help="print the date and time of writing under the title (off by default, "
+                        "so that reports are reproducible)")
+    p.add_argument("--base-link", dest="base_link", help="URDF only: first link of the chain")
+    p.add_argument("--tip", dest="tip_link", help="URDF only: last link of the chain")
+    p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
+    return parser
