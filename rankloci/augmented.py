@@ -167,10 +167,10 @@ def classify(aug, base, tm_aug, tm_base, *, rng=None, samples: int = 4, tries: i
 
     rng = np.random.default_rng(0) if rng is None else rng
     nm = _numeric(tm_base)
-    base_comps = [c for c in base.components if c.for_model and not c.parameter_conditions]
+    base_comps = [c for c in base.components if c.exists_for_model]
     out = []
     for comp in aug.components:
-        if comp.parameter_conditions or not comp.for_model:
+        if not comp.exists_for_model:
             out.append(comp)
             continue
         eqs = _equations(comp, tm_base)
@@ -209,8 +209,10 @@ def augmented_locus(model, tm, method: str | None = None, *, seed: int = 0, prog
                     should_stop=None, clock=None):
     """Loci of J_aug (``tm``) and of J, and J_aug's components classified.
 
-    ``method`` applies to J_aug (default: determinant when square, else
-    svm); J uses the same method, or the determinant method when it is
+    ``method`` applies to J_aug and to J, as
+    :func:`~rankloci.methods.method_for` decides (by default the
+    determinant method for a square matrix, svm otherwise); a request for
+    the determinant method falls back to svm for J when only J_aug is
     square.  Both loci use the generator seeded with ``seed``.
 
     Examples
@@ -225,22 +227,16 @@ def augmented_locus(model, tm, method: str | None = None, *, seed: int = 0, prog
     ['sin(q2)', 'sin(q3)']
     """
     from .directions import directions_in_model_frame
-    from .methods import compute_locus
+    from .methods import compute_locus, method_for
 
     progress = progress or (lambda msg: None)
-
-    def method_for(shape, wanted):
-        if shape[0] == shape[1]:
-            return "determinant" if wanted in (None, "determinant") else wanted
-        return "svm" if wanted in (None, "determinant") else wanted
-
     aug = compute_locus(tm, method_for(tm.shape, method), rng=np.random.default_rng(seed),
                         progress=progress, should_stop=should_stop, clock=clock)
     aug = directions_in_model_frame(aug, model, tm)
     if not tm.n_constraint_rows:
         return aug
     base_tm = base_matrix(model, tm)
-    base_method = method_for(base_tm.shape, method)
+    base_method = method_for(base_tm.shape, method, strict=False)
     progress(f"locus of J without the constraint rows ({base_tm.shape[0]}x{base_tm.shape[1]}), "
              f"method {base_method}")
     base = compute_locus(base_tm, base_method, rng=np.random.default_rng(seed), progress=progress,

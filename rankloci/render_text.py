@@ -36,8 +36,8 @@ def locus_text(locus, *, row_labels=()) -> str:
              f"{locus.seconds:.2f} s"]
     if locus.degenerate:
         lines.append("the matrix is rank deficient at every configuration (degenerate design)")
-    main = [c for c in locus.components if not c.parameter_conditions and c.for_model]
-    special = [c for c in locus.components if c.parameter_conditions or not c.for_model]
+    main = [c for c in locus.components if c.exists_for_model]
+    special = [c for c in locus.components if not c.exists_for_model]
     lines.append(f"{len(main)} component(s) of the rank-deficiency locus:")
     for i, c in enumerate(main, 1):
         lines.extend(_component_lines(i, c, row_labels))
@@ -104,7 +104,7 @@ def locus_latex(locus) -> str:
     out = [f"% rank-deficiency locus of {locus.model} ({locus.shape[0]}x{locus.shape[1]}), "
            f"method {locus.method}"]
     for i, c in enumerate(locus.components, 1):
-        tag = " (special parameters)" if c.parameter_conditions or not c.for_model else ""
+        tag = " (special parameters)" if not c.exists_for_model else ""
         tag += f", {c.kind}" if c.kind else ""
         out.append(f"% component {i}: dimension {c.dimension}, rank drop {c.rank_drop}{tag}")
         out.append(r"\begin{align*}")

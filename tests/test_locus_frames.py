@@ -7,7 +7,6 @@ import sympy as sp
 
 from rankloci.directions import directions_in_model_frame
 from rankloci.io import load_model
-from rankloci.kinematics import geometric_jacobian
 from rankloci.jacobian import task_matrix
 from rankloci.methods import compute_locus
 from rankloci.tolerances import RANK_RTOL
@@ -17,14 +16,14 @@ SEED = 7
 
 def _equation_sets(locus):
     return {tuple(sorted(sp.sstr(e) for e in c.equations))
-            for c in locus.components if not c.parameter_conditions and c.for_model}
+            for c in locus.components if c.exists_for_model}
 
 
 def _vanish_somewhere(comp_a, locus_b, syms):
     """Is comp_a's sample point on some component of locus_b?"""
     x = [comp_a.sample[str(s)] for s in syms]
     for c in locus_b.components:
-        if c.parameter_conditions or not c.for_model:
+        if not c.exists_for_model:
             continue
         f = sp.lambdify(syms, list(c.equations))
         if np.max(np.abs(np.array(f(*x), dtype=float))) < 1e-7:

@@ -197,7 +197,7 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
     checked, skipped, findings = [], [], []
     for i, comp in enumerate(locus.components, start=1):
         eq_text = tuple(sp.sstr(e) for e in comp.equations)
-        if comp.parameter_conditions or not comp.for_model:
+        if not comp.exists_for_model:
             skipped.append(eq_text)
             continue
         eqs = Equations([prepared(e) for e in comp.equations], nm.variables, {},
@@ -220,7 +220,7 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
         checked.append(ComponentCheck(i, eq_text, tuple(pts), fails, ok, msg))
     all_eqs = [c for c in (Equations([prepared(e) for e in comp.equations], nm.variables, {})
                            for comp in locus.components
-                           if not comp.parameter_conditions and comp.for_model)]
+                           if comp.exists_for_model)]
 
     # off-locus
     off = []
