@@ -5,7 +5,9 @@ method: K. A. Morgansen and F. G. Pin, *Enhanced Code for the Full Space
 Parameterization Approach to Solving Underspecified Systems of Algebraic
 Equations*, ORNL/TM-12816 (1995), section 4 (flow chart of Fig. 1) and the C
 listings ``ReduceA`` and ``CheckB`` (FSP.c) and ``mat_null`` (matrix.c) of
-appendix B.
+appendix B.  ``mat_null`` lives in :mod:`rankloci.numeric.fsp_null_space`
+(:func:`null_space` and :class:`NullSpace` are importable from here too), the
+checks of the inputs in :mod:`rankloci.numeric.fsp_inputs`.
 
 Given ``A`` (n x m) and ``b`` of the system ``A x = b``,
 :func:`reduced_system`
@@ -33,20 +35,9 @@ listing uses ``float``).
 Deviations from the listing
 ---------------------------
 Each is a defect of the C code; the behaviour section 4 describes is kept.
+Deviations 1 to 3 are those of ``mat_null`` and are described with it in
+:mod:`rankloci.numeric.fsp_null_space`.
 
-1. ``mat_null`` pads a wide matrix with zero rows, but calls
-   ``svdcmp(U, C, C, ...)`` also when it has more rows R than columns C, so it
-   decomposes only the first C rows.  ReduceA passes ``A^T`` (m x n, m > n)
-   and so tested for dependencies among the rows of the first n columns of A
-   only.  Here the whole matrix is decomposed.
-2. When ``mat_null`` regards the smallest singular value as zero because the
-   matrix is ill-conditioned, it copies ``V[order[j]][C-n_rank]``: column
-   ``C-n_rank`` of V in svdcmp's unsorted order, its components permuted by
-   the sort, instead of the singular vector ``V[j][order[C-n_rank]]``.  Here
-   it is the singular vector.
-3. ``mat_null`` counts singular values below SV_SMALL with no bound on the
-   count, and reads past the singular values when all are below it (for
-   instance ``A = 0``).  Here the count stops at C.
 4. ReduceA scans a null vector for the first component reaching N_BND with no
    bound on the index.  A unit vector of length N always has a component of
    at least ``1/sqrt(N) > 0.9/(N+1)``, so with the default N_BND this cannot
@@ -77,20 +68,12 @@ Each is a defect of the C code; the behaviour section 4 describes is kept.
    side as all zeros.  :func:`is_trivial_motion` compares.
 
 The thresholds are parameters with the listing's values as defaults
-(:mod:`rankloci.tolerances`).  Section 4 quotes 1.0e-5 for the singular value
-threshold (matrix.c: ``SV_SMALL = 1.0e-4``) and a maximum condition number of
-10; the listing applies that bound (FSP.h ``K2_BND``) to the square
-submatrices of the solution search, while ``mat_null`` regards the smallest
-singular value as zero when ``s_min/s_max < SV_SMALL``.  The default
-``k2_bnd`` is therefore ``1/SV_SMALL = 1e4``: with 10 the Jacobian of
-example 6.1 (condition number 12.5) would lose its row 2 (the report's row 3)
-as dependent, which the report says it does not.
+(:mod:`rankloci.tolerances`); :mod:`rankloci.numeric.fsp_null_space` says why
+the condition-number bound of the null space step is not the report's 10.
 """
 
 from __future__ import annotations
 
-import math
-import numbers
 from dataclasses import dataclass
 
 import numpy as np
@@ -102,6 +85,8 @@ from ..tolerances import (
     FSP_SMALL_FRACTION,
     FSP_SV_SMALL,
 )
+from .fsp_inputs import check_number, finite_matrix, finite_vector
+from .fsp_null_space import NullSpace, null_space
 
 __all__ = [
     "Restriction",
@@ -132,24 +117,6 @@ class Restriction:
     row: int
     column: int
     value: float
-
-
-@dataclass(frozen=True, slots=True, eq=False)
-class NullSpace:
-    """Null space of a matrix as ``mat_null`` computes it.
-
-    Attributes
-    ----------
-    vectors : numpy.ndarray, shape (C, nullity)
-        Orthonormal null vectors as columns, the one of the smallest singular
-        value first.  Read-only.
-    condition : float
-        ``K2 = s_max / s_min``, ``s_min`` the ``min(R, C)``-th singular value
-        (``inf`` when it is zero).
-    """
-
-    vectors: np.ndarray
-    condition: float
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -229,120 +196,12 @@ class ReduceResult:
         return is_trivial_motion(self.b, self.small)
 
 
-def _matrix(A, name: str) -> np.ndarray:
-    """A float copy of a finite 2-D array."""
-    a = np.array(A, dtype=float)
-    if a.ndim != 2:
-        raise ShapeError(f"{name} must be a 2-D matrix, got shape {a.shape}")
-    if not np.all(np.isfinite(a)):
-        raise ValueError(f"{name} must be finite")
-    return a
-
-
-def _vector(b, length: int, name: str) -> np.ndarray:
-    """A float copy of a finite 1-D array of the given length."""
-    v = np.array(b, dtype=float)
-    if v.shape != (length,):
-        raise ShapeError(f"{name} must have shape ({length},), got {v.shape}")
-    if not np.all(np.isfinite(v)):
-        raise ValueError(f"{name} must be finite")
-    return v
-
-
-def _check(name: str, value: float, low: float, high: float = math.inf,
-           low_inclusive: bool = False) -> None:
-    """Raise ValueError unless low < value <= high (low <= value if inclusive)."""
-    ok = isinstance(value, numbers.Real) and value <= high and (
-        value >= low if low_inclusive else value > low)
-    if not ok:
-        bracket = "[" if low_inclusive else "("
-        raise ValueError(f"{name} must be a number in {bracket}{low}, {high}], "
-                         f"got {value!r}")
-
-
 def _check_thresholds(small_fraction, sv_small, k2_bnd, n_bnd) -> None:
-    _check("small_fraction", small_fraction, 0.0, 1.0, low_inclusive=True)
-    _check("sv_small", sv_small, 0.0)
-    _check("k2_bnd", k2_bnd, 0.0)
+    check_number("small_fraction", small_fraction, 0.0, 1.0, low_inclusive=True)
+    check_number("sv_small", sv_small, 0.0)
+    check_number("k2_bnd", k2_bnd, 0.0)
     if n_bnd is not None:
-        _check("n_bnd", n_bnd, 0.0, 1.0)
-
-
-def null_space(a, *, sv_small: float = FSP_SV_SMALL,
-               k2_bnd: float = FSP_NULL_K2_BND) -> NullSpace:
-    """Null space of ``a`` from its SVD, as the listing's ``mat_null``.
-
-    A matrix with fewer rows than columns is padded with zero rows, so it has
-    C singular values.  Every singular value below `sv_small` counts as zero.
-    If the ``min(R, C)``-th singular value ``s_min`` is not below `sv_small`
-    but ``s_max / s_min > k2_bnd``, it counts as zero too.  The null vectors
-    are the right singular vectors of the singular values that count as zero.
-
-    Parameters
-    ----------
-    a : array_like, shape (R, C)
-        The matrix.
-    sv_small : float, optional
-        Absolute singular value threshold (matrix.c ``SV_SMALL``).
-    k2_bnd : float, optional
-        Condition number above which the smallest singular value counts as
-        zero; ``inf`` turns the test off.  The default ``1/SV_SMALL`` is the
-        listing's.
-
-    Returns
-    -------
-    NullSpace
-        The null vectors (as columns, smallest singular value first) and the
-        condition number.
-
-    Raises
-    ------
-    ShapeError
-        If `a` is not 2-D.
-    ValueError
-        If `a` is not finite or a threshold is not positive.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> ns = null_space(np.array([[1.0, 1.0], [2.0, 2.0]]))
-    >>> ns.vectors.shape
-    (2, 1)
-    >>> bool(np.allclose(np.abs(ns.vectors[:, 0]), np.sqrt(0.5)))
-    True
-
-    An ill-conditioned matrix loses its smallest singular value only past the
-    condition-number bound:
-
-    >>> null_space(np.diag([1.0, 1e-3])).vectors.shape
-    (2, 0)
-    >>> null_space(np.diag([1.0, 1e-3]), k2_bnd=100.0).vectors.shape
-    (2, 1)
-    >>> float(null_space(np.diag([1.0, 1e-3])).condition)
-    1000.0
-    """
-    mat = _matrix(a, "a")
-    _check("sv_small", sv_small, 0.0)
-    _check("k2_bnd", k2_bnd, 0.0)
-    rows, cols = mat.shape
-    if mat.size:
-        _, s, vt = np.linalg.svd(mat)
-    else:
-        s, vt = np.zeros(0), np.eye(cols)
-    sigma = np.zeros(cols)           # padding with zero rows adds zero values
-    sigma[:s.size] = s
-    nullity = 0
-    while nullity < cols and sigma[cols - 1 - nullity] < sv_small:
-        nullity += 1
-    k = min(rows, cols)
-    s_min = float(sigma[k - 1]) if k else 0.0
-    s_max = float(sigma[0]) if k else 0.0
-    if s_min >= sv_small and s_max > k2_bnd * s_min:
-        nullity += 1
-    vectors = vt[cols - 1 - np.arange(nullity)].T.copy()
-    vectors.setflags(write=False)
-    condition = s_max / s_min if s_min > 0 else math.inf
-    return NullSpace(vectors=vectors, condition=condition)
+        check_number("n_bnd", n_bnd, 0.0, 1.0)
 
 
 def is_trivial_motion(b, small: float) -> bool:
@@ -487,9 +346,9 @@ def reduced_system(A, b=None, *, small_fraction: float = FSP_SMALL_FRACTION,
     >>> r.rows, r.columns
     ((1,), (1, 2))
     """
-    a = _matrix(A, "A")
+    a = finite_matrix(A, "A")
     n, m = a.shape
-    rhs = np.zeros(n) if b is None else _vector(b, n, "b")
+    rhs = np.zeros(n) if b is None else finite_vector(b, n, "b")
     _check_thresholds(small_fraction, sv_small, k2_bnd, n_bnd)
     if n_bnd is None:
         n_bnd = FSP_N_BND_NUMERATOR / (n + 1)

@@ -382,7 +382,7 @@ def test_reduction_invariants(system):
     np.testing.assert_array_equal(b, b_before)
 
 
-# --- The listing's defects (module docstring, "Deviations") ------------------
+# --- The listing's defects ("Deviations" in the docstrings of fsp and fsp_null_space) ---
 
 def test_zero_matrix():
     # The listing's mat_null reads past its singular values here (deviation 3).
