@@ -47,6 +47,10 @@ MAX_LENGTH = 2000          # characters in one expression
 MAX_DEPTH = 50             # nesting depth of the syntax tree
 MAX_EXPONENT = 64          # largest |integer exponent| accepted in a power
 MAX_DIGITS = 40            # longest integer literal accepted
+MAX_MAGNITUDE = 1e12       # largest |value| of a number (a length in metres, an angle, a factor)
+
+#: Bits of the largest integer with MAX_DIGITS decimal digits.
+_MAX_BITS = math.ceil(MAX_DIGITS * math.log2(10))
 
 _BINOPS = {
     ast.Add: lambda a, b: a + b,
@@ -73,10 +77,16 @@ def exact_number(value) -> sp.Expr:
     if isinstance(value, bool):
         raise ExpressionError(repr(value), "a boolean is not a number")
     if isinstance(value, int):
+        # bit_length, not str(): str() of a 5000-digit integer raises ValueError
+        if value.bit_length() > _MAX_BITS:
+            raise ExpressionError(f"<integer of about {int(value.bit_length() * 0.30103) + 1} "
+                                  "digits>", f"integer longer than {MAX_DIGITS} digits")
         return sp.Integer(value)
     if isinstance(value, float):
         if not math.isfinite(value):
             raise ExpressionError(repr(value), "number is not finite")
+        if abs(value) > MAX_MAGNITUDE:
+            raise ExpressionError(repr(value), f"number larger than {MAX_MAGNITUDE:g} in magnitude")
         f = Fraction(repr(value))
         return sp.Rational(f.numerator, f.denominator)
     if isinstance(value, str):
@@ -151,6 +161,10 @@ def parse_expression(text, names: Mapping[str, sp.Expr] | None = None) -> sp.Exp
         raise ExpressionError(text[:40] + "...", f"longer than {MAX_LENGTH} characters")
     if not text.strip():
         raise ExpressionError(text, "empty expression")
+    if not text.isascii():
+        # Python folds identifiers to NFKC: a fullwidth letter would silently name another symbol
+        bad = next(ch for ch in text if not ch.isascii())
+        raise ExpressionError(text, f"non-ASCII character {bad!r}; expressions are plain ASCII")
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", SyntaxWarning)
@@ -170,6 +184,8 @@ MAX_NUMBER_DIGITS = 200    # digits of any exact number inside an expression
 
 def _checked(value, text):
     """Refuse results with huge numbers or huge powers (they would stall the algebra)."""
+    if value.has(sp.I):
+        raise ExpressionError(text, "not a real number (it involves sqrt(-1))")
     for atom in value.atoms(sp.Rational):
         if len(str(abs(atom.p))) > MAX_NUMBER_DIGITS or len(str(atom.q)) > MAX_NUMBER_DIGITS:
             raise ExpressionError(text, f"a number with more than {MAX_NUMBER_DIGITS} digits")
@@ -178,6 +194,22 @@ def _checked(value, text):
         if e.is_Rational and (abs(e.p) > MAX_EXPONENT or e.q > MAX_EXPONENT):
             raise ExpressionError(text, f"exponent larger than {MAX_EXPONENT}")
     return value
+
+
+def _finite(value, text):
+    """Refuse a constant that is not a real number of moderate size (exp(exp(100)), asin(2))."""
+    if value.free_symbols or not value.is_number:
+        return _checked(value, text)
+    try:
+        v = complex(sp.N(value, 15))
+    except (OverflowError, TypeError, ValueError):
+        raise ExpressionError(text, f"{sp.sstr(value)[:40]} is not a finite real number") from None
+    if not (math.isfinite(v.real) and math.isfinite(v.imag)) or abs(v) > MAX_MAGNITUDE:
+        raise ExpressionError(text, f"{sp.sstr(value)[:40]} is larger than {MAX_MAGNITUDE:g} "
+                                    "in magnitude")
+    if abs(v.imag) > 1e-12 * max(1.0, abs(v.real)):
+        raise ExpressionError(text, f"{sp.sstr(value)[:40]} is not a real number")
+    return _checked(value, text)
 
 
 def _build(node, text, names, depth):
@@ -202,6 +234,19 @@ def _build(node, text, names, depth):
     if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
         arg = _build(node.operand, text, names, depth)
         return -arg if isinstance(node.op, ast.USub) else arg
+    if isinstance(node, ast.BinOp) and type(node.op) in _BINOPS:
+        # a + b + c ... is parsed as ((a + b) + c) ...: a flat chain, not nesting
+        chain = []
+        while isinstance(node, ast.BinOp) and type(node.op) in _BINOPS:
+            chain.append(node)
+            node = node.left
+        value = _build(node, text, names, depth)
+        for link in reversed(chain):
+            right = _build(link.right, text, names, depth)
+            if isinstance(link.op, ast.Div) and right.is_zero:
+                raise ExpressionError(text, "division by zero")
+            value = _checked(_BINOPS[type(link.op)](value, right), text)
+        return value
     if isinstance(node, ast.BinOp):
         if isinstance(node.op, ast.Pow):
             base = _build(node.left, text, names, depth)
@@ -237,8 +282,8 @@ def _build(node, text, names, depth):
         nargs = 2 if fname == "atan2" else 1
         if len(node.args) != nargs:
             raise ExpressionError(text, f"{fname} takes {nargs} argument(s)")
-        args = [_build(a, text, names, depth) for a in node.args]
         if any(isinstance(a, ast.Starred) for a in node.args):
             raise ExpressionError(text, "starred arguments are not allowed")
-        return FUNCTIONS[fname](*args)
+        args = [_build(a, text, names, depth) for a in node.args]
+        return _finite(FUNCTIONS[fname](*args), text)
     raise ExpressionError(text, f"{type(node).__name__} is not allowed in an expression")

@@ -151,7 +151,7 @@ REFUSED = {
     "nested-huge-power": "((((9**64)**64)**64)**64)**64",
     "nested-power-of-product": "(((10**40*10**40)**64)**64)",
     "deep-unary": "-" * (MAX_DEPTH + 10) + "1",
-    "deep-sum": "+".join(["q1"] * (MAX_DEPTH + 10)),
+    "deep-sum": "(q1 + " * (MAX_DEPTH + 10) + "q1" + ")" * (MAX_DEPTH + 10),
     "deep-calls": "sin(" * (MAX_DEPTH + 10) + "q1" + ")" * (MAX_DEPTH + 10),
     "deep-parentheses": "(" * 300 + "1" + ")" * 300,
     "too-long": "+".join(["1"] * (MAX_LENGTH // 2 + 1)),

@@ -38,6 +38,25 @@ from ..errors import LocusError
 __all__ = ["PolyRing"]
 
 
+#: Largest integer multiple k of an angle in sin(k*q) or cos(k*q): the half-angle form of
+#: cos(k*q) has degree 2k, and joint Jacobians have k <= 2 (k = 12 leaves room for raw matrices).
+MAX_ANGLE_MULTIPLE = 12
+
+#: Largest number of terms one matrix entry may have once padded to the degree of its row.
+MAX_ENTRY_TERMS = 200_000
+
+
+def _check_angle_multiples(expr, angles):
+    """Refuse sin/cos of k*q with |k| > MAX_ANGLE_MULTIPLE (their expansion would not finish)."""
+    for f in expr.atoms(sp.sin, sp.cos):
+        arg = sp.expand(f.args[0])
+        for q in angles:
+            k = arg.coeff(q)
+            if k.is_Number and abs(k) > MAX_ANGLE_MULTIPLE:
+                raise LocusError(f"entry {sp.sstr(expr)}: {sp.sstr(f)} is a multiple of {q} above "
+                                 f"{MAX_ANGLE_MULTIPLE}, too large for the exact algebra")
+
+
 @dataclass(frozen=True, eq=False)
 class PolyRing:
     """Q[C_q, S_q for each angle q; x for each other variable; p for each parameter].
@@ -141,6 +160,7 @@ class PolyRing:
     def _raw(self, expr):
         """Polynomial in (c, s, x, p) as a dict, and its degree per angle."""
         expr = sp.sympify(expr)
+        _check_angle_multiples(expr, self.angles)
         rep = {}
         for q, (c, s) in self._trig_symbols.items():
             rep[sp.cos(q)] = c
@@ -166,6 +186,15 @@ class PolyRing:
         return terms, degs
 
     def _homogenize(self, terms, degs, target):
+        # padding with (C**2 + S**2)**pad multiplies the terms by up to pad + 1 per angle
+        size = len(terms)
+        for k in range(self.n_angles):
+            size *= target[k] - degs[k] + 1
+            if size > MAX_ENTRY_TERMS:
+                raise LocusError(
+                    f"an entry would have more than {MAX_ENTRY_TERMS} terms in half-angle form "
+                    f"(a row mixes sin/cos of {self.n_angles} angles); the matrix is too large for "
+                    "the exact algebra")
         g = self.gens
         na = self.n_angles
         out = self.ctx.constant(0)

@@ -285,6 +285,10 @@ def render_check_text(report: CheckReport) -> str:
     return "\n".join(lines)
 
 
+#: The largest rank drop a locus file may state (a 100 x 100 matrix losing all its rank).
+MAX_RANK_DROP = 100
+
+
 def parse_locus(data, model):
     """A :class:`~rankloci.locus.Locus` from its ``rankloci.locus/1`` dict, in `model`'s symbols.
 
@@ -327,8 +331,10 @@ def parse_locus(data, model):
         if not isinstance(c, dict) or "equations" not in c:
             raise ModelError("each component must be an object with 'equations'", field=where)
         rank_drop = c.get("rank_drop", 1)
-        if not isinstance(rank_drop, int):
-            raise ModelError("rank_drop must be an integer", field=f"{where}.rank_drop")
+        if isinstance(rank_drop, bool) or not isinstance(rank_drop, int) \
+                or not 1 <= rank_drop <= MAX_RANK_DROP:
+            raise ModelError(f"rank_drop must be an integer from 1 to {MAX_RANK_DROP}, not "
+                             f"{str(rank_drop)[:20]}", field=f"{where}.rank_drop")
         out.append(Component(
             equations=parse_all(c["equations"], f"{where}.equations"),
             rank_drop=rank_drop,

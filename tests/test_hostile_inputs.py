@@ -1,0 +1,101 @@
+"""Hostile and extreme input, command by command: one line on stderr and exit 2, never a traceback.
+
+Each case writes its files into a fresh folder, runs ``main([...])`` and checks the exit code,
+that stderr names the reason, and that no traceback escaped.  Limits are kept small so that each
+case takes well under a second of algebra.
+"""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from rankloci.cli import main
+
+PLANAR = """name = "{name}"
+convention = "dh"
+task = "planar"
+[parameters]
+l1 = {l1}
+l2 = 1.0
+[[joint]]
+a = "{a}"
+[[joint]]
+a = "l2"
+"""
+
+
+def _planar(name, a="l1", l1="1.0"):
+    return PLANAR.format(name=name, a=a, l1=l1)
+
+
+def _raw(name, matrix, variables=("x",)):
+    rows = ", ".join("[" + ", ".join(json.dumps(e) for e in row) + "]" for row in matrix)
+    return f'name = "{name}"\nvariables = {json.dumps(list(variables))}\nmatrix = [{rows}]\n'
+
+
+def _locus_file(equations=("sin(q2)",), rank_drop=1, raw=None):
+    if raw is not None:
+        return raw
+    return json.dumps({"schema": "rankloci.locus/1", "model": "planar2r",
+                       "variables": ["q1", "q2"],
+                       "components": [{"equations": list(equations), "rank_drop": rank_drop}]})
+
+
+# (case id, files {name: text}, argv, expected exit code, text stderr must contain)
+CASES = [
+    ("exp-tower", {"m.toml": _planar("m", a="exp(exp(exp(100)))")},
+     ["jacobian", "m.toml"], 2, "larger than"),
+    ("imaginary-length", {"m.toml": _planar("m", a="sqrt(-1)")},
+     ["jacobian", "m.toml"], 2, "not a real number"),
+    ("fullwidth-name", {"m.toml": _planar("m", a="\uff4c1")},
+     ["jacobian", "m.toml"], 2, "non-ASCII"),
+    ("huge-integer-parameter", {"m.toml": _planar("m", l1="1" + "0" * 4000)},
+     ["locus", "m.toml", "--numeric-parameters", "--quiet"], 2, "40 digits"),
+    ("60-digit-integer-parameter", {"m.toml": _planar("m", l1="1" + "0" * 60)},
+     ["jacobian", "m.toml"], 2, "40 digits"),
+    ("float-parameter-near-overflow", {"m.toml": _planar("m", l1="1.7e308")},
+     ["locus", "m.toml", "--numeric-parameters", "--quiet"], 2, "magnitude"),
+    ("angle-multiple-augment", {}, ["locus", "planar2r", "--augment", "cos(1000*q1)", "--quiet"],
+     2, "multiple of q1"),
+    ("angle-multiple-raw", {"r.toml": _raw("r", [["cos(1000*x)"]])},
+     ["locus", "r.toml", "--quiet"], 2, "multiple of x"),
+    ("row-of-30-angles", {"r.toml": _raw("r", [[f"cos(x{i})" for i in range(30)]],
+                                         [f"x{i}" for i in range(30)])},
+     ["locus", "r.toml", "--quiet"], 2, "too large"),
+    ("imaginary-equation-in-locus-file", {"l.json": _locus_file(["sqrt(-1)*sin(q2)"])},
+     ["check", "planar2r", "--locus", "l.json", "--quiet", "--samples", "2"], 2, "not a real"),
+    ("negative-rank-drop", {"l.json": _locus_file(rank_drop=-5)},
+     ["check", "planar2r", "--locus", "l.json", "--quiet", "--samples", "2"], 2, "rank_drop"),
+    ("huge-rank-drop", {"l.json": _locus_file(rank_drop=10 ** 30)},
+     ["check", "planar2r", "--locus", "l.json", "--quiet", "--samples", "2"], 2, "rank_drop"),
+    ("boolean-rank-drop", {"l.json": _locus_file(rank_drop=True)},
+     ["check", "planar2r", "--locus", "l.json", "--quiet", "--samples", "2"], 2, "rank_drop"),
+    ("deeply-nested-locus-file", {"l.json": _locus_file(raw="[" * 100000)},
+     ["check", "planar2r", "--locus", "l.json", "--quiet", "--samples", "2"], 2, "l.json"),
+]
+
+
+@pytest.mark.parametrize("case, files, argv, code, reason", CASES, ids=[c[0] for c in CASES])
+def test_hostile_input_is_refused_in_one_line(tmp_path, monkeypatch, capsys, case, files, argv,
+                                              code, reason):
+    for name, text in files.items():
+        (tmp_path / name).write_text(text, encoding="utf-8")
+    monkeypatch.chdir(tmp_path)
+    got = main(argv)
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    assert got == code, err
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert len(lines) == 1, err
+    assert reason in lines[0], lines[0]
+
+
+def test_flat_sum_of_many_terms_is_accepted(tmp_path, monkeypatch, capsys):
+    """A 52-term sum is flat, not nested: only nesting depth is limited."""
+    sum52 = " + ".join(f"{k}*x" for k in range(1, 53))
+    (tmp_path / "r.toml").write_text(_raw("r", [[sum52]]), encoding="utf-8")
+    monkeypatch.chdir(tmp_path)
+    assert main(["jacobian", "r.toml"]) == 0
+    assert "1378*x" in capsys.readouterr().out      # 1 + 2 + ... + 52 = 1378
