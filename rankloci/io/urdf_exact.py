@@ -1,0 +1,110 @@
+"""Exact transforms from the decimal floats of a URDF file.
+
+URDF numbers are decimal floats, but the symbolic algebra downstream must
+stay exact.  Lengths become the rational of their shortest decimal form
+(``0.089159`` is ``89159/1000000``).  An rpy angle within
+:data:`~rankloci.tolerances.URDF_ANGLE_SNAP_ATOL` of a multiple of ``pi/12``
+(``1.5708``, ``1.57079632679``) is taken as that exact multiple, so its sine
+and cosine are exact radicals.  Any other angle ``t`` gives the rational
+rotation with ``cos = (1 - u**2)/(1 + u**2)``, ``sin = 2u/(1 + u**2)`` where
+``u`` is the shortest decimal of ``tan(t/2)``: every entry is an exact
+rational within rounding error of the float value, and the matrix is exactly
+orthogonal (converting float cosines entry by entry would not be).  Axis
+components are snapped the same way (``0.9999999`` is ``1``); an axis that
+does not snap becomes an exactly unit rational vector within rounding error
+of the normalised float axis.
+"""
+
+from __future__ import annotations
+
+import math
+
+import sympy as sp
+
+from ..expr import exact_number
+from ..model import trans
+from ..tolerances import URDF_ANGLE_SNAP_ATOL
+
+__all__ = ["exact_origin", "exact_axis", "expanded_product"]
+
+# Exact values a unit-axis component may snap to (besides their negatives).
+_NICE_COMPONENTS = (sp.Integer(0), sp.Rational(1, 2), sp.sqrt(2) / 2, sp.sqrt(3) / 2,
+                    sp.Integer(1))
+
+
+def _snap_angle(t: float) -> sp.Expr | None:
+    """The exact multiple of pi/12 within URDF_ANGLE_SNAP_ATOL of ``t``, or None."""
+    k = round(t / (math.pi / 12))
+    if abs(t - k * math.pi / 12) <= URDF_ANGLE_SNAP_ATOL:
+        return sp.pi * sp.Rational(k, 12)
+    return None
+
+
+def _cos_sin(t: float) -> tuple[sp.Expr, sp.Expr]:
+    """Exact (cos, sin) of an angle read as a float; see the module docstring."""
+    t = math.remainder(t, 2 * math.pi)  # in [-pi, pi]
+    snapped = _snap_angle(t)
+    if snapped is not None:
+        return sp.cos(snapped), sp.sin(snapped)
+    u = exact_number(math.tan(t / 2))  # finite: angles near +-pi snap
+    return (1 - u**2) / (1 + u**2), 2 * u / (1 + u**2)
+
+
+def _rotation(axis: str, t: float) -> sp.Matrix:
+    """Exact 4x4 rotation by the float angle ``t`` about the x, y or z axis."""
+    c, s = _cos_sin(t)
+    m = sp.eye(4)
+    i, j = {"x": (1, 2), "y": (2, 0), "z": (0, 1)}[axis]
+    m[i, i], m[i, j], m[j, i], m[j, j] = c, -s, s, c
+    return m
+
+
+def expanded_product(a: sp.Matrix, b: sp.Matrix) -> sp.Matrix:
+    """``a * b`` with every entry expanded."""
+    return (a * b).applyfunc(sp.expand)
+
+
+def exact_origin(xyz, rpy) -> sp.Matrix:
+    """Exact 4x4 transform of an ``<origin>``: ``trans(xyz) * Rz(yaw) * Ry(pitch) * Rx(roll)``.
+
+    Examples
+    --------
+    >>> exact_origin((0.5, 0.0, 0.0), (0.0, 0.0, 1.5708))
+    Matrix([
+    [0, -1, 0, 1/2],
+    [1,  0, 0,   0],
+    [0,  0, 1,   0],
+    [0,  0, 0,   1]])
+    """
+    roll, pitch, yaw = rpy
+    T = trans(*(exact_number(x) for x in xyz))
+    for axis, t in (("z", yaw), ("y", pitch), ("x", roll)):
+        if t != 0.0:
+            T = expanded_product(T, _rotation(axis, t))
+    return T
+
+
+def exact_axis(v: tuple[float, ...]) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+    """Exact unit vector for a float axis; see the module docstring."""
+    big = max(abs(x) for x in v)  # > 0, checked by urdf_xml.axis_floats
+    v = [x / big for x in v]        # no overflow or underflow in the norm
+    norm = math.sqrt(sum(x * x for x in v))
+    u = [x / norm for x in v]
+    snapped = []
+    for x in u:
+        nice = next((n for n in _NICE_COMPONENTS if abs(abs(x) - float(n)) <= URDF_ANGLE_SNAP_ATOL),
+                    None)
+        snapped.append(None if nice is None else (nice if x > 0 else -nice))
+    if None not in snapped and sp.expand(sum(x**2 for x in snapped)) == 1:
+        return tuple(snapped)
+    # An exactly unit rational vector: inverse stereographic projection, from the
+    # pole opposite the largest component, of the rationalised projected point.
+    k = max(range(3), key=lambda m: abs(u[m]))
+    others = [m for m in range(3) if m != k]
+    a, b = (sp.Integer(0) if abs(u[m]) <= URDF_ANGLE_SNAP_ATOL
+            else exact_number(u[m] / (1 + abs(u[k]))) for m in others)
+    d = 1 + a**2 + b**2
+    out = [sp.Integer(0)] * 3
+    out[others[0]], out[others[1]] = 2 * a / d, 2 * b / d
+    out[k] = (1 if u[k] > 0 else -1) * (1 - a**2 - b**2) / d
+    return tuple(out)
