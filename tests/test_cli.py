@@ -174,8 +174,9 @@ def _bad_cases(tmp_path):
         "bad-task-name": (["jacobian", "planar2r", "--task", "sideways"], "argument --task"),
         "bad-task-row": (["jacobian", "planar2r", "--task", "0,9"], "task row 9"),
         "bad-frame-word": (["jacobian", "planar2r", "--frame", "world"], "argument --frame"),
-        "bad-frame-index": (["jacobian", "planar2r", "--frame", "9"], "frame 9"),
-        "bad-point-index": (["jacobian", "planar2r", "--point", "-1"], "frame -1"),
+        "bad-frame-index": (["jacobian", "planar2r", "--frame", "9"], "--frame 9: planar2r has no link frame 9"),
+        "bad-point-index": (["jacobian", "planar2r", "--point", "-1"], "--point -1: planar2r has no link frame -1"),
+        "negative-seed": (["locus", "planar2r", "--seed", "-1"], "argument --seed: '-1' is not an integer 0 or above"),
         "bad-augment-syntax": (["jacobian", "planar2r", "--augment", "q1 +"], "--augment: cannot parse 'q1 +'"),
         "bad-augment-name": (["jacobian", "planar2r", "--augment", "q3"], "unknown name 'q3'"),
         "bad-augment-code": (["jacobian", "planar2r", "--augment", "__import__('os').getcwd()"], "--augment"),
@@ -191,7 +192,7 @@ def _bad_cases(tmp_path):
 
 
 BAD_IDS = ["nonexistent-file", "directory", "unknown-model", "bad-task-name", "bad-task-row",
-           "bad-frame-word", "bad-frame-index", "bad-point-index", "bad-augment-syntax",
+           "bad-frame-word", "bad-frame-index", "bad-point-index", "negative-seed", "bad-augment-syntax",
            "bad-augment-name", "bad-augment-code", "malformed-file", "toml-syntax", "not-utf8",
            "unknown-command", "bad-format", "missing-model", "unknown-option"]
 
@@ -206,6 +207,18 @@ def test_bad_input_gives_one_error_line_and_exit_2(capsys, tmp_path, case):
 
 def test_bad_case_ids_cover_every_case(tmp_path):
     assert sorted(BAD_IDS) == sorted(_bad_cases(tmp_path))
+
+
+def test_a_bug_is_a_traceback_not_bad_input(monkeypatch):
+    """Only bad input (a RanklociError or a usage error) is exit 2; any other error propagates."""
+    import rankloci.cli.commands
+
+    def broken(args):
+        raise ValueError("a bug")
+
+    monkeypatch.setitem(rankloci.cli.commands.COMMANDS, "models", broken)
+    with pytest.raises(ValueError, match="a bug"):
+        main(["models"])
 
 
 def test_huge_exact_number_is_an_error_line_not_a_traceback(capsys, write_file):

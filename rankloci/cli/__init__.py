@@ -23,7 +23,12 @@ __all__ = ["main", "main_exit", "build_parser"]
 
 
 def main(argv=None) -> int:
-    """Run the command line; return the exit code."""
+    """Run the command line; return the exit code.
+
+    Bad input, a :class:`~rankloci.errors.RanklociError` or a
+    :class:`~rankloci.cli.parser.UsageError`, is one line on stderr and exit
+    code 2; any other exception is a bug and propagates.
+    """
     warnings.showwarning = show_warning
     parser = build_parser()
     try:
@@ -32,10 +37,7 @@ def main(argv=None) -> int:
             parser.print_help()
             return EXIT_USAGE
         return COMMANDS[args.command](args)
-    except (UsageError, ValueError) as e:  # ValueError: a bad --frame/--point index for this model
-        print(f"rankloci: error: {e}", file=sys.stderr)
-        return EXIT_USAGE
-    except RanklociError as e:
+    except (UsageError, RanklociError) as e:
         print(f"rankloci: error: {e}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt:

@@ -49,6 +49,19 @@ def cmd_models(args) -> int:
     return EXIT_OK
 
 
+def _check_link_numbers(args, model) -> None:
+    """``--frame N`` and ``--point N`` must name a link frame 0..n of a robot model."""
+    from ..model import RobotModel
+
+    if not isinstance(model, RobotModel):
+        return  # task_matrix refuses --frame for a matrix; cmd_jacobian refuses --point
+    for option in ("frame", "point"):
+        value = getattr(args, option, None)
+        if isinstance(value, int) and not 0 <= value <= model.dof:
+            raise UsageError(f"--{option} {value}: {model.name} has no link frame {value} "
+                             f"(its link frames are 0..{model.dof}, base and tool)")
+
+
 def _load_task_matrix(args, progress=None):
     from ..augmented import parse_augment
     from ..io import load_model
@@ -56,6 +69,7 @@ def _load_task_matrix(args, progress=None):
 
     model = load_model(args.model, base_link=getattr(args, "base_link", None),
                        tip_link=getattr(args, "tip_link", None))
+    _check_link_numbers(args, model)
     extra = parse_augment(model, args.augment or ())
     if progress:
         progress(f"building the symbolic matrix of {model.name}")
@@ -181,6 +195,8 @@ def cmd_check(args) -> int:
             raise ModelError(f"cannot read: {e.strerror}", file=args.locus) from None
         except (json.JSONDecodeError, UnicodeDecodeError) as e:
             raise ModelError(f"not JSON: {e}", file=args.locus) from None
+        except RecursionError:
+            raise ModelError("not a locus: nested too deeply", file=args.locus) from None
         try:
             locus = parse_locus(data, model)
         except ModelError as e:

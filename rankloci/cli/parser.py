@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import argparse
 
-__all__ = ["UsageError", "ArgumentParser", "build_parser", "frame_arg", "task_arg"]
+__all__ = ["UsageError", "ArgumentParser", "build_parser", "frame_arg", "task_arg", "seed_arg"]
 
 
 class UsageError(Exception):
@@ -38,6 +38,27 @@ def frame_arg(text: str):
         return int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"{text!r} is not 'base', 'tool' or a link number") from None
+
+
+def seed_arg(text: str) -> int:
+    """A seed of :func:`numpy.random.default_rng`: an integer 0 or above.
+
+    Examples
+    --------
+    >>> seed_arg("7")
+    7
+    >>> seed_arg("-1")
+    Traceback (most recent call last):
+        ...
+    argparse.ArgumentTypeError: '-1' is not an integer 0 or above
+    """
+    try:
+        seed = int(text)
+    except ValueError:
+        seed = -1
+    if seed < 0:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an integer 0 or above")
+    return seed
 
 
 def task_arg(text: str):
@@ -169,7 +190,7 @@ def build_parser() -> ArgumentParser:
     p.add_argument("--format", choices=("text", "json", "latex"), default="text")
     p.add_argument("--tree", metavar="FILE", help="write the branch tree to FILE.dot, FILE.json or FILE.txt")
     p.add_argument("--show-tree", action="store_true", help="also draw the branch tree in the terminal")
-    p.add_argument("--seed", type=int, default=0, help="seed of the numeric probes (default 0)")
+    p.add_argument("--seed", type=seed_arg, default=0, help="seed of the numeric probes (default 0)")
     p.add_argument("--timeout", type=float, default=600.0,
                    help="give up after this many seconds (default 600; 0 = never)")
     p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
@@ -183,7 +204,7 @@ def build_parser() -> ArgumentParser:
                    help="check this rankloci.locus/1 file instead of computing the locus")
     p.add_argument("--samples", type=int, default=10,
                    help="points per component, off-locus points and probe starts (default 10)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the random points (default 0)")
+    p.add_argument("--seed", type=seed_arg, default=0, help="seed of the random points (default 0)")
     p.add_argument("--format", choices=("text", "json"), default="text")
     p.add_argument("--numeric-parameters", dest="numeric", action="store_true",
                    help="replace the geometric parameters by their values before the algebra")
@@ -202,7 +223,7 @@ def build_parser() -> ArgumentParser:
     p.add_argument("--samples", type=int, default=10,
                    help="cross-check points per component, off-locus points and probe starts "
                         "(default 10)")
-    p.add_argument("--seed", type=int, default=0, help="seed of every random choice (default 0)")
+    p.add_argument("--seed", type=seed_arg, default=0, help="seed of every random choice (default 0)")
     p.add_argument("--fragment", action="store_true",
                    help="write the .tex without a preamble, to \\input into a paper")
     p.add_argument("--numeric-parameters", dest="numeric", action="store_true",
