@@ -232,6 +232,30 @@ def test_huge_exact_number_is_an_error_line_not_a_traceback(capsys, write_file):
         assert code == 2 and len(err.splitlines()) == 1 and err.startswith("rankloci: error: "), err
 
 
+def test_main_leaves_the_warning_settings_as_it_found_them(capsys):
+    import warnings
+
+    before, filters = warnings.showwarning, list(warnings.filters)
+    assert main(["models", "--format", "json"]) == 0
+    assert warnings.showwarning is before
+    assert warnings.filters == filters
+
+
+def test_a_warning_is_one_line_on_stderr(capsys, monkeypatch):
+    import warnings
+
+    import rankloci.cli.commands
+
+    def warns(args):
+        warnings.warn("the matrix has a suspicious entry", UserWarning, stacklevel=1)
+        return 0
+
+    monkeypatch.setitem(rankloci.cli.commands.COMMANDS, "models", warns)
+    code, out, err = run(capsys, "models")
+    assert code == 0 and out == ""
+    assert err == "rankloci: warning: the matrix has a suspicious entry\n"
+
+
 def test_no_command_prints_help_and_exits_2(capsys):
     code, out, err = run(capsys)
     assert code == 2

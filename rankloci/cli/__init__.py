@@ -27,9 +27,16 @@ def main(argv=None) -> int:
 
     Bad input, a :class:`~rankloci.errors.RanklociError` or a
     :class:`~rankloci.cli.parser.UsageError`, is one line on stderr and exit
-    code 2; any other exception is a bug and propagates.
+    code 2; any other exception is a bug and propagates.  Warnings are
+    printed as ``rankloci: warning: ...`` while it runs; the process's
+    warning settings are as they were when it returns.
     """
-    warnings.showwarning = show_warning
+    with warnings.catch_warnings():  # restores showwarning and the filters on return
+        warnings.showwarning = show_warning
+        return _run(argv)
+
+
+def _run(argv) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
