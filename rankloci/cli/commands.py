@@ -128,7 +128,8 @@ def cmd_locus(args) -> int:
     from pathlib import Path
 
     from ..augmented import augmented_locus
-    from ..errors import LocusTimeout
+    from ..errors import LocusError, LocusTimeout
+    from ..methods import method_for
     from ..render_text import locus_json, locus_latex, locus_text, tree_dot, tree_json, tree_text
 
     if args.tree and Path(args.tree).suffix not in (".dot", ".json", ".txt"):
@@ -137,12 +138,11 @@ def cmd_locus(args) -> int:
         raise UsageError(f"--tree {args.tree!r}: directory does not exist")
     progress = progress_printer(args.quiet)
     model, tm = _load_task_matrix(args, progress)
-    method = args.method
-    if method is None:
-        method = "determinant" if tm.shape[0] == tm.shape[1] else "svm"
-    if method == "determinant" and tm.shape[0] != tm.shape[1]:
-        raise UsageError(f"--method determinant needs a square matrix; this one is "
-                          f"{tm.shape[0]}x{tm.shape[1]}")
+    try:
+        method = method_for(tm.shape, args.method)
+    except LocusError:  # a method this shape does not allow: determinant on a non-square J
+        raise UsageError(f"--method {args.method} needs a square matrix; this one is "
+                         f"{tm.shape[0]}x{tm.shape[1]}") from None
     if progress:
         progress(f"{tm.name}: {tm.shape[0]}x{tm.shape[1]} matrix, method {method}, seed {args.seed}")
     try:
@@ -202,10 +202,10 @@ def cmd_check(args) -> int:
         except ModelError as e:
             raise e.located(file=args.locus) from None
     else:
-        from ..methods import compute_locus
+        from ..methods import compute_locus, method_for
 
         tm = task_matrix(model, frame="auto", numeric=args.numeric)
-        method = "determinant" if tm.shape[0] == tm.shape[1] else "svm"
+        method = method_for(tm.shape)
         if progress:
             progress(f"{tm.name}: computing the locus ({method}, seed {args.seed})")
         locus = compute_locus(tm, method, rng=np.random.default_rng(args.seed), progress=progress)
