@@ -19,12 +19,14 @@ import networkx as nx
 import numpy as np
 import sympy as sp
 
+from ..locus import Outcome
 from ..numeric.equations import Equations, NumericMatrix, points_on
 from ..tolerances import COVER_RESIDUAL, REGULAR_MIN_RATIO
 
-__all__ = ["SliceData", "PathData", "Comparison", "slice_grid", "slice_joints", "path_through",
-           "compare_loci", "tree_summary", "model_components", "sigma_ratios",
-           "component_points", "NOT_COMPONENT_OUTCOMES"]
+__all__ = ["SliceData", "PathData", "Comparison", "TreeSummary", "slice_grid", "slice_joints",
+           "path_through", "compare_loci", "tree_summary", "model_components", "sigma_ratios",
+           "component_points", "equation_weights", "regular_point", "node_outcome",
+           "is_component_leaf"]
 
 #: Grid points per axis of a heat map: 181 puts a node every 2 degrees on [-pi, pi].
 GRID = 181
@@ -32,15 +34,9 @@ GRID = 181
 #: Points along a manipulability path.
 PATH_POINTS = 401
 
-#: Outcomes of branch-tree leaves that are not components.
-NOT_COMPONENT_OUTCOMES = ("empty", "inside a component already found",
-                          "null vectors vanish (covered by its own branch)")
-
-
 def model_components(locus):
     """(1-based index, component) of the components that exist for the model's values."""
-    return [(i, c) for i, c in enumerate(locus.components, start=1)
-            if not c.parameter_conditions and c.for_model]
+    return [(i, c) for i, c in enumerate(locus.components, start=1) if c.exists_for_model]
 
 
 def sigma_ratios(Js: np.ndarray) -> np.ndarray:
@@ -324,8 +320,9 @@ def _normal(e):
 
 
 def equation_sets(locus, special: bool = False):
-    comps = [c for c in locus.components
-             if bool(c.parameter_conditions or not c.for_model) == special]
+    """The equations of each component, normalised and sorted: of the model's own components,
+    or (``special=True``) of the others."""
+    comps = [c for c in locus.components if c.exists_for_model != special]
     return sorted(tuple(sorted(_normal(e) for e in c.equations)) for c in comps)
 
 
@@ -353,10 +350,33 @@ def compare_loci(a, b, nm: NumericMatrix, parameters, rng, *, points: int = 4) -
 
 # --- the branch tree, cut down ---------------------------------------------------------------
 
+def node_outcome(data) -> Outcome | None:
+    """The :class:`~rankloci.locus.Outcome` of a branch-tree node with attributes ``data``.
+
+    None when the node has no outcome; a text that is no outcome is a ValueError.
+    """
+    outcome = data.get("outcome")
+    return None if outcome is None else Outcome(outcome)
+
+
 def is_component_leaf(data) -> bool:
-    out = str(data.get("outcome", ""))
-    return bool(out) and out != "refined" and not out.startswith(NOT_COMPONENT_OUTCOMES) \
-        and not out.endswith("(no real point)")
+    """Does a branch-tree node with attributes ``data`` stop as a component of the locus?
+
+    A node without an outcome is not one.
+
+    Examples
+    --------
+    >>> is_component_leaf({"outcome": Outcome.ALL_MINORS_VANISH}), is_component_leaf({})
+    (True, False)
+    """
+    outcome = node_outcome(data)
+    return outcome is not None and outcome.is_component
+
+
+def _outcome_text(data) -> str:
+    """The outcome of a node as it is shown, "" when it has none."""
+    outcome = node_outcome(data)
+    return "" if outcome is None else str(outcome)
 
 
 @dataclass(frozen=True)
@@ -379,7 +399,7 @@ def tree_summary(tree: nx.DiGraph, max_nodes: int = 45) -> TreeSummary:
     node.  Node roles: ``"component"`` (a leaf that is a component), ``"leaf"``
     (another stop reason), ``"inner"``, ``"summary"``.
     """
-    outcomes = Counter(str(d.get("outcome", "")) for n, d in tree.nodes(data=True)
+    outcomes = Counter(_outcome_text(d) for n, d in tree.nodes(data=True)
                        if tree.out_degree(n) == 0)
 
     def role(n):
@@ -422,7 +442,7 @@ def tree_summary(tree: nx.DiGraph, max_nodes: int = 45) -> TreeSummary:
             sub = set(rest)
             for c in rest:
                 sub |= nx.descendants(tree, c)
-            leaves = Counter(str(tree.nodes[m].get("outcome", "")) for m in sub
+            leaves = Counter(_outcome_text(tree.nodes[m]) for m in sub
                              if tree.out_degree(m) == 0)
             found = sum(1 for m in sub if tree.out_degree(m) == 0 and role(m) == "component")
             collapsed += len(sub)
@@ -449,5 +469,5 @@ def _label(n, d, *, leaf: bool) -> str:
     if bits:
         lines.append(", ".join(bits))
     if leaf:
-        lines.append(f"[{d.get('outcome', '')}]")
+        lines.append(f"[{_outcome_text(d)}]")
     return "\n".join(lines)

@@ -1,128 +1,33 @@
 """The report as a list of blocks, shared by the Markdown and the LaTeX renderers.
 
 :func:`report_blocks` decides *what* the report says, section by section, as
-plain data (:class:`Heading`, :class:`Para`, :class:`Math`, :class:`Table`,
-...); :mod:`~rankloci.report.markdown` and :mod:`~rankloci.report.latex` only
-decide how each block is spelled.  Text in blocks may hold ``$math$`` and
-```code``` segments.  Everything here is pure.
+plain data (the blocks of :mod:`~rankloci.report.blocks`);
+:mod:`~rankloci.report.markdown` and :mod:`~rankloci.report.latex` only
+decide how each block is spelled.  This module writes the summary, the model,
+the symbolic Jacobian and the appendix (timings, how to reproduce the report);
+:mod:`~rankloci.report.findings` the sections on the locus and its checks.
+Everything here is pure.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import sympy as sp
 
-from .mathfmt import LINE_WIDTH, broken_lines, latex, math_width, trig_latex, value_latex
+from .blocks import Bullets, Code, Heading, Marker, Math, Para, Table, block_label, variables_text
+from .findings import findings_blocks
+from .mathfmt import LINE_WIDTH, broken_lines, latex, math_width, trig_latex
 
-__all__ = ["Heading", "Para", "Math", "Table", "Bullets", "Figure", "Code", "Marker",
-           "report_blocks"]
-
-
-# --- blocks ------------------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class Heading:
-    level: int            # 1 title, 2 section, 3 subsection
-    text: str
-    label: str = ""
-
-
-@dataclass(frozen=True)
-class Para:
-    text: str
-    lead: str = ""        # a bold run-in heading such as "Source."
-
-
-@dataclass(frozen=True)
-class Math:
-    """Displayed math: one line, or several aligned at ``&`` (``aligned=True``)."""
-
-    lines: tuple
-    aligned: bool = False
-
-
-@dataclass(frozen=True)
-class Table:
-    header: tuple
-    rows: tuple
-    align: str = ""       # one of l, r, c per column
-    caption: str = ""
-
-
-@dataclass(frozen=True)
-class Bullets:
-    items: tuple
-
-
-@dataclass(frozen=True)
-class Figure:
-    file: str
-    caption: str
-    label: str
-    tall: bool = False
-    alt: str = ""         # a short plain-text description (Markdown's image text)
-
-
-@dataclass(frozen=True)
-class Code:
-    text: str
-    language: str = ""
-
-
-@dataclass(frozen=True)
-class Marker:
-    """A comment in the output, such as the start and end of the timings."""
-
-    text: str
-
-
-# --- helpers -----------------------------------------------------------------------------------
-
-SIGMA = r"$\sigma_{\min}/\sigma_{\max}$"
+__all__ = ["report_blocks", "matrix_blocks"]
 
 
 def _m(expr) -> str:
+    """An expression as inline math."""
     return f"${sp.latex(expr, fold_short_frac=True)}$"
 
 
 def _num(x, digits=6) -> str:
+    """A number with ``digits`` significant digits."""
     return f"{float(x):.{digits}g}"
-
-
-def _equation_math(exprs, *, width: float = LINE_WIDTH) -> Math:
-    """``e = 0`` for each expression, broken between terms where a line is too wide."""
-    parts = [broken_lines(e, tail=" = 0", width=width) for e in exprs]
-    if len(parts) == 1 and len(parts[0]) == 1:
-        return Math((parts[0][0],))
-    if all(len(p) == 1 for p in parts):
-        return Math(tuple(latex(e) + " &= 0" for e in exprs), aligned=True)
-    lines = []
-    for p in parts:
-        lines.append("&" + p[0])
-        lines += [r"&\quad " + x for x in p[1:]]
-    return Math(tuple(lines), aligned=True)
-
-
-def _vars_text(variables) -> str:
-    return ("$" + ", ".join(latex(v) for v in variables) + "$") if variables else "none"
-
-
-def _solved(comp) -> str:
-    parts = []
-    for q, vals in comp.solved.items():
-        vs = ", ".join(value_latex(v) for v in vals)
-        parts.append(f"${latex(q)} \\in \\lbrace {vs} \\rbrace$" if len(vals) > 1
-                     else f"${latex(q)} = {vs}$")
-    return "; ".join(parts)
-
-
-def _direction_cells(vec, labels):
-    return ", ".join(f"{lab} {x:+.3f}" for lab, x in zip(labels, vec))
-
-
-def _label(report, *parts) -> str:
-    return ":".join(("rankloci", report.name) + tuple(str(p) for p in parts))
 
 
 # --- sections ----------------------------------------------------------------------------------
@@ -130,16 +35,11 @@ def _label(report, *parts) -> str:
 def report_blocks(report, *, timings: bool = True) -> list:
     """The blocks of ``report``, in order."""
     out = [Heading(1, f"Singularity report: {report.model.title or report.name} "
-                      f"(`{report.name}`)", _label(report))]
+                      f"(`{report.name}`)", block_label(report))]
     out += _summary(report)
     out += _model_section(report)
     out += _jacobian_section(report)
-    out += _locus_section(report)
-    out += _figure_section(report)
-    out += _tree_section(report)
-    out += _check_section(report)
-    out += _comparison_section(report)
-    out += _augmented_section(report)
+    out += findings_blocks(report)
     if timings and report.timings:
         out += _timings_section(report)
     out += _reproduce_section(report)
@@ -185,7 +85,7 @@ def _model_section(report):
     from ..model import RobotModel
 
     m = report.model
-    out = [Heading(2, "The model", _label(report, "model"))]
+    out = [Heading(2, "The model", block_label(report, "model"))]
     if m.source:
         out.append(Para(" ".join(m.source.split()), lead="Source."))
     notes = report.model_notes
@@ -195,8 +95,8 @@ def _model_section(report):
         out += _joint_table(report, m)
     else:
         out.append(Para(f"A symbolic {m.matrix.rows}x{m.matrix.cols} matrix in the variables "
-                        f"{_vars_text(m.variables)}; the angles (entering through sine and "
-                        f"cosine only) are {_vars_text(report.tm.angles)}."))
+                        f"{variables_text(m.variables)}; the angles (entering through sine and "
+                        f"cosine only) are {variables_text(report.tm.angles)}."))
     if m.parameters:
         out.append(Heading(3, "Parameters"))
         rows = tuple((_m(k), _num(v)) for k, v in sorted(m.parameters.items(),
@@ -264,14 +164,14 @@ def _task_section(report, m):
     if m.augment:
         for name, g in m.augment:
             items.append(f"Constraint row `{name}`: the gradient of $g(q) = {latex(g)}$.")
-    items.append(f"Joint variables (columns): {_vars_text(tm.variables)}.")
+    items.append(f"Joint variables (columns): {variables_text(tm.variables)}.")
     out.append(Bullets(tuple(items)))
     return out
 
 
 def _jacobian_section(report):
     tm, jd = report.tm, report.jacobian
-    out = [Heading(2, "The symbolic Jacobian", _label(report, "jacobian"))]
+    out = [Heading(2, "The symbolic Jacobian", block_label(report, "jacobian"))]
     own = (getattr(report.model, "frame", None), "tool")
     if tm.frame is not None and (tm.frame, tm.point) == own:
         out.append(Para(f"$J$ is shown as the locus was computed from it: in the model's own "
@@ -288,7 +188,7 @@ def _jacobian_section(report):
     if report.notation:
         defs = ", ".join(f"${latex(s)} = {trig_latex(f)}$" for s, f in report.notation)
         out.append(Para(f"Notation: {defs}.", lead=""))
-    out += _matrix_blocks(jd)
+    out += matrix_blocks(jd)
     if jd.definitions:
         out.append(Para("where the common subexpressions are"))
         lines = []
@@ -300,7 +200,13 @@ def _jacobian_section(report):
     return out
 
 
-def _matrix_blocks(jd):
+def matrix_blocks(jd) -> list:
+    """Blocks showing a :class:`~rankloci.report.matrixfmt.JacobianDisplay`.
+
+    The whole matrix when it fits on a line (``jd.layout == "matrix"``);
+    otherwise its columns, as many side by side as fit on a line, and each
+    column too wide for a line as its non-zero entries, one equation each.
+    """
     rows, cols = jd.shape
     if jd.layout == "matrix":
         body = r" \\ ".join(" & ".join(latex(e) for e in row) for row in jd.entries)
@@ -345,260 +251,11 @@ def _matrix_blocks(jd):
     return out
 
 
-def _component_blocks(report, view):
-    c = view.component
-    out = [Heading(3, f"Component {view.index}", _label(report, "component", view.index))]
-    eqs = [e for e in c.equations if e not in c.parameter_conditions] or list(c.equations)
-    out.append(_equation_math(eqs))
-    if view.folded and list(view.folded) != eqs:
-        out.append(Para("Equivalently, in the notation of the Jacobian section:"))
-        out.append(_equation_math(view.folded))
-    items = []
-    if c.solved:
-        items.append(f"Solved: {_solved(c)}.")
-    n = len(report.tm.variables)
-    items.append(f"Dimension {c.dimension} in the {n}-dimensional joint space; rank drop "
-                 f"{c.rank_drop}; free joint variables: {_vars_text(c.free)}.")
-    if view.kind:
-        items.append(f"Kind: {view.kind}.")
-    if c.parameter_conditions:
-        conds = ", ".join(f"${latex(e)} = 0$" for e in c.parameter_conditions)
-        items.append(f"Exists only when {conds} (not the model's values).")
-    elif not c.for_model:
-        items.append("Has no real point for the model's parameter values.")
-    if c.excluding:
-        ex = ", ".join(f"${latex(e)} \\neq 0$" for e in c.excluding)
-        items.append(f"The closure of the set where the equations hold and {ex}.")
-    labels = list(report.tm.row_labels)
-    tall = report.tm.shape[0] > report.tm.shape[1]
-    over = [str(v) for v in report.tm.variables] if tall else labels
-    for vec in c.direction_at_sample:
-        what = "Lost joint direction (right null vector)" if tall else "Lost direction"
-        items.append(f"{what} at the sample point: ({', '.join(f'{x:+.3f}' for x in vec)}) "
-                     f"over ({', '.join(over)}).")
-    if not c.direction_at_sample and c.direction:
-        items.append("Lost direction: $(" + ", ".join(latex(x) for x in c.direction[0]) + ")$.")
-    sample = ", ".join(f"{k} = {v:+.4f}" for k, v in c.sample.items())
-    items.append(f"Sample point: {sample}.")
-    out.append(Bullets(tuple(items)))
-    if view.readings:
-        out.append(Para("At the sample point (verified numerically):", lead="Reading."))
-        out.append(Bullets(tuple(r[0].upper() + r[1:] + "." for r in view.readings)))
-    plain = ",  ".join(f"{sp.sstr(e)} = 0" for e in c.equations)
-    out.append(Code(plain))
-    return out
-
-
-def _locus_section(report):
-    out = [Heading(2, "The singularity locus", _label(report, "locus"))]
-    if report.locus is None:
-        out.append(Para(report.locus_status, lead="Not computed."))
-        out.append(Para("The model, the Jacobian and the heat maps are still given; rerun with a larger `--timeout` (or `--numeric-parameters`) "
-                        "for the rest."))
-        return out
-    loc = report.locus
-    out.append(Para(f"Method: {loc.method} (seed {report.seed}). Each component is the set "
-                    "where its equations vanish; the rank drop is how many ranks $J$ loses "
-                    "at its generic points, and the lost directions span the left null space "
-                    "of $J$ there (the task velocities no joint velocity produces)."))
-    main = [v for v in report.components if not v.special]
-    special = [v for v in report.components if v.special]
-    if main:
-        rows = []
-        for v in main:
-            c = v.component
-            first = v.summary or "-"
-            rows.append((str(v.index), str(c.dimension), str(c.rank_drop),
-                         _vars_text(c.free), first))
-        out.append(Table(("no.", "dim.", "rank drop", "free joints", "reading"),
-                         tuple(rows), "rrrll"))
-    else:
-        out.append(Para("No component exists for the model's parameter values: $J$ has full "
-                        "rank everywhere."))
-    for v in main:
-        out += _component_blocks(report, v)
-    if special:
-        out.append(Heading(3, "Components for special parameter values"))
-        out.append(Para("These exist only for parameter values other than the model's; they "
-                        "are listed for designers who may change the geometry."))
-        for v in special:
-            out += _component_blocks(report, v)
-    notes = list(loc.notes) + list(report.notes)
-    if notes:
-        out.append(Heading(3, "Notes of the analysis"))
-        out.append(Bullets(tuple(n[0].upper() + n[1:] + ("" if n.endswith(".") else ".")
-                                 for n in notes)))
-    return out
-
-
-def _figure_section(report):
-    sig = report.figure("sigma")
-    man = report.figure("manipulability")
-    if not sig and not man:
-        return []
-    out = [Heading(2, "Singularity maps", _label(report, "maps"))]
-    how = ("through a point of a component, the other joints fixed; the two joints are those "
-           "the component's equations use most, ties broken by how much the ratio changes "
-           "along each" if report.components else
-           "through one configuration, the other joints fixed; the two joints are those along "
-           "which the ratio changes most")
-    out.append(Para(f"The heat maps show {SIGMA} of $J$ (the model's own frame and "
-                    "task point, parameters at the model's values) over two-joint slices of "
-                    f"joint space {how}. It is zero exactly on the locus. Its values depend on "
-                    "the length unit when $J$ mixes linear and angular rows."))
-    for k, f in enumerate(sig, start=1):
-        out.append(Figure(f.name, f.caption, _label(report, "fig", f"sigma{k}"), alt=f.title))
-    for f in man:
-        out.append(Figure(f.name, f.caption, _label(report, "fig", "manipulability"),
-                          alt=f.title))
-    return out
-
-
-def _tree_section(report):
-    tree = report.tree
-    figs = report.figure("tree")
-    if tree is None:
-        return []
-    out = [Heading(2, "Branch tree", _label(report, "tree"))]
-    out.append(Para(f"The {report.locus.method} method grows a tree of branches; each leaf "
-                    "stops for the reason shown. The tree has "
-                    f"{tree.total_nodes} node(s)."))
-    rows = tuple((reason or "(none)", str(n)) for reason, n in sorted(tree.outcomes.items()))
-    out.append(Table(("stop reason of the leaves", "leaves"), rows, "lr"))
-    for f in figs:
-        out.append(Figure(f.name, f.caption, _label(report, "fig", "tree"), tall=True,
-                          alt=f.title))
-    return out
-
-
-def _check_section(report):
-    chk = report.check
-    if chk is None:
-        return []
-    out = [Heading(2, "Numeric cross-check", _label(report, "check"))]
-    out.append(Para(f"As `rankloci check {report.name} --samples {report.samples} --seed "
-                    f"{report.seed}`: $J$ in the model's frame, parameters at their values, "
-                    f"decided by the SVD (rank deficient when {SIGMA} is at most "
-                    f"{chk.thresholds.get('RANK_RTOL', 1e-8):g}). On-locus: points solved onto "
-                    "each component must be singular. Off-locus: random configurations away "
-                    "from every component must be regular. Completeness: minima of "
-                    f"{SIGMA} from random starts that are singular must lie on a "
-                    "component."))
-    rows = []
-    for c in chk.components:
-        detail = c.message or f"largest sigma ratio {c.max_ratio:.1e}"
-        rows.append((f"on component {c.index}", str(len(c.points)), "pass" if c.ok else "FAIL",
-                     detail))
-    for eqs in chk.skipped:
-        rows.append(("on " + ", ".join(eqs)[:40], "-", "skip", "special parameter values"))
-    mn = min((p.sigma_ratio for p in chk.off_locus), default=float("nan"))
-    rows.append(("off-locus (regular)", str(len(chk.off_locus)),
-                 "pass" if not chk.off_locus_failures else "FAIL",
-                 f"{len(chk.off_locus_failures)} singular; smallest sigma ratio {mn:.1e}"))
-    rows.append(("completeness probe", str(chk.probe_starts),
-                 "pass" if not chk.uncovered else "FAIL",
-                 f"{chk.probe_singular} singular minima, {len(chk.uncovered)} on no component"))
-    if report.exact is not None:
-        ex = report.exact
-        rows.append(("Singular (exact primes)", "-", ex.status, ex.reason))
-    out.append(Table(("check", "points", "result", "detail"), tuple(rows), "lrll",
-                     caption=f"seed {chk.seed}, {chk.samples} samples"))
-    out.append(Para(f"Result: {'PASS' if chk.ok else 'FAIL'} (seed {chk.seed})."))
-    if chk.findings:
-        out.append(Para(f"{len(chk.findings)} finding(s) where the FSP reducer or the largest "
-                        "maximal minor disagrees with the SVD (recorded, not failures; the SVD "
-                        "decides):"))
-        items = list(chk.findings[:10])
-        if len(chk.findings) > 10:
-            items.append(f"... and {len(chk.findings) - 10} more")
-        out.append(Bullets(tuple(items)))
-    for p in chk.uncovered[:5]:
-        out.append(Para("Uncovered singular point: (" + ", ".join(f"{x:+.6f}" for x in p.q)
-                        + f"), sigma ratio {p.sigma_ratio:.1e}."))
-    return out
-
-
-def _comparison_section(report):
-    if report.locus is None:
-        return []
-    out = [Heading(2, "Method comparison", _label(report, "methods"))]
-    tm = report.tm
-    if tm.shape[0] == tm.shape[1]:
-        out.append(Para("$J$ is square, so the determinant method is the only one: the "
-                        "singular vector and subdeterminant methods both reduce to "
-                        "$\\det J = 0$ here."))
-        return out
-    loc, sec = report.locus, report.second
-    rows = [(loc.method, str(len([c for c in loc.components if c.for_model
-                                  and not c.parameter_conditions])),
-             str(loc.tree.number_of_nodes() if loc.tree is not None else "-"))]
-    if sec is not None:
-        rows.append((sec.method, str(len([c for c in sec.components if c.for_model
-                                          and not c.parameter_conditions])),
-                     str(sec.tree.number_of_nodes() if sec.tree is not None else "-")))
-    out.append(Table(("method", "components (model values)", "tree nodes"), tuple(rows), "lrr"))
-    cmp = report.comparison
-    if cmp is None:
-        out.append(Para(report.second_status or "The second method was not run."))
-        return out
-    if cmp.identical:
-        text = ("The two methods give the same components, equation for equation.")
-    elif cmp.agree:
-        text = (f"The two methods write the locus differently but describe the same set: each "
-                f"of the {cmp.points_tested} points tested on a component of one lies on a "
-                "component of the other.")
-    else:
-        text = "The two methods disagree:"
-    out.append(Para(text))
-    if cmp.differences:
-        out.append(Bullets(tuple(cmp.differences)))
-    if not cmp.special_same:
-        out.append(Para("Their components for special parameter values differ; those are side "
-                        "results of where each method's branching meets a parameter factor, "
-                        "not part of the model's locus."))
-    return out
-
-
-def _augmented_section(report):
-    if not report.augmented:
-        return []
-    out = [Heading(2, "Algorithmic singularities", _label(report, "algorithmic"))]
-    out.append(Para("$J$ is augmented with constraint rows. A component where $J$ without those "
-                    "rows already loses rank is kinematic; one where only the augmented matrix "
-                    "does is algorithmic (the constraint, not the arm, fails there); mixed "
-                    "components have both."))
-    rows = []
-    for v in report.augmented:
-        c = v.component
-        eqs = ", ".join(f"${latex(e)} = 0$" for e in c.equations)
-        kind = v.kind or ("special parameter values" if v.special else "not classified")
-        meets = sorted({m.get("base_component") for m in getattr(c, "meets", ())
-                        if isinstance(m, dict)} - {None})
-        if meets:
-            kind += f" (meets component{'s' if len(meets) > 1 else ''} " \
-                    f"{', '.join(map(str, meets))} of the locus of $J$)"
-        rows.append((str(v.index), eqs, kind))
-    out.append(Table(("no.", "equations", "kind"), tuple(rows), "rll"))
-    base = getattr(report.locus, "base", None)
-    if base is not None:
-        comps = [c for c in base.components if c.for_model and not c.parameter_conditions]
-        out.append(Para(f"The locus of $J$ without the constraint rows ({base.shape[0]}x"
-                        f"{base.shape[1]}, {base.method} method) has {len(comps)} "
-                        "component(s) for the model's values:"))
-        if comps:
-            out.append(Bullets(tuple(
-                f"Component {i} of $J$: " + ", ".join(f"${latex(e)} = 0$" for e in c.equations)
-                for i, c in enumerate(base.components, start=1) if c in comps)))
-    for f in report.figure("augmented"):
-        out.append(Figure(f.name, f.caption, _label(report, "fig", "augmented"), alt=f.title))
-    return out
-
-
 def _timings_section(report):
     rows = tuple((label, f"{sec:.2f}") for label, sec in report.timings)
     total = sum(sec for _, sec in report.timings)
     rows += (("total", f"{total:.2f}"),)
-    return [Heading(2, "Timings", _label(report, "timings")),
+    return [Heading(2, "Timings", block_label(report, "timings")),
             Marker("timings: these vary from run to run; everything else is fixed by the seed"),
             Para("Wall-clock seconds on the machine that wrote this report (they vary from run "
                  "to run; everything else in the report is fixed by the seed)."),
@@ -613,13 +270,14 @@ def _reproduce_section(report):
         args.append("--numeric-parameters")
     if report.timeout:
         args.append(f"--timeout {report.timeout:g}")
-    return [Heading(2, "Reproducing this report", _label(report, "reproduce")),
+    return [Heading(2, "Reproducing this report", block_label(report, "reproduce")),
             Code(" ".join(args), "sh"),
             Para(f"rankloci {_version()}; the report depends only on the model, the options and "
                  "the seed (the timings aside).")]
 
 
 def _version() -> str:
+    """The version of rankloci that writes the report."""
     from .. import __version__
 
     return __version__

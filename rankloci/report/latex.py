@@ -10,8 +10,10 @@ tables that are too wide are scaled (``\\resizebox``).  Labels are
 
 from __future__ import annotations
 
-from .content import Bullets, Code, Figure, Heading, Marker, Math, Para, Table, report_blocks
-from .mathfmt import math_width, rich_tex, tex_escape
+from .blocks import Bullets, Code, Figure, Heading, Marker, Math, Para, Table
+from .content import report_blocks
+from .escape import rich_tex, tex_escape
+from .mathfmt import math_width
 
 __all__ = ["render_latex", "blocks_latex", "PACKAGES"]
 
@@ -56,14 +58,14 @@ def render_latex(report, *, fragment: bool = False, timings: bool = True) -> str
 
 
 def blocks_latex(blocks, *, wide_matrix: bool = False, top: int = 1) -> str:
-    """LaTeX of a list of :mod:`~rankloci.report.content` blocks.
+    """LaTeX of a list of blocks (:mod:`~rankloci.report.blocks`).
 
     Headings of level ``top`` become ``\\section``, the next level
     ``\\subsection`` and so on.
 
     Examples
     --------
-    >>> from rankloci.report.content import Heading, Math
+    >>> from rankloci.report.blocks import Heading, Math
     >>> print(blocks_latex([Heading(2, "Locus", "l"), Math(("x_1 = 0",))], top=1))
     \\subsection{Locus}\\label{l}
     <BLANKLINE>

@@ -7,8 +7,9 @@ linked by their file names, so the Markdown file and its PNGs move together.
 
 from __future__ import annotations
 
-from .content import Bullets, Code, Figure, Heading, Marker, Math, Para, Table, report_blocks
-from .mathfmt import md_escape, rich_md
+from .blocks import Bullets, Code, Figure, Heading, Marker, Math, Para, Table
+from .content import report_blocks
+from .escape import md_escape, rich_md
 
 __all__ = ["render_markdown", "blocks_markdown"]
 
@@ -19,11 +20,11 @@ def render_markdown(report, *, timings: bool = True) -> str:
 
 
 def blocks_markdown(blocks) -> str:
-    """Markdown of a list of :mod:`~rankloci.report.content` blocks.
+    """Markdown of a list of blocks (:mod:`~rankloci.report.blocks`).
 
     Examples
     --------
-    >>> from rankloci.report.content import Heading, Math, Para
+    >>> from rankloci.report.blocks import Heading, Math, Para
     >>> print(blocks_markdown([Heading(2, "Locus"), Para("where $x_1 = 0$"), Math(("x_1 = 0",))]))
     ## 1. Locus
     <BLANKLINE>

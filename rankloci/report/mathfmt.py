@@ -3,123 +3,27 @@
 Both renderings carry their equations as LaTeX math, so the work of making an
 expression short enough to read is done once here: trigonometric functions of
 the joint variables are abbreviated (``s_2 = sin q2``, ``c_2 = cos q2``, the
-usual robotics notation), each entry is written in the shortest of its
-expanded, factored and parameter-collected forms, common subexpressions are
-named when that saves space, and lines that are too wide for a page are
-broken between terms.
+usual robotics notation), each expression is written in the shortest of its
+expanded, factored and parameter-collected forms, and lines that are too wide
+for a page are broken between terms.  :mod:`~rankloci.report.matrixfmt` builds
+the display of a whole Jacobian on these; :mod:`~rankloci.report.escape`
+escapes the plain text around the math.
 
 Everything here is pure: expressions in, strings and expressions out.
 """
 
 from __future__ import annotations
 
-import re
-from dataclasses import dataclass
-
 import sympy as sp
 
-__all__ = ["JacobianDisplay", "jacobian_display", "math_width", "broken_lines", "latex",
-           "compact", "factor_rational", "abbreviations", "value_latex", "vector_latex", "LINE_WIDTH",
-           "tex_escape", "md_escape", "rich_tex", "rich_md"]
+__all__ = ["LINE_WIDTH", "FACTOR_MAX_TERMS", "math_width", "latex", "abbreviations",
+           "angle_sums", "compact", "factor_rational", "terms_latex", "broken_lines",
+           "trig_latex", "value_latex"]
 
 #: Width, in :func:`math_width` units (about one letter of 11 pt math), of a displayed line
 #: that fits between the margins of the report's page (15.9 cm of text at 11 pt) and of a
 #: typical one-column paper page.  Calibrated on the built-in models: no overfull box.
 LINE_WIDTH = 62.0
-
-#: Common subexpressions are named only when that shortens the matrix by this fraction.
-CSE_MIN_GAIN = 0.2
-
-#: A common subexpression narrower than this is put back: naming it does not help a reader.
-CSE_MIN_WIDTH = 10.0
-
-
-# --- text escaping ----------------------------------------------------------------------------
-
-_TEX_SPECIAL = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#",
-                "_": r"\_", "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}",
-                "^": r"\textasciicircum{}", "<": r"\textless{}", ">": r"\textgreater{}",
-                "|": r"\textbar{}"}
-
-_TEX_UNICODE = {"π": r"$\pi$", "≈": r"$\approx$", "∈": r"$\in$", "σ": r"$\sigma$",
-                "×": r"$\times$", "·": r"$\cdot$", "→": r"$\to$", "≤": r"$\le$", "≥": r"$\ge$",
-                "−": "-", "–": "--", "—": "---", "‘": "`", "’": "'", "“": "``", "”": "''",
-                "é": r"\'e", "è": r"\`e", "ö": r"\"o", "ü": r"\"u", "ä": r"\"a", "ᵀ": r"$^T$",
-                "²": r"$^2$", "³": r"$^3$", "√": r"$\surd$", "†": r"$\dagger$"}
-
-
-def tex_escape(text: str) -> str:
-    """Plain text as LaTeX text: specials escaped, known Unicode spelled out, the rest dropped.
-
-    Examples
-    --------
-    >>> tex_escape("a_2 & 50% of π")
-    'a\\\\_2 \\\\& 50\\\\% of $\\\\pi$'
-    """
-    out = []
-    for ch in text:
-        if ch in _TEX_SPECIAL:
-            out.append(_TEX_SPECIAL[ch])
-        elif ch in _TEX_UNICODE:
-            out.append(_TEX_UNICODE[ch])
-        elif ord(ch) < 128:
-            out.append(ch)
-        else:
-            out.append("?")
-    return "".join(out)
-
-
-_MD_SPECIAL = re.compile(r"([\\`*_<>|#])")
-
-
-def md_escape(text: str) -> str:
-    """Plain text safe in Markdown (also inside a table cell).
-
-    Examples
-    --------
-    >>> md_escape("a_2 * b | c")
-    'a\\\\_2 \\\\* b \\\\| c'
-    """
-    return _MD_SPECIAL.sub(r"\\\1", text)
-
-
-_SEGMENTS = re.compile(r"(\$[^$]+\$|`[^`]+`)")
-
-
-def rich_tex(text: str) -> str:
-    """Text with ``$math$`` and ```code``` segments as LaTeX: text escaped, math kept.
-
-    Examples
-    --------
-    >>> rich_tex("50% of $x_1$ in `a_b`")
-    '50\\\\% of $x_1$ in \\\\texttt{a\\\\_b}'
-    """
-    out = []
-    for p in _SEGMENTS.split(text):
-        if p.startswith("$") and p.endswith("$") and len(p) > 1:
-            out.append(p)
-        elif p.startswith("`") and p.endswith("`") and len(p) > 1:
-            out.append(r"\texttt{" + tex_escape(p[1:-1]) + "}")
-        else:
-            out.append(tex_escape(p))
-    return "".join(out)
-
-
-def rich_md(text: str) -> str:
-    """Text with ``$math$`` and ```code``` segments as Markdown: text escaped, the rest kept.
-
-    Examples
-    --------
-    >>> rich_md("a_b and $x_1$ in `a_b`")
-    'a\\\\_b and $x_1$ in `a_b`'
-    """
-    out = []
-    for p in _SEGMENTS.split(text):
-        if len(p) > 1 and ((p[0] == p[-1] == "$") or (p[0] == p[-1] == "`")):
-            out.append(p)
-        else:
-            out.append(md_escape(p))
-    return "".join(out)
 
 
 # --- width of a LaTeX math string -------------------------------------------------------------
@@ -438,124 +342,3 @@ def value_latex(v) -> str:
     if not (v / sp.pi).is_rational:
         text += rf" \approx {float(v):.6g}"
     return text
-
-
-def vector_latex(vec, digits: int = 3) -> str:
-    """A numeric vector as a LaTeX row ``(+0.123, -0.456)``."""
-    return r"\left(" + ", ".join(f"{x:+.{digits}f}" for x in vec) + r"\right)"
-
-
-# --- the Jacobian -------------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class JacobianDisplay:
-    """A symbolic matrix prepared for display.
-
-    Attributes
-    ----------
-    entries : tuple of tuple of sympy.Expr
-        Compact entries, in the abbreviations and the common subexpressions.
-    abbreviations : tuple of (Symbol, Expr)
-        ``s_i = sin q_i``, ``c_i = cos q_i`` for the variables that occur.
-    definitions : tuple of (Symbol, Expr)
-        Common subexpressions ``xi_k``, in the order they must be read.
-    layout : str
-        ``"matrix"`` (the whole matrix fits on a line) or ``"columns"``.
-    row_labels, column_labels : tuple of str
-    """
-
-    entries: tuple
-    abbreviations: tuple
-    definitions: tuple
-    layout: str
-    row_labels: tuple
-    column_labels: tuple
-
-    @property
-    def shape(self):
-        return (len(self.entries), len(self.entries[0]) if self.entries else 0)
-
-
-def jacobian_display(matrix, variables, parameters=(), row_labels=(), *,
-                     width: float = LINE_WIDTH) -> JacobianDisplay:
-    """Prepare ``matrix`` (a sympy matrix in ``variables``) for display.
-
-    Examples
-    --------
-    >>> q1, q2, l1, l2 = sp.symbols("q1 q2 l1 l2")
-    >>> J = sp.Matrix([[-l1*sp.sin(q1) - l2*sp.sin(q1 + q2)]])
-    >>> jacobian_display(J, [q1, q2], [l1, l2]).entries[0][0]
-    -l1*s_1 - l2*s_12
-    """
-    M = sp.Matrix(matrix)
-    names = {str(s) for e in M for s in e.free_symbols}
-    summed = [angle_sums(e) for e in M]
-    atoms = set().union(*(e.atoms(sp.sin, sp.cos) for e in summed)) if summed else set()
-    ab = abbreviations(variables, names, sorted(atoms, key=sp.default_sort_key))
-    params = sorted(parameters, key=str)
-    entries = [[None] * M.cols for _ in range(M.rows)]
-    for k, (plain, folded) in enumerate(zip(M, summed)):
-        a = compact(plain.xreplace(ab), params)
-        b = compact(folded.xreplace(ab), params) if folded is not plain else a
-        entries[k // M.cols][k % M.cols] = min(a, b, key=lambda e: math_width(latex(e)))
-    used = set().union(*(e.free_symbols for row in entries for e in row)) if entries else set()
-    abbrevs = tuple((s, f) for f, s in ab.items() if s in used)
-    abbrevs = tuple(sorted(abbrevs, key=lambda p: (_arg_key(p[1], variables), str(p[0])[0] == "s")))
-    entries, definitions = _named_subexpressions(entries, params)
-    cols = [str(v) for v in variables]
-    layout = "matrix" if _matrix_width(entries) <= width else "columns"
-    return JacobianDisplay(tuple(tuple(r) for r in entries), abbrevs, tuple(definitions), layout,
-                           tuple(row_labels), tuple(cols))
-
-
-def _arg_key(f, variables):
-    arg = f.args[0]
-    vs = list(variables)
-    terms = sp.Add.make_args(arg)
-    return (len(terms), [vs.index(t) if t in vs else len(vs) for t in terms])
-
-
-def _matrix_width(entries) -> float:
-    if not entries:
-        return 0.0
-    cols = len(entries[0])
-    widths = [max(math_width(latex(entries[i][j])) for i in range(len(entries))) for j in range(cols)]
-    return sum(widths) + 2.0 * (cols - 1) + 4.0
-
-
-def _total_width(entries, definitions=()) -> float:
-    return (sum(math_width(latex(e)) for row in entries for e in row)
-            + sum(math_width(latex(d)) + 3 for _, d in definitions))
-
-
-def _named_subexpressions(entries, params):
-    """Name common subexpressions when that shortens the matrix by CSE_MIN_GAIN."""
-    flat = [e for row in entries for e in row]
-    if not flat or all(e.is_Atom or e.is_number for e in flat):
-        return entries, []
-    taken = {str(s) for e in flat for s in e.free_symbols}
-    xi = (sp.Symbol(f"xi_{k}") for k in range(1, 10_000) if f"xi_{k}" not in taken)
-    try:
-        replacements, reduced = sp.cse(flat, symbols=xi, order="canonical")
-    except (RecursionError, ValueError):  # pragma: no cover - sympy internals
-        return entries, []
-    # put back the narrow ones
-    keep, back = [], {}
-    for sym, expr in replacements:
-        expr = expr.xreplace(back)
-        if math_width(latex(expr)) < CSE_MIN_WIDTH:
-            back[sym] = expr
-        else:
-            keep.append((sym, expr))
-    reduced = [r.xreplace(back) for r in reduced]
-    # renumber the kept ones 1, 2, ... in order of definition
-    renumber = {}
-    for k, (sym, _) in enumerate(keep, start=1):
-        renumber[sym] = sp.Symbol(f"xi_{k}")
-    keep = [(renumber[s], e.xreplace(renumber)) for s, e in keep]
-    reduced = [compact(r.xreplace(renumber), params) for r in reduced]
-    cols = len(entries[0])
-    new = [reduced[i * cols:(i + 1) * cols] for i in range(len(entries))]
-    if not keep or _total_width(new, keep) > (1 - CSE_MIN_GAIN) * _total_width(entries):
-        return entries, []
-    return new, keep

@@ -13,10 +13,12 @@ import sympy as sp
 
 import report_helpers as RH
 from rankloci.io import load_model
+from rankloci.locus import Outcome
 from rankloci.report import ReportError, build_report, write_report
 from rankloci.report.analysis import compare_loci, tree_summary
 from rankloci.report.markdown import render_markdown
-from rankloci.report.mathfmt import LINE_WIDTH, broken_lines, jacobian_display, latex, math_width
+from rankloci.report.mathfmt import LINE_WIDTH, broken_lines, latex, math_width
+from rankloci.report.matrixfmt import jacobian_display
 from rankloci.report.reading import direction_readings, geometry_readings
 
 SEED = 5
@@ -99,12 +101,12 @@ def test_jacobian_display_is_equal_to_the_jacobian(name):
 
 def test_wide_jacobian_is_laid_out_in_columns_that_fit():
     from rankloci.jacobian import task_matrix
-    from rankloci.report.content import _matrix_blocks
+    from rankloci.report.content import matrix_blocks
 
     tm = task_matrix(load_model("ssrms"), frame="auto")
     jd = jacobian_display(tm.matrix, tm.variables, tm.parameters)
     assert jd.layout == "columns"
-    for block in _matrix_blocks(jd):
+    for block in matrix_blocks(jd):
         for line in getattr(block, "lines", ()):
             # a column vector's width is its widest entry, not the sum of its rows
             rows = line.split(r",\quad ")
@@ -118,19 +120,35 @@ def test_tree_summary_keeps_paths_to_components():
     import networkx as nx
 
     tree = nx.DiGraph()
-    tree.add_node(0, condition="(all configurations)", outcome="refined")
+    tree.add_node(0, condition="(all configurations)", outcome=Outcome.REFINED)
     for k in range(1, 80):
-        tree.add_node(k, condition=f"f{k}", outcome="empty")
+        tree.add_node(k, condition=f"f{k}", outcome=Outcome.EMPTY)
         tree.add_edge(0, k)
-    tree.add_node(80, condition="sin(q2/2)", outcome="no redundant column")
+    tree.add_node(80, condition="sin(q2/2)", outcome=Outcome.NO_REDUNDANT_COLUMN)
     tree.add_edge(3, 80)
-    tree.nodes[3]["outcome"] = "refined"
+    tree.nodes[3]["outcome"] = Outcome.REFINED
     s = tree_summary(tree, max_nodes=20)
     assert s.total_nodes == 81 and s.graph.number_of_nodes() < 10
     roles = nx.get_node_attributes(s.graph, "role")
     assert roles[80] == "component" and "summary" in roles.values()
     label = [d["label"] for n, d in s.graph.nodes(data=True) if d["role"] == "summary"][0]
     assert "78 more branches" in label and "78 x empty" in label
+
+
+def test_only_component_outcomes_make_component_leaves():
+    import networkx as nx
+
+    tree = nx.DiGraph()
+    tree.add_node(0, condition="(all configurations)", outcome=Outcome.REFINED)
+    tree.add_node(1, condition="f1", outcome=Outcome.NO_REAL_POINT)
+    tree.add_node(2, condition="f2", outcome=Outcome.ALL_MINORS_VANISH)
+    tree.add_node(3, condition="f3")                    # no outcome recorded
+    tree.add_edges_from([(0, 1), (0, 2), (0, 3)])
+    s = tree_summary(tree)
+    assert nx.get_node_attributes(s.graph, "role") == {0: "inner", 1: "leaf", 2: "component",
+                                                       3: "leaf"}
+    assert s.outcomes == {str(Outcome.NO_REAL_POINT): 1, str(Outcome.ALL_MINORS_VANISH): 1, "": 1}
+    assert f"[{Outcome.NO_REAL_POINT}]" in s.graph.nodes[1]["label"]
 
 
 def test_compare_loci_sees_a_missing_component():

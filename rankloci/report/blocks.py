@@ -1,0 +1,108 @@
+"""The blocks a report is made of, and the spellings the sections share.
+
+A report is a list of blocks (:class:`Heading`, :class:`Para`, :class:`Math`,
+:class:`Table`, ...), plain data that :mod:`~rankloci.report.markdown` and
+:mod:`~rankloci.report.latex` spell each in their own way.  Text in blocks
+may hold ``$math$`` and ```code``` segments.  Everything here is pure.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .mathfmt import latex
+
+__all__ = ["Heading", "Para", "Math", "Table", "Bullets", "Figure", "Code", "Marker", "SIGMA",
+           "block_label", "variables_text"]
+
+#: The ratio the checks and the heat maps are about, as text with math.
+SIGMA = r"$\sigma_{\min}/\sigma_{\max}$"
+
+
+@dataclass(frozen=True)
+class Heading:
+    """A heading: the title, a section or a subsection, with a label to refer to it."""
+
+    level: int            # 1 title, 2 section, 3 subsection
+    text: str
+    label: str = ""
+
+
+@dataclass(frozen=True)
+class Para:
+    """A paragraph of text."""
+
+    text: str
+    lead: str = ""        # a bold run-in heading such as "Source."
+
+
+@dataclass(frozen=True)
+class Math:
+    """Displayed math: one line, or several aligned at ``&`` (``aligned=True``)."""
+
+    lines: tuple
+    aligned: bool = False
+
+
+@dataclass(frozen=True)
+class Table:
+    """A table of text cells under a header row."""
+
+    header: tuple
+    rows: tuple
+    align: str = ""       # one of l, r, c per column
+    caption: str = ""
+
+
+@dataclass(frozen=True)
+class Bullets:
+    """A list of items, each a line of text."""
+
+    items: tuple
+
+
+@dataclass(frozen=True)
+class Figure:
+    """A figure: a PNG file beside the report, with its caption and label."""
+
+    file: str
+    caption: str
+    label: str
+    tall: bool = False
+    alt: str = ""         # a short plain-text description (Markdown's image text)
+
+
+@dataclass(frozen=True)
+class Code:
+    """Text shown as it is, such as a command line or equations in plain text."""
+
+    text: str
+    language: str = ""
+
+
+@dataclass(frozen=True)
+class Marker:
+    """A comment in the output, such as the start and end of the timings."""
+
+    text: str
+
+
+
+def block_label(report, *parts) -> str:
+    """A cross-reference label unique to ``report``: ``rankloci:MODEL:part:...``.
+
+    Several reports can share one LaTeX document without clashing labels.
+    """
+    return ":".join(("rankloci", report.name) + tuple(str(p) for p in parts))
+
+
+def variables_text(variables) -> str:
+    """The variables as inline math (``$q_{1}, q_{2}$``), or ``none``.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> variables_text(sp.symbols("q1 q2")), variables_text(())
+    ('$q_{1}, q_{2}$', 'none')
+    """
+    return ("$" + ", ".join(latex(v) for v in variables) + "$") if variables else "none"

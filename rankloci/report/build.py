@@ -1,0 +1,328 @@
+"""What a report shows, computed: :func:`build_report` and the :class:`Report` it returns.
+
+:func:`build_report` computes everything a report shows (the locus with the
+model's default method and, for a non-square matrix, the other method too;
+the numeric cross-check; plain-language readings; the figures as PNG bytes)
+and returns a frozen :class:`Report`.  It reads neither the clock nor the
+environment on its own: the caller passes a ``clock`` (for the timings and
+the time limit) and the path of graphviz's ``dot`` (or None for each).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+
+__all__ = ["Report", "ComponentView", "build_report", "READING_POINTS", "SUMMARY_CHARS"]
+
+#: Extra points per component on which geometric readings are confirmed.
+READING_POINTS = 2
+
+#: A direction reading longer than this is left out of the summary tables.
+SUMMARY_CHARS = 110
+
+
+@dataclass(frozen=True)
+class ComponentView:
+    """A locus component with what the report says about it."""
+
+    index: int
+    component: object
+    special: bool
+    readings: tuple = ()
+    folded: tuple = ()        # equivalent compact forms of the equations (or ())
+    kind: str | None = None
+    summary: str = ""         # a short reading for tables: geometry first, "" if none is short
+
+
+@dataclass(frozen=True)
+class Report:
+    """Everything a report shows; see :func:`build_report`."""
+
+    model: object
+    tm: object
+    jacobian: object
+    notation: tuple
+    locus: object
+    locus_status: str
+    components: tuple
+    second: object = None
+    second_status: str = ""
+    comparison: object = None
+    check: object = None
+    exact: object = None
+    tree: object = None
+    figures: tuple = ()
+    timings: tuple = ()
+    seed: int = 0
+    samples: int = 10
+    timeout: float | None = None
+    numeric: bool = False
+    augmented: tuple = ()     # ComponentView of the augmented locus when it has a base locus
+    notes: tuple = ()
+    model_notes: str = ""     # the free-text notes of the model file
+    stamp: str = ""           # a date and time to print, only when asked for
+
+    @property
+    def name(self) -> str:
+        """The model's name, which names the report's files."""
+        return self.model.name
+
+    @property
+    def method(self) -> str:
+        """The method of the locus the report is about (:func:`~rankloci.methods.method_for`)."""
+        from ..methods import method_for
+
+        return method_for(self.tm.shape)
+
+    def figure(self, kind: str):
+        """The figures of one ``kind`` (``"sigma"``, ``"manipulability"``, ``"tree"``, ...)."""
+        return [f for f in self.figures if f.kind == kind]
+
+
+def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = False,
+                 timeout: float | None = None, clock=None, progress=None, dot: str | None = None,
+                 exact: bool = True, model_notes: str = "", stamp: str = "") -> Report:
+    """Compute the content of a report on ``model``.
+
+    Parameters
+    ----------
+    model : RobotModel or MatrixModel
+    seed : int
+        Seed of every random choice (numeric probes, cross-check points, paths).
+    samples : int
+        Points per component, off-locus points and probe starts of the cross-check.
+    numeric : bool
+        Replace the parameters by their values before the algebra.
+    timeout : float, optional
+        Seconds allowed to each locus computation (needs ``clock``).  When the
+        first one runs out, the report is built without the locus and says so.
+    clock : callable, optional
+        Returns seconds (``time.perf_counter``); without it no timing is recorded
+        and ``timeout`` does not apply.
+    progress : callable, optional
+        Called with one-line progress messages.
+    dot : str, optional
+        Path of graphviz's ``dot``; without it the tree is drawn with matplotlib.
+    exact : bool
+        Also run the Singular cross-check of ``rankloci check`` (skipped by it
+        when Singular is absent or the matrix is too large).
+    model_notes : str
+        Free-text notes on the model (see
+        :func:`~rankloci.report.write.read_model_notes`), shown
+        with its source.
+    stamp : str
+        A date and time to print under the title; empty (the default) keeps
+        the report free of dates.
+
+    Examples
+    --------
+    >>> from rankloci.io import load_model
+    >>> report = build_report(load_model("planar2r"), samples=2, exact=False)
+    >>> [str(v.component.equations[0]) for v in report.components if not v.special]
+    ['sin(q2)']
+    >>> [f.name for f in report.figures]
+    ['planar2r-sigma-1.png', 'planar2r-manipulability.png', 'planar2r-tree.png']
+    """
+    from ..augmented import augmented_locus
+    from ..errors import LocusTimeout
+    from ..jacobian import task_matrix
+    from ..methods import compute_locus, method_for
+    from ..numeric.crosscheck import cross_check
+    from ..numeric.equations import NumericMatrix
+    from . import analysis as A
+    from .figure_files import report_figures
+    from .matrixfmt import jacobian_display
+
+    say = progress or (lambda msg: None)
+    now = clock or (lambda: 0.0)
+    timings = []
+
+    def timed(label, fn):
+        t0 = now()
+        out = fn()
+        timings.append((label, now() - t0))
+        return out
+
+    def stopper():
+        if clock is None or not timeout or timeout <= 0:
+            return None
+        end = clock() + timeout
+        return lambda: clock() > end
+
+    say(f"{model.name}: building the symbolic matrix")
+    tm = timed("symbolic J (locus frame)", lambda: task_matrix(model, frame="auto", numeric=numeric))
+    model_tm = timed("symbolic J (model frame)", lambda: task_matrix(model))
+    jac = timed("J for display", lambda: jacobian_display(tm.matrix, tm.variables,
+                                                           tm.parameters, tm.row_labels))
+    params = dict(model_tm.parameters)
+    nm = NumericMatrix(sp.Matrix(model_tm.matrix).subs(params), model_tm.variables,
+                       model_tm.angles)
+    method = method_for(tm.shape)
+    rng = np.random.default_rng
+
+    # the locus
+    say(f"{model.name}: {tm.shape[0]}x{tm.shape[1]} matrix, locus by {method}, seed {seed}")
+    locus, status = None, ""
+    try:
+        # for an augmented matrix, with J's own locus attached and each component classified
+        locus = timed(f"locus ({method})", lambda: augmented_locus(
+            model, tm, method, seed=seed, progress=progress, should_stop=stopper(), clock=clock))
+    except LocusTimeout:
+        timings.append((f"locus ({method})", float(timeout or 0.0)))
+        status = (f"The locus computation ({method}) did not finish within {timeout:g} s "
+                  "(the time limit of this report); the sections below that need it are "
+                  "left out.")
+        say(f"{model.name}: the locus did not finish within {timeout:g} s")
+
+    # the other method
+    second, second_status, comparison = None, "", None
+    if locus is not None and tm.shape[0] != tm.shape[1]:
+        say(f"{model.name}: locus by subdeterminant, for the comparison")
+        try:
+            second = timed("locus (subdeterminant)", lambda: compute_locus(
+                tm, "subdeterminant", rng=rng(seed), should_stop=stopper(), clock=clock))
+            comparison = timed("method comparison", lambda: A.compare_loci(
+                locus, second, nm, params, rng(seed)))
+        except LocusTimeout:
+            timings.append(("locus (subdeterminant)", float(timeout or 0.0)))
+            second_status = (f"The subdeterminant method did not finish within {timeout:g} s; "
+                             "no comparison.")
+
+    # the cross-check
+    check = exact_result = None
+    if locus is not None:
+        say(f"{model.name}: cross-check, {samples} samples, seed {seed}")
+        check = timed("numeric cross-check", lambda: cross_check(
+            locus, model_tm.matrix, model_tm.variables, angles=model_tm.angles,
+            parameters=params, samples=samples, rng=rng(seed), seed=seed))
+        if exact:
+            from ..exact.singular import singular_cross_check
+
+            exact_result = timed("Singular cross-check", lambda: singular_cross_check(
+                task_matrix(model, frame="auto", numeric=True), locus, rng=rng(seed)))
+
+    # components, readings, folded equations
+    views, notation = (), jac.abbreviations
+    if locus is not None:
+        views, notation = timed("readings", lambda: _component_views(
+            model, model_tm, locus, nm, params, rng(seed), jac))
+    augmented = ()
+    base = getattr(locus, "base", None) if locus is not None else None
+    if base is not None:
+        augmented = tuple(ComponentView(i, c, not c.exists_for_model,
+                                        kind=getattr(c, "kind", None))
+                          for i, c in enumerate(locus.components, start=1))
+
+    # figures
+    say(f"{model.name}: figures")
+    figures = timed("figures", lambda: report_figures(model, model_tm, locus, nm, params,
+                                                      seed, dot))
+    tree = A.tree_summary(locus.tree) if locus is not None and locus.tree is not None else None
+    notes = ()
+    if locus is not None and tm.frame is not None and (tm.frame, tm.point) != (
+            getattr(model, "frame", None), "tool"):
+        where = f"link frame {tm.frame}" if isinstance(tm.frame, int) else f"the {tm.frame} frame"
+        about = (f", about the origin of link frame {tm.point}" if isinstance(tm.point, int)
+                 else "")
+        notes = (f"The locus was computed from J in {where}{about}, where its entries are "
+                 "smallest; the rank, and so the locus, is the same in every frame. The lost "
+                 "directions at the sample points are given in the model's frame.",)
+    return Report(model=model, tm=tm, jacobian=jac, notation=notation, locus=locus,
+                  locus_status=status, components=views, second=second,
+                  second_status=second_status, comparison=comparison, check=check,
+                  exact=exact_result, tree=tree, figures=figures, timings=tuple(timings),
+                  seed=seed, samples=samples, timeout=timeout, numeric=numeric,
+                  augmented=augmented, notes=notes, model_notes=model_notes, stamp=stamp)
+
+
+def _component_views(model, model_tm, locus, nm, params, rng, jac):
+    """A :class:`ComponentView` of each component, and the notation the views use."""
+    from .analysis import component_points
+    from .mathfmt import abbreviations, angle_sums, compact, latex, math_width
+    from .reading import direction_readings
+
+    variables = list(model_tm.variables)
+    taken = {str(s) for e in model_tm.matrix for s in e.free_symbols}
+    notation = dict((str(s), (s, f)) for s, f in jac.abbreviations)
+    tall = model_tm.shape[0] > model_tm.shape[1]
+    frame = getattr(model, "frame", "base")
+    views = []
+    for i, c in enumerate(locus.components, start=1):
+        special = not c.exists_for_model
+        folded = []
+        for e in c.equations:
+            f = angle_sums(e)
+            atoms = sorted(f.atoms(sp.sin, sp.cos), key=sp.default_sort_key)
+            ab = abbreviations(variables, taken, atoms)
+            g = compact(f.xreplace(ab), list(model_tm.parameters))
+            if g.has(sp.sin, sp.cos) or math_width(latex(g)) > 0.8 * math_width(latex(e)):
+                folded = []
+                break
+            for fn, s in ab.items():
+                if s in g.free_symbols:
+                    notation.setdefault(str(s), (s, fn))
+            folded.append(g)
+        geometry, directions = [], []
+        if not special:
+            geometry = _named_readings(model, c, nm, params, rng, component_points)
+            q = np.array([c.sample[v.name] for v in nm.variables], dtype=float)
+            J = nm(q)
+            for vec in c.direction_at_sample:
+                directions += direction_readings(J, vec, model_tm.row_labels, tall=tall,
+                                                 frame=frame, variables=variables)
+        short = [r for r in directions if len(r) <= SUMMARY_CHARS]
+        summary = geometry[0] if geometry else (short[0] if short else "")
+        views.append(ComponentView(i, c, special, tuple(geometry + directions), tuple(folded),
+                                   getattr(c, "kind", None), summary))
+    items = sorted(notation.values(), key=lambda p: _notation_key(p[1], variables))
+    return tuple(views), tuple(items)
+
+
+def _notation_key(f, variables):
+    """Abbreviations ordered by the number of angles they sum, then by variable."""
+    terms = sp.Add.make_args(f.args[0])
+    return (len(terms), [variables.index(t) if t in variables else 99 for t in terms],
+            isinstance(f, sp.sin))
+
+
+def _named_readings(model, comp, nm, params, rng, component_points):
+    """Geometric readings, with the conventional name of the singularity where it is clear."""
+    from ..model import RobotModel
+    from .reading import geometry_readings
+
+    if not isinstance(model, RobotModel):
+        return []
+    pts = component_points(comp, nm, params, rng, READING_POINTS)
+    qs = [{v.name: float(x) for v, x in zip(nm.variables, q)} for q in pts]
+    facts = geometry_readings(model, qs, rng)
+    if not facts:
+        return []
+    revolute = [k + 1 for k, j in enumerate(model.joints) if j.kind == "revolute"]
+    wrist = set(revolute[-3:]) if len(revolute) >= 6 else set()
+    shoulder = set(revolute[:3]) if len(revolute) >= 6 else set()
+    first = revolute[0] if revolute else None
+    named = []
+    for f in facts:
+        axes = [int(x) for x in re.findall(r"\d+", f)]
+        if f.startswith("axes") and f.endswith("collinear") and set(axes) <= wrist:
+            f = "wrist singularity: " + f
+        elif f.startswith("axes") and f.endswith("collinear") and set(axes) <= shoulder:
+            f = "shoulder singularity: " + f
+        elif (f.startswith("axes") and f.endswith("collinear") and len(revolute) >= 7
+              and axes[0] in shoulder and axes[1] in wrist):
+            f = "elbow singularity (arm stretched out or folded back): " + f
+        elif f.startswith("axis") and "parallel to" in f and axes[0] in wrist \
+                and set(axes[1:]) & wrist:
+            f = "wrist singularity: " + f
+        elif (f == f"the task point lies on axis {first}"
+              or f.startswith(f"the task point lies in the plane through axis {first} ")):
+            f = "shoulder singularity: " + f
+        elif (f.endswith("the plane they span") or f.endswith("lie in one plane")) \
+                and axes == list(range(axes[0], axes[0] + len(axes))):
+            f = "elbow singularity (arm stretched out or folded back): " + f
+        named.append(f)
+    return named

@@ -1,0 +1,142 @@
+"""Reports on disk: :func:`write_report` (Markdown, LaTeX, PDF and the PNG figures) and
+:func:`read_model_notes`.
+
+This is the only module of the report package that touches files; it runs
+LaTeX, and the only other program the package runs is graphviz's ``dot``
+(:func:`~rankloci.report.figures.tree_png`, on bytes in memory).
+:func:`write_report` builds the whole report in a temporary directory beside
+the target and then moves the files into place, so that a failure leaves
+nothing half-written.  The LaTeX command is passed in (or None): nothing here
+looks for programs.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import tempfile
+from pathlib import Path
+
+__all__ = ["write_report", "read_model_notes", "ReportError", "FORMATS"]
+
+#: The formats :func:`write_report` writes (the PNG figures come with each).
+FORMATS = ("md", "tex", "pdf")
+
+
+class ReportError(Exception):
+    """A report could not be written (LaTeX failed on it): not bad input, a failure."""
+
+
+def read_model_notes(model) -> str:
+    """The ``notes`` of the TOML file a model was read from ("" for other models)."""
+    import tomllib
+
+    path = str(getattr(model, "path", "") or "")
+    if not path.endswith(".toml"):
+        return ""
+    try:
+        with open(path, "rb") as fh:
+            notes = tomllib.load(fh).get("notes", "")
+    except (OSError, tomllib.TOMLDecodeError):
+        return ""
+    return " ".join(notes.split()) if isinstance(notes, str) else ""
+
+
+#: Figure files a report owns: an older one that is not produced again is removed.
+_FIGURE_PATTERNS = ("{name}-sigma-*.png", "{name}-manipulability.png", "{name}-tree.png",
+                    "{name}-augmented.png")
+
+
+def write_report(report, directory, *, formats=FORMATS, fragment: bool = False,
+                 latex: tuple | None = None, timings: bool = True) -> list[Path]:
+    """Write ``report`` into ``directory`` (created if missing) and return the paths written.
+
+    Parameters
+    ----------
+    report : Report
+        What :func:`~rankloci.report.build.build_report` returned.
+    directory : path
+    formats : sequence of {"md", "tex", "pdf"}
+        The PNG figures are always written beside the text.
+    fragment : bool
+        Write the LaTeX body without a preamble (for ``\\input`` into a paper).
+    latex : (str, str) or None
+        ``("latexmk", path)`` or ``("pdflatex", path)`` to build the PDF; None
+        skips the PDF.
+    timings : bool
+        Include the timing table (it differs from run to run).
+
+    Everything is first built in a temporary directory beside ``directory``;
+    only when all of it succeeded are the files moved into place.
+    """
+    from .latex import render_latex
+    from .markdown import render_markdown
+
+    bad = [f for f in formats if f not in FORMATS]
+    if bad:
+        raise ValueError(f"formats {bad} are not among {FORMATS}")
+    directory = Path(directory)
+    # the temporary directory goes into the nearest directory that exists, so that a
+    # failure creates nothing, and the final moves stay on one file system (atomic)
+    anchor = directory.resolve().parent
+    while not anchor.is_dir():
+        anchor = anchor.parent
+    tmp = Path(tempfile.mkdtemp(dir=anchor, prefix=f".{directory.name}.tmp-"))
+    try:
+        produced = []
+        for fig in report.figures:
+            (tmp / fig.name).write_bytes(fig.png)
+            produced.append(fig.name)
+        name = report.name
+        if "md" in formats:
+            (tmp / f"{name}.md").write_text(render_markdown(report, timings=timings),
+                                            encoding="utf-8")
+            produced.append(f"{name}.md")
+        tex = render_latex(report, fragment=fragment, timings=timings)
+        if "tex" in formats:
+            (tmp / f"{name}.tex").write_text(tex, encoding="utf-8")
+            produced.append(f"{name}.tex")
+        if "pdf" in formats and latex is not None:
+            _build_pdf(tmp, name, tex if not fragment else render_latex(
+                report, fragment=False, timings=timings), latex)
+            produced.append(f"{name}.pdf")
+        directory.mkdir(parents=True, exist_ok=True)
+        written = []
+        stale = {p.name for pattern in _FIGURE_PATTERNS
+                 for p in directory.glob(pattern.format(name=name))} - set(produced)
+        for fname in produced:
+            os.replace(tmp / fname, directory / fname)
+            written.append(directory / fname)
+        for fname in sorted(stale):
+            (directory / fname).unlink(missing_ok=True)
+        return written
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+def _build_pdf(workdir: Path, name: str, document: str, latex: tuple):
+    """Compile ``document`` in ``workdir`` to ``name.pdf``; raise ReportError with the log tail."""
+    kind, exe = latex
+    job = f"{name}-build"
+    (workdir / f"{job}.tex").write_text(document, encoding="utf-8")
+    env = dict(os.environ, SOURCE_DATE_EPOCH="0", FORCE_SOURCE_DATE="1")
+    if kind == "latexmk":
+        cmds = [[exe, "-pdf", "-interaction=nonstopmode", "-halt-on-error", "-file-line-error",
+                 f"{job}.tex"]]
+    else:
+        run = [exe, "-interaction=nonstopmode", "-halt-on-error", "-file-line-error", f"{job}.tex"]
+        cmds = [run, run]
+    for cmd in cmds:
+        try:
+            proc = subprocess.run(cmd, cwd=workdir, capture_output=True, timeout=600, env=env,
+                                  stdin=subprocess.DEVNULL)
+        except subprocess.TimeoutExpired:
+            raise ReportError(f"{kind} did not finish within 600 s on {name}.tex") from None
+        if proc.returncode != 0:
+            log = workdir / f"{job}.log"
+            tail = log.read_text(errors="replace").splitlines()[-15:] if log.exists() else []
+            errors = [ln for ln in tail if ln.startswith("!") or ":" in ln][:3]
+            raise ReportError(f"{kind} failed on {name}.tex: "
+                              + (" | ".join(errors) or f"exit code {proc.returncode}"))
+    os.replace(workdir / f"{job}.pdf", workdir / f"{name}.pdf")
