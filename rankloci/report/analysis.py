@@ -34,6 +34,7 @@ GRID = 181
 #: Points along a manipulability path.
 PATH_POINTS = 401
 
+
 def model_components(locus):
     """(1-based index, component) of the components that exist for the model's values."""
     return [(i, c) for i, c in enumerate(locus.components, start=1) if c.exists_for_model]
