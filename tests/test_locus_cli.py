@@ -144,13 +144,30 @@ def test_determinant_method_needs_a_square_matrix(capsys, quiet):
         assert err.splitlines() == errors
 
 
-def test_timeout_exits_1(capsys):
-    code, out, err = run(capsys, "locus", "pa10", "--timeout", "0.001", "--quiet")
+@pytest.fixture
+def jumping_clock(monkeypatch):
+    """The --timeout clock moves 1000 s at every reading: the first poll after the start
+    finds any budget under 1000 s spent, however fast the machine."""
+    import itertools
+
+    import rankloci.cli.commands
+
+    ticks = itertools.count(0.0, 1000.0)
+    monkeypatch.setattr(rankloci.cli.commands, "deadline_clock", lambda: next(ticks))
+
+
+def test_timeout_exits_1(capsys, jumping_clock):
+    code, out, err = run(capsys, "locus", "planar3r", "--timeout", "600", "--quiet")
     assert code == 1, (out, err)
     assert out == ""
-    assert "did not finish" in err
     assert len(err.splitlines()) == 1 and "Traceback" not in err, err
-    assert err.startswith("rankloci: error: ")
+    assert err.startswith("rankloci: error: ") and "did not finish" in err
+    assert "raise --timeout (now 600 s)" in err
+
+
+def test_timeout_0_never_stops(capsys, jumping_clock):
+    code, out, err = run(capsys, "locus", "planar3r", "--timeout", "0", "--quiet")
+    assert (code, err) == (0, "")
 
 
 # --- the branch tree files ----------------------------------------------------------------
