@@ -35,15 +35,44 @@ import sympy as sp
 
 from ..errors import LocusError
 
-__all__ = ["PolyRing"]
+__all__ = ["PolyRing", "square_root_primes"]
 
 
 #: Largest integer multiple k of an angle in sin(k*q) or cos(k*q): the half-angle form of
 #: cos(k*q) has degree 2k, and joint Jacobians have k <= 2 (k = 12 leaves room for raw matrices).
 MAX_ANGLE_MULTIPLE = 12
 
+#: Largest integer n whose square root sqrt(n) becomes surd generators (n is factored into primes).
+MAX_SURD = 10 ** 12
+
 #: Largest number of terms one matrix entry may have once padded to the degree of its row.
 MAX_ENTRY_TERMS = 200_000
+
+
+def _square_root_of_integer(atom):
+    """(n, +1) for sqrt(n), (n, -1) for 1/sqrt(n), n a positive integer; else None."""
+    if atom.base.is_Integer and 0 < atom.base <= MAX_SURD and atom.exp in (sp.S.Half, -sp.S.Half):
+        return int(atom.base), 1 if atom.exp > 0 else -1
+    return None
+
+
+def square_root_primes(exprs) -> tuple:
+    """The primes whose square roots occur in ``exprs`` (as sqrt(n), n an integer), sorted.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> square_root_primes([sp.sqrt(6) / 2, sp.sqrt(3) * sp.Symbol("x")])
+    (2, 3)
+    """
+    primes = set()
+    for e in exprs:
+        for atom in sp.sympify(e).atoms(sp.Pow):
+            if atom.is_number:
+                root = _square_root_of_integer(atom)
+                if root is not None:
+                    primes |= set(sp.factorint(root[0]))
+    return tuple(sorted(primes))
 
 
 def _check_angle_multiples(expr, angles):
@@ -69,11 +98,19 @@ class PolyRing:
         Variables entering polynomially (prismatic joints, raw-matrix variables).
     params : tuple of Symbol
         Parameters kept symbolic.
+    surds : tuple of int
+        Primes p whose square roots occur in the entries (twists of pi/3,
+        pi/4, pi/6 ...).  Each is a generator r_p with the fixed value sqrt(p);
+        polynomials are kept reduced modulo r_p**2 - p (see :meth:`normal`),
+        where a polynomial vanishes at the actual values exactly when it is
+        zero, because the products of square roots of distinct primes are
+        linearly independent over Q.  Surd generators come last.
     """
 
     angles: tuple
     others: tuple
     params: tuple
+    surds: tuple = ()
 
     @functools.cached_property
     def names(self) -> tuple[str, ...]:
@@ -81,7 +118,54 @@ class PolyRing:
         for q in self.angles:
             out += [f"C_{q.name}", f"S_{q.name}"]
         out += [x.name for x in self.others] + [p.name for p in self.params]
+        out += [f"sqrt_{p}" for p in self.surds]
         return tuple(out)
+
+    @property
+    def surd_start(self) -> int:
+        """Index of the first surd generator (the number of the other generators)."""
+        return 2 * len(self.angles) + len(self.others) + len(self.params)
+
+    @functools.cached_property
+    def surd_values(self) -> np.ndarray:
+        """The values sqrt(p) of the surd generators."""
+        return np.sqrt(np.array(self.surds, dtype=float))
+
+    def is_number(self, p) -> bool:
+        """Is ``p`` a number: a constant, or (reduced) a polynomial in the surds alone?"""
+        if p.is_constant():
+            return True
+        return bool(self.surds) and min(self.variable_indices(p)) >= self.surd_start
+
+    def normal(self, p):
+        """``p`` reduced modulo r**2 - prime for each surd generator r (identity without surds).
+
+        Examples
+        --------
+        >>> import sympy as sp
+        >>> x = sp.Symbol("x")
+        >>> ring = PolyRing((), (x,), (), surds=(3,))
+        >>> r = ring.gens[1]
+        >>> ring.normal(r * r * ring.gens[0] + r)
+        3*x + sqrt_3
+        """
+        if not self.surds or p.is_zero():
+            return p
+        start = self.surd_start
+        degs = p.degrees()
+        if all(degs[start + k] < 2 for k in range(len(self.surds))):
+            return p
+        out = {}
+        for mon, coeff in zip(p.monoms(), p.coeffs()):
+            mon = list(mon)
+            for k, prime in enumerate(self.surds):
+                e = mon[start + k]
+                if e > 1:
+                    coeff = coeff * flint.fmpq(prime) ** (e // 2)
+                    mon[start + k] = e % 2
+            key = tuple(mon)
+            out[key] = out.get(key, 0) + coeff
+        return self.ctx.from_dict({m: c for m, c in out.items() if c != 0})
 
     @functools.cached_property
     def ctx(self):
@@ -150,12 +234,37 @@ class PolyRing:
         for i in range(M.rows):
             raw = [self._raw(M[i, j]) for j in range(M.cols)]
             target = [max(d[k] for _, d in raw) for k in range(self.n_angles)]
-            rows.append([self._homogenize(p, d, target) for p, d in raw])
+            rows.append([self.normal(self._homogenize(p, d, target)) for p, d in raw])
         return rows
 
     def from_sympy(self, expr) -> "flint.fmpq_mpoly":
         p, d = self._raw(expr)
-        return self._homogenize(p, d, d)
+        return self.normal(self._homogenize(p, d, d))
+
+    @functools.cached_property
+    def _surd_symbols(self) -> dict:
+        return {p: sp.Dummy(f"sqrt_{p}") for p in self.surds}
+
+    def _with_surd_symbols(self, e, expr):
+        """``e`` with sqrt(n) written as a product of surd generators; other irrationals refused."""
+        rep = {}
+        for atom in e.atoms(sp.Pow):
+            if not atom.is_number:
+                continue
+            root = _square_root_of_integer(atom)
+            if root is None:
+                raise LocusError(f"entry {sp.sstr(expr)} contains the irrational number "
+                                 f"{sp.sstr(atom)}; only square roots of integers up to "
+                                 f"{MAX_SURD} are handled exactly")
+            n, sign = root
+            value = sp.Integer(1)
+            for prime, mult in sp.factorint(n).items():
+                if prime not in self._surd_symbols:
+                    raise LocusError(f"entry {sp.sstr(expr)}: sqrt({prime}) is not a generator "
+                                     "of this ring")
+                value *= self._surd_symbols[prime] ** mult
+            rep[atom] = value if sign > 0 else value / n
+        return e.xreplace(rep) if rep else e
 
     def _raw(self, expr):
         """Polynomial in (c, s, x, p) as a dict, and its degree per angle."""
@@ -167,8 +276,10 @@ class PolyRing:
             rep[sp.sin(q)] = s
         e = expr.xreplace(rep) if rep else expr
         gens = [v for q in self.angles for v in self._trig_symbols[q]] + list(self.others) + list(self.params)
+        gens += list(self._surd_symbols.values())
         if e.free_symbols - set(gens):
             e = sp.expand_trig(sp.expand(expr)).xreplace(rep)
+        e = self._with_surd_symbols(e, expr)
         bad = e.free_symbols - set(gens)
         if bad:
             raise LocusError(
@@ -226,6 +337,8 @@ class PolyRing:
             symbols += [sp.cos(q), sp.sin(q), sp.cos(q / 2), sp.sin(q / 2)]
         names += [x.name for x in self.others] + [p.name for p in self.params]
         symbols += list(self.others) + list(self.params)
+        names += [f"sqrt_{p}" for p in self.surds]
+        symbols += [sp.sqrt(p) for p in self.surds]
         ctx = flint.fmpq_mpoly_ctx.get(tuple(names), "degrevlex")
         return ctx, ctx.gens(), symbols
 

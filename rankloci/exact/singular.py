@@ -26,6 +26,8 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
+from ..algebra.ring import square_root_primes
+
 __all__ = ["SingularResult", "singular_cross_check", "singular_available"]
 
 MAX_TERMS = 200            # total terms of the minors sent to Singular
@@ -74,6 +76,9 @@ def singular_cross_check(tm, locus, *, rng) -> SingularResult:
         return SingularResult("skipped", "needs numeric parameters (--numeric-parameters)")
     if set(tm.variables) != set(tm.angles):
         return SingularResult("skipped", "only matrices in angles are supported")
+    if square_root_primes(tm.matrix):
+        return SingularResult("skipped", "the matrix has irrational entries (square roots); this "
+                                         "check works over the rationals only")
     if len(tm.variables) > MAX_ANGLES:
         return SingularResult("skipped", f"more than {MAX_ANGLES} joint variables: the decomposition "
                                          "would not finish; the numeric checks stand alone")

@@ -56,7 +56,7 @@ def choose_columns(ctx: "Context", M, points, candidates: int = 12):
             continue
         sub = [[row[c] for c in cols] for row in M]
         ctx.tick()
-        D = laplace_det(sub)
+        D = laplace_det(sub, ctx.ring)
         if best is None or len(D) < len(best[1]):
             best = (list(cols), D)
         tried += 1
@@ -86,7 +86,7 @@ def choose_block(ctx: "Context", A, r, points, candidates: int = 24):
         return rows, cols
 
     def score(rl, cl, most=None):
-        d = laplace_det([[A[i][j] for j in cl] for i in rl])
+        d = laplace_det([[A[i][j] for j in cl] for i in rl], ctx.ring)
         if most is not None and len(d) > most:
             return None
         if d.is_constant() or ctx.parameter_only(d):

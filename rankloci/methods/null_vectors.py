@@ -29,7 +29,7 @@ def left_null_vectors(ctx: "Context", A, rank, points):
     n = len(A)
     rows, cols = choose_block(ctx, A, rank, points)
     block = [[A[i][j] for j in cols] for i in rows]
-    d = laplace_det(block) if rank else ctx.ring.ctx.constant(1)
+    d = laplace_det(block, ctx.ring) if rank else ctx.ring.ctx.constant(1)
     vectors = []
     zero = ctx.ring.ctx.constant(0)
     for i in range(n):
@@ -40,7 +40,7 @@ def left_null_vectors(ctx: "Context", A, rank, points):
         for t, r in enumerate(order):
             rest = [order[s] for s in range(len(order)) if s != t]
             if rest:
-                minor = laplace_det([[A[x][j] for j in cols] for x in rest])
+                minor = laplace_det([[A[x][j] for j in cols] for x in rest], ctx.ring)
             else:
                 minor = ctx.ring.ctx.constant(1)
             u[r] = minor if t % 2 == 0 else -minor

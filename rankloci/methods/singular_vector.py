@@ -117,8 +117,8 @@ def _reduce(ctx: Context, M, cols, rest, branch, parent, level):
         return
     U, d = left_null_vectors(ctx, Jsq, r, pts)
     zero = ctx.ring.ctx.constant(0)
-    Jdag = [[sum((u[j] * Jr[j][c] for j in range(n)
-                  if not u[j].is_zero() and not Jr[j][c].is_zero()), zero)
+    Jdag = [[ctx.ring.normal(sum((u[j] * Jr[j][c] for j in range(n)
+                                  if not u[j].is_zero() and not Jr[j][c].is_zero()), zero))
              for c in range(len(rest))] for u in U]
     ctx.annotate(node, k=k, outcome=Outcome.REFINED, shape=f"{k}x{len(rest)}",
                  columns=[c + 1 for c in cols])

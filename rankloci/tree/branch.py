@@ -126,8 +126,8 @@ def solve_condition(f, ring: PolyRing):
         if best is None or size < best[0]:
             best = (size, i, a, b)
     for g in sorted(used):
-        if g < 2 * na:
-            continue
+        if g < 2 * na or g >= ring.surd_start:
+            continue            # angles are solved above; surds have fixed values
         # linear in generator g with a constant coefficient?
         degs = [mon[g] for mon in f.monoms()]
         if max(degs) != 1:
@@ -166,7 +166,7 @@ def apply_substitution(p, sub: Substitution, ring: PolyRing):
         vals[sub.index] = sub.values[0]
     else:
         vals[2 * sub.index], vals[2 * sub.index + 1] = sub.values
-    return p.compose(*vals)
+    return ring.normal(p.compose(*vals))
 
 
 class SubstitutedMatrices:

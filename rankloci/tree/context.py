@@ -15,6 +15,7 @@ import numpy as np
 import sympy as sp
 
 from ..algebra import PolyRing, irreducible_factors
+from ..algebra.ring import square_root_primes
 from ..errors import LocusError, LocusTimeout
 from ..locus import Outcome
 from . import cover, prune
@@ -55,7 +56,7 @@ class Context:
         if unknown:
             raise LocusError(f"the matrix uses symbols that are neither variables nor parameters: "
                              f"{', '.join(sorted(map(str, unknown)))}")
-        self.ring = PolyRing(angles, others, params)
+        self.ring = PolyRing(angles, others, params, square_root_primes(tm.matrix))
         self.M = self.ring.from_sympy_rows(sp.Matrix(tm.matrix))
         self.shape = tm.matrix.shape
         self.rng = rng
@@ -186,6 +187,7 @@ class Context:
         base = 2 * self.ring.n_angles + len(self.ring.others)
         for j, p in enumerate(self.ring.params):
             vals[base + j] = self.model_values[p]
+        vals[self.ring.surd_start:] = self.ring.surd_values
         if any(n.startswith((f"the model's parameter values satisfy {text} = 0",
                              f"for parameters with {text} = 0")) for n in self.notes):
             return

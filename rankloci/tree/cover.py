@@ -86,7 +86,7 @@ def cover(ctx: "Context", branch: Branch, conditions) -> list[Branch]:
     rest = list(conditions[1:])
     if c.is_zero():
         return cover(ctx, branch, rest)
-    if c.is_constant():
+    if ctx.ring.is_number(c):
         return []
     if c != conditions[0]:
         fs = ctx.factors(c)
@@ -125,7 +125,7 @@ def _settle(ctx: "Context", parent: Branch, child: Branch) -> list[Branch]:
         r = child.reduce(e, ring)
         if r.is_zero():
             return []
-        if not r.is_constant():
+        if not ctx.ring.is_number(r):
             nonzero.append(r)
     stale, reduced = [], []
     for e in child.implicit:
@@ -143,7 +143,7 @@ def _settle(ctx: "Context", parent: Branch, child: Branch) -> list[Branch]:
     for r in reduced:
         if r.is_zero():
             continue
-        if r.is_constant():
+        if ctx.ring.is_number(r):
             return []
         fs = []
         for f in ctx.factors(r):

@@ -103,6 +103,8 @@ class BranchSampler:
         for j in params:
             G[:, j] = X[:, k]
             k += 1
+        if ring.surds:
+            G[:, ring.surd_start:] = ring.surd_values
         # substitutions, last first: each expresses generators in later-solved ones
         for sub in reversed(branch.substitutions):
             got = self._sub_eval.get(id(sub))
