@@ -1,0 +1,697 @@
+"""Corpus: every serial chain of example-robot-data's URDF files, graded against Pinocchio.
+
+Each URDF file of the package is read as a link tree.  Every path from the root
+link to a leaf link with 2 to 9 movable joints is a chain; its tip is the child
+link of its last movable joint, so paths that differ only after that joint are
+one chain (and chains with the same joints, origins and axes are kept once per
+file).  The task is the tip position for chains of up to 3 joints and the full
+6-row task otherwise.
+
+For each chain, in its own process with a time limit, the locus is computed as
+``rankloci locus FILE --base-link ROOT --tip TIP --numeric-parameters`` does
+(``task_matrix(model, frame="auto", numeric=True)``, the method of
+``method_for``, seed 0) and graded against an independent Jacobian: Pinocchio's
+``getFrameJacobian`` of the tip link, ``LOCAL_WORLD_ALIGNED`` (the linear rows
+for the position task), built from a copy of the URDF whose angles are snapped
+as rankloci snaps them (see :func:`snapped_urdf`).
+
+- **mapping**: at random configurations rankloci's J in the base frame about the
+  tip and Pinocchio's J have the same entries (so the same joints, in the same
+  order, with the same signs) and the same rank;
+- **sound**: at the sample point of every component that exists for the model,
+  and at points solved onto it, Pinocchio's J is rank deficient;
+- **complete**: every singular point found by minimising sigma_min/sigma_max of
+  Pinocchio's J from random starts lies on some component.
+
+A chain passes when all three hold.  The results go to ``benchmarks/corpus.md``
+and ``benchmarks/corpus.json``.  Usage::
+
+    python benchmarks/corpus.py [--timeout SECONDS] [--jobs N] [--robots a,b,...]
+                                [--max-per-robot N] [--seed N] [--output PATH]
+
+``tests/io/test_corpus.py`` imports this module and grades a subset with the
+same functions.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import platform
+import site
+import subprocess
+import sys
+import sysconfig
+import time
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+
+#: Chains with fewer or more movable joints than this are not part of the corpus.
+MIN_JOINTS, MAX_JOINTS = 2, 9
+
+#: URDF joint types that move (rankloci reads them; a fixed joint's axis is ignored).
+MOVABLE_TYPES = ("revolute", "continuous", "prismatic")
+
+#: Chains of up to this many joints are graded on the tip position, longer ones on the full task.
+POSITION_TASK_MAX_JOINTS = 3
+
+#: Pinocchio's J counts as rank deficient at a point solved onto a component when
+#: sigma_min/sigma_max is at most this.  It is rankloci's RANK_RTOL: both Jacobians describe the
+#: same snapped geometry to rounding (~1e-16), points are solved to a scaled residual of 1e-11, and
+#: sigma_min is Lipschitz in q with a constant of order sigma_max, so on-locus points give ratios
+#: of ~1e-11; random regular configurations give 1e-3 and more.
+SOUND_RTOL = 1e-8
+
+#: A minimum of Pinocchio's sigma_min/sigma_max counts as a singular point at or below this.
+PROBE_SINGULAR_RTOL = 1e-8
+
+#: A singular point lies on a component when all of the component's scaled equations (each divided
+#: by the sum of the absolute values of its coefficients) are at most this at it.  The minimiser
+#: stops within ~1e-8 rad of a smooth locus and ~1e-6 rad where components meet tangentially; scaled
+#: trigonometric equations change by at most their degree per radian, so 1e-6 accepts those, while a
+#: missing component leaves residuals of 1e-2 and more.  (rankloci's COVER_RESIDUAL, same reason.)
+COVER_RESIDUAL = 1e-6
+
+#: rankloci's J (base frame, tip point) and Pinocchio's J agree entry by entry to this, relative to
+#: their largest entry.  Both are products of ~20 transforms of the same snapped numbers in double
+#: precision (errors ~1e-15); a wrong joint, sign or axis gives differences of order 1.
+MAPPING_RTOL = 1e-9
+
+#: Central-difference step for dJ/dq of Pinocchio's J in the completeness probes: the truncation
+#: error h**2 ~ 1e-12 and the rounding error eps/h ~ 1e-10 are far below the O(1) derivatives.
+FD_STEP = 1e-6
+
+#: Random configurations of the mapping check, points solved onto each component, and starts of
+#: the completeness probes per chain.
+MAPPING_POINTS = 5
+POINTS_PER_COMPONENT = 4
+PROBE_STARTS = 24
+
+#: Grading starts when the locus is done; a process still running this many seconds after the
+#: locus time limit is stopped and the case counted as a time-out.
+GRADING_ALLOWANCE_S = 120.0
+
+
+# --- the corpus -----------------------------------------------------------------------------
+
+def robots_dir() -> Path | None:
+    """The ``robots`` directory of the installed example-robot-data, or None."""
+    roots = list(site.getsitepackages()) + [site.getusersitepackages(),
+                                            sysconfig.get_paths()["purelib"]]
+    for root in roots:
+        d = Path(root) / "cmeel.prefix" / "share" / "example-robot-data" / "robots"
+        if d.is_dir():
+            return d
+    return None
+
+
+@dataclass(frozen=True)
+class Chain:
+    """One serial chain of a URDF file: root link to the child link of its last movable joint."""
+
+    robot: str          # the description package, without "_description" / "_data"
+    file: str           # path relative to the robots directory
+    base: str
+    tip: str
+    joints: tuple       # names of the movable joints, root to tip
+    also: tuple = ()    # leaf links whose paths give the same chain
+
+    @property
+    def n(self) -> int:
+        return len(self.joints)
+
+    @property
+    def task(self) -> str:
+        return "position" if self.n <= POSITION_TASK_MAX_JOINTS else "full"
+
+    @property
+    def label(self) -> str:
+        return f"{self.base} -> {self.tip}"
+
+
+def robot_name(rel: Path) -> str:
+    """``talos_data/robots/x.urdf`` -> ``talos``; ``ur_description/...`` -> ``ur``."""
+    top = rel.parts[0]
+    for suffix in ("_description", "_data"):
+        if top.endswith(suffix):
+            return top[: -len(suffix)]
+    return top
+
+
+def chains_of_urdf(text, *, robot: str, file: str) -> tuple[list[Chain], int]:
+    """The chains of a URDF document and how many leaf paths were outside 2..9 movable joints.
+
+    Raises :class:`rankloci.errors.ModelError` when the document does not parse as a link tree.
+    """
+    from rankloci.io.urdf_xml import (JOINT_KINDS, joints_by_name, link_names, parent_joints,
+                                      parse_document)
+
+    root = parse_document(text, file)
+    links = link_names(root, file)
+    joints = joints_by_name(root, links, file)
+    parent_of = parent_joints(links, joints, file)
+    base = next(link for link in links if link not in parent_of)
+    children: dict[str, list] = {}
+    for j in joints.values():
+        children.setdefault(j.parent, []).append(j)
+
+    def geometry(j):
+        origin, axis = j.element.find("origin"), j.element.find("axis")
+        return (j.type, None if origin is None else (origin.get("xyz"), origin.get("rpy")),
+                None if axis is None else axis.get("xyz"))
+
+    found: dict[tuple, tuple[Chain, list]] = {}
+    outside = 0
+    stack = [(base, ())]
+    while stack:
+        link, path = stack.pop()
+        if link in children:
+            stack.extend((j.child, path + (j,)) for j in reversed(children[link]))
+            continue
+        movable = [k for k, j in enumerate(path) if j.type in JOINT_KINDS]
+        if not MIN_JOINTS <= len(movable) <= MAX_JOINTS:
+            outside += 1
+            continue
+        head = path[: movable[-1] + 1]
+        key = tuple(geometry(j) for j in head)
+        if key in found:
+            found[key][1].append(link)
+            continue
+        chain = Chain(robot, file, base, head[-1].child, tuple(path[k].name for k in movable))
+        found[key] = (chain, [link])
+    out = []
+    for chain, leaves in found.values():
+        others = tuple(leaf for leaf in leaves if leaf != chain.tip)
+        out.append(Chain(chain.robot, chain.file, chain.base, chain.tip, chain.joints, others))
+    return out, outside
+
+
+def corpus(root: Path) -> tuple[list[Chain], list[dict], int]:
+    """Every chain of the URDF files under ``root``; the files skipped, with why; paths outside."""
+    from rankloci.errors import ModelError
+
+    chains, skipped, outside = [], [], 0
+    for path in sorted(p for p in root.rglob("*") if ".urdf" in p.name and p.is_file()):
+        rel = path.relative_to(root)
+        if path.suffix != ".urdf":
+            skipped.append({"file": str(rel), "reason": f"not a URDF file ({''.join(path.suffixes)}:"
+                                                        " xacro source)"})
+            continue
+        try:
+            found, out = chains_of_urdf(path.read_bytes(), robot=robot_name(rel), file=str(rel))
+        except ModelError as e:
+            skipped.append({"file": str(rel), "reason": str(e)})
+            continue
+        if not found:
+            skipped.append({"file": str(rel), "reason": f"no chain with {MIN_JOINTS} to "
+                                                        f"{MAX_JOINTS} movable joints"})
+        chains.extend(sorted(found, key=lambda c: c.joints))
+        outside += out
+    return chains, skipped, outside
+
+
+# --- the reference: Pinocchio ---------------------------------------------------------------
+
+def _snapped_angle(t: float) -> float:
+    """``t`` as rankloci reads an rpy angle: the nearest multiple of pi/12 when within the URDF
+    snapping tolerance, else unchanged."""
+    from rankloci.tolerances import URDF_ANGLE_SNAP_ATOL
+
+    r = math.remainder(t, 2 * math.pi)
+    k = round(r / (math.pi / 12))
+    return k * math.pi / 12 if abs(r - k * math.pi / 12) <= URDF_ANGLE_SNAP_ATOL else t
+
+
+def _snapped_axis(v: tuple[float, ...]) -> tuple[float, ...]:
+    """A unit axis as rankloci reads it: components snapped to 0, 1/2, sqrt(2)/2, sqrt(3)/2, 1
+    when all of them snap to a unit vector; otherwise normalised, with small minor components 0."""
+    from rankloci.tolerances import URDF_ANGLE_SNAP_ATOL as atol
+
+    norm = math.sqrt(sum(x * x for x in v))
+    u = [x / norm for x in v]
+    nice = (0.0, 0.5, math.sqrt(2) / 2, math.sqrt(3) / 2, 1.0)
+    snapped = [next((math.copysign(n, x) for n in nice if abs(abs(x) - n) <= atol), None)
+               for x in u]
+    if None not in snapped and abs(sum(x * x for x in snapped) - 1) < 1e-12:
+        return tuple(snapped)
+    k = max(range(3), key=lambda m: abs(u[m]))
+    u = [0.0 if m != k and abs(u[m]) <= atol else u[m] for m in range(3)]
+    norm = math.sqrt(sum(x * x for x in u))
+    return tuple(x / norm for x in u)
+
+
+def snapped_urdf(text) -> str:
+    """The URDF with its joint angles and axes as rankloci reads them, for Pinocchio.
+
+    rankloci takes an rpy angle within URDF_ANGLE_SNAP_ATOL (1e-5) of a multiple of pi/12 as that
+    exact multiple (``1.5708`` is pi/2) and snaps unit-axis components the same way; Pinocchio
+    reads the decimals literally.  The copy writes the snapped values at full precision, so both
+    describe the same geometry to rounding.
+    """
+    import xml.etree.ElementTree as ET
+
+    import defusedxml.ElementTree as SafeET
+
+    root = SafeET.fromstring(text)
+    for joint in root.iter("joint"):
+        origin = joint.find("origin")
+        if origin is not None and origin.get("rpy"):
+            rpy = [_snapped_angle(float(x)) for x in origin.get("rpy").split()]
+            origin.set("rpy", " ".join(repr(x) for x in rpy))
+        axis = joint.find("axis")
+        if joint.get("type") in MOVABLE_TYPES and axis is not None and axis.get("xyz"):
+            xyz = _snapped_axis(tuple(float(x) for x in axis.get("xyz").split()))
+            axis.set("xyz", " ".join(repr(x) for x in xyz))
+    return ET.tostring(root, encoding="unicode")
+
+
+class PinocchioJacobian:
+    """J(q) of a chain from Pinocchio: the tip link's frame Jacobian, LOCAL_WORLD_ALIGNED.
+
+    ``q`` holds the chain's joint values in chain order (rankloci's q1..qn); every other joint
+    of the robot stays at Pinocchio's neutral configuration (it cannot move the tip).  The
+    columns are the chain's joints; the rows are (vx, vy, vz, wx, wy, wz), or the first three
+    for the position task.
+    """
+
+    def __init__(self, urdf_text: str, joints, tip: str, task: str):
+        import numpy as np
+        import pinocchio as pin
+
+        self._pin = pin
+        self.model = pin.buildModelFromXML(snapped_urdf(urdf_text))
+        self.data = self.model.createData()
+        if not self.model.existFrame(tip, pin.FrameType.BODY):
+            raise ValueError(f"Pinocchio has no body frame {tip!r}")
+        self.frame = self.model.getFrameId(tip, pin.FrameType.BODY)
+        self.joints = []
+        for name in joints:
+            if not self.model.existJointName(name):
+                raise ValueError(f"Pinocchio has no joint {name!r}")
+            jm = self.model.joints[self.model.getJointId(name)]
+            self.joints.append((jm.idx_q, jm.nq, jm.idx_v))
+        self.columns = [iv for _, _, iv in self.joints]
+        self.rows = slice(0, 3) if task == "position" else slice(0, 6)
+        self.q0 = pin.neutral(self.model)
+        self._np = np
+
+    def configuration(self, q):
+        """Pinocchio's configuration vector for chain joint values ``q``."""
+        x = self.q0.copy()
+        for (iq, nq, _), v in zip(self.joints, q):
+            if nq == 2:   # a continuous joint: (cos, sin)
+                x[iq], x[iq + 1] = math.cos(v), math.sin(v)
+            else:
+                x[iq] = v
+        return x
+
+    def __call__(self, q):
+        pin = self._pin
+        x = self.configuration(q)
+        pin.computeJointJacobians(self.model, self.data, x)
+        pin.updateFramePlacement(self.model, self.data, self.frame)
+        J = pin.getFrameJacobian(self.model, self.data, self.frame,
+                                 pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)
+        return self._np.array(J[self.rows][:, self.columns])
+
+    def derivatives(self, q):
+        """dJ/dq_k by central differences (FD_STEP): shape (n, rows, cols)."""
+        np = self._np
+        q = np.asarray(q, dtype=float)
+        out = []
+        for k in range(len(q)):
+            e = np.zeros_like(q)
+            e[k] = FD_STEP
+            out.append((self(q + e) - self(q - e)) / (2 * FD_STEP))
+        return np.array(out)
+
+
+# --- grading --------------------------------------------------------------------------------
+
+def sigma_ratio(J) -> float:
+    """sigma_min / sigma_max (0 for a zero matrix)."""
+    import numpy as np
+
+    s = np.linalg.svd(J, compute_uv=False)
+    return float(s[-1] / s[0]) if s[0] > 0 else 0.0
+
+
+def _numeric_rank(J) -> int:
+    import numpy as np
+
+    from rankloci.tolerances import RANK_RTOL
+
+    s = np.linalg.svd(J, compute_uv=False)
+    return int(np.sum(s > RANK_RTOL * s[0])) if s[0] > 0 else 0
+
+
+def minimise_ratio(ref: PinocchioJacobian, q0):
+    """A local minimum of (sigma_min/sigma_max)^2 of Pinocchio's J from q0 (BFGS)."""
+    import numpy as np
+    from scipy.optimize import minimize
+
+    def f(q):
+        U, s, Vt = np.linalg.svd(ref(q), full_matrices=False)
+        if s[0] == 0:
+            return 0.0, np.zeros_like(q)
+        r = s[-1] / s[0]
+        dJ = ref.derivatives(q)
+        ds_min = np.einsum("i,kij,j->k", U[:, -1], dJ, Vt[-1])
+        ds_max = np.einsum("i,kij,j->k", U[:, 0], dJ, Vt[0])
+        return r * r, 2 * r * (ds_min * s[0] - s[-1] * ds_max) / s[0] ** 2
+
+    return minimize(f, q0, jac=True, method="BFGS", options={"gtol": 1e-20, "maxiter": 400}).x
+
+
+def random_configurations(kinds, rng, n: int):
+    """n random configurations: revolute joints uniform in [-pi, pi), prismatic in [-1, 1)."""
+    import numpy as np
+
+    cols = [rng.uniform(-np.pi, np.pi, n) if k == "revolute" else rng.uniform(-1, 1, n)
+            for k in kinds]
+    return np.stack(cols, axis=-1)
+
+
+def _q_text(q) -> str:
+    return "[" + ", ".join(f"{x:+.4f}" for x in q) + "]"
+
+
+def _short(text: str, limit: int = 160) -> str:
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def grade(model, tm, locus, ref: PinocchioJacobian, rng) -> dict:
+    """Grade a locus against Pinocchio's J: mapping, soundness, completeness (module docstring).
+
+    Returns a dict with ``ok``, ``reason`` (the first problem found, "" when ok) and the
+    figures of each check.
+    """
+    import numpy as np
+    import sympy as sp
+
+    from rankloci.jacobian import task_matrix
+    from rankloci.numeric.equations import Equations, NumericMatrix, points_on
+
+    kinds = [j.kind for j in model.joints]
+    problems = []
+
+    # mapping: rankloci's J in the base frame about the tip against Pinocchio's, entry by entry
+    base_tm = task_matrix(model, task=tm.rows, frame="base", point="tool", numeric=True)
+    base_J = NumericMatrix(base_tm.matrix, base_tm.variables, base_tm.angles)
+    worst_dev, rank_mismatch = 0.0, []
+    for q in random_configurations(kinds, rng, MAPPING_POINTS):
+        A, B = base_J(q), ref(q)
+        dev = float(np.max(np.abs(A - B)) / max(np.max(np.abs(B)), 1e-300))
+        worst_dev = max(worst_dev, dev)
+        if _numeric_rank(A) != _numeric_rank(B):
+            rank_mismatch.append((q, _numeric_rank(A), _numeric_rank(B)))
+    if worst_dev > MAPPING_RTOL:
+        problems.append(f"mapping: rankloci's J and Pinocchio's differ by {worst_dev:.1e} "
+                        f"(relative)")
+    if rank_mismatch:
+        q, a, b = rank_mismatch[0]
+        problems.append(f"mapping: rank {a} in rankloci, {b} in Pinocchio at q={_q_text(q)}")
+    mapping = {"ok": not (worst_dev > MAPPING_RTOL or rank_mismatch),
+               "max_relative_deviation": worst_dev, "rank_mismatches": len(rank_mismatch)}
+
+    # soundness: each component of the model's own locus is singular in Pinocchio's J
+    nm = NumericMatrix(tm.matrix, tm.variables, tm.angles)
+    names = [v.name for v in tm.variables]
+    components = [c for c in locus.components if c.exists_for_model]
+    sound = []
+    for i, c in enumerate(components, start=1):
+        eqs = Equations(c.equations, tm.variables, tm.parameters, c.excluding)
+        pts = []
+        if c.sample and all(n in c.sample for n in names):
+            pts.append(np.array([float(c.sample[n]) for n in names]))
+        pts += points_on(eqs, nm, rng, POINTS_PER_COMPONENT)
+        ratios = [sigma_ratio(ref(q)) for q in pts]
+        bad = [(q, r) for q, r in zip(pts, ratios) if r > SOUND_RTOL]
+        eq_text = _short("; ".join(sp.sstr(e) for e in c.equations) or "(no equation)")
+        sound.append({"component": i, "equations": eq_text, "points": len(pts),
+                      "max_ratio": max(ratios, default=None), "regular_points": len(bad)})
+        if not pts:
+            problems.append(f"component {i} ({eq_text}): no point found on it")
+        elif bad:
+            q, r = max(bad, key=lambda t: t[1])
+            problems.append(f"unsound: component {i} ({eq_text}) is regular in Pinocchio's J at "
+                            f"q={_q_text(q)} (ratio {r:.1e}; {len(bad)}/{len(pts)} points)")
+
+    # completeness: singular minima of Pinocchio's ratio lie on some component
+    closures = [Equations(c.equations, tm.variables, tm.parameters) for c in components]
+    singular, uncovered = 0, []
+    for q0 in random_configurations(kinds, rng, PROBE_STARTS):
+        q = minimise_ratio(ref, q0)
+        r = sigma_ratio(ref(q))
+        if r > PROBE_SINGULAR_RTOL:
+            continue
+        singular += 1
+        residual = min((e.residual(q) for e in closures), default=math.inf)
+        if locus.degenerate:
+            residual = 0.0
+        if residual > COVER_RESIDUAL:
+            uncovered.append({"q": [float(x) for x in q], "ratio": r, "residual": residual})
+    if uncovered:
+        u = min(uncovered, key=lambda d: d["ratio"])
+        problems.append(f"incomplete: {len(uncovered)}/{singular} singular points on no "
+                        f"component, e.g. q={_q_text(u['q'])} (ratio {u['ratio']:.1e}, smallest "
+                        f"residual {u['residual']:.1e})")
+    completeness = {"starts": PROBE_STARTS, "singular": singular, "uncovered": uncovered}
+    return {"ok": not problems, "reason": "; ".join(problems), "mapping": mapping,
+            "sound": sound, "completeness": completeness}
+
+
+def run_case(chain: Chain, root: Path, *, time_limit: float | None = 60.0, seed: int = 0,
+             emit=None) -> dict:
+    """Compute and grade the locus of one chain in this process.
+
+    ``status`` is ``pass``, ``fail`` (grading found a problem: ``reason``), ``timeout`` (the
+    locus did not finish in ``time_limit`` seconds) or ``error`` (rankloci or Pinocchio refused
+    the chain: ``reason``).  ``emit``, when given, is called with the partial result once the
+    locus is done.
+    """
+    import numpy as np
+
+    from rankloci.errors import LocusTimeout, RanklociError
+    from rankloci.io import load_model
+    from rankloci.jacobian import task_matrix
+    from rankloci.methods import compute_locus, method_for
+
+    out = {"status": "error", "reason": "", "components": None}
+    path = root / chain.file
+    t0 = time.perf_counter()
+    try:
+        model = load_model(str(path), base_link=chain.base, tip_link=chain.tip)
+        tm = task_matrix(model, task=chain.task, frame="auto", numeric=True)
+    except RanklociError as e:
+        out["reason"] = f"rankloci: {e}"
+        return out
+    names = tuple(j.name for j in model.joints)
+    if names != chain.joints:
+        out["reason"] = f"rankloci's chain has joints {names}, expected {chain.joints}"
+        return out
+    try:
+        ref = PinocchioJacobian(path.read_text(encoding="utf-8"), chain.joints, chain.tip,
+                                chain.task)
+    except (ValueError, RuntimeError) as e:
+        out["reason"] = f"Pinocchio: {e}"
+        return out
+    method = method_for(tm.shape)
+    end = None if not time_limit else time.monotonic() + time_limit
+    t1 = time.perf_counter()
+    try:
+        locus = compute_locus(tm, method, rng=np.random.default_rng(seed),
+                              should_stop=None if end is None else (lambda: time.monotonic() > end))
+    except LocusTimeout:
+        out.update(status="timeout", reason=f"no locus within {time_limit:g} s",
+                   locus_s=time.perf_counter() - t1, shape=list(tm.shape), method=method)
+        return out
+    except RanklociError as e:
+        out["reason"] = f"rankloci: {e}"
+        return out
+    t2 = time.perf_counter()
+    mine = [c for c in locus.components if c.exists_for_model]
+    out.update(shape=list(tm.shape), method=method, setup_s=t1 - t0, locus_s=t2 - t1,
+               components=len(mine), other_components=len(locus.components) - len(mine),
+               degenerate=locus.degenerate, nodes=locus.tree.number_of_nodes(),
+               status="graded", reason="grading did not finish")
+    if emit:
+        emit(dict(out))
+    g = grade(model, tm, locus, ref, np.random.default_rng(seed))
+    out.update(status="pass" if g["ok"] else "fail", reason=g["reason"],
+               grade_s=time.perf_counter() - t2,
+               grading={k: v for k, v in g.items() if k not in ("ok", "reason")})
+    return out
+
+
+# --- running the corpus ---------------------------------------------------------------------
+
+def _run_child(chain: Chain, root: Path, time_limit: float, seed: int) -> dict:
+    """run_case in a fresh process; a hard stop GRADING_ALLOWANCE_S after the time limit."""
+    cmd = [sys.executable, str(Path(__file__).resolve()), "--case",
+           json.dumps({"chain": asdict(chain), "root": str(root), "time_limit": time_limit,
+                       "seed": seed})]
+    start = time.perf_counter()
+    try:
+        proc = subprocess.run(cmd, capture_output=True, text=True,
+                              timeout=time_limit + GRADING_ALLOWANCE_S)
+        stdout, rc, stderr = proc.stdout, proc.returncode, proc.stderr
+    except subprocess.TimeoutExpired as e:
+        stdout = e.stdout.decode() if isinstance(e.stdout, bytes) else (e.stdout or "")
+        rc, stderr = None, ""
+    wall = time.perf_counter() - start
+    lines = [line for line in stdout.splitlines() if line.startswith("{")]
+    res = json.loads(lines[-1]) if lines else {"status": "error", "reason": "", "components": None}
+    if rc is None:
+        if res["status"] == "graded":
+            res.update(status="timeout", reason=f"grading did not finish within "
+                                                f"{GRADING_ALLOWANCE_S:g} s after the locus")
+        else:
+            res.update(status="timeout", reason=f"process stopped after {wall:.0f} s")
+    elif rc != 0:
+        tail = (stderr.strip().splitlines() or ["(no output)"])[-1]
+        res.update(status="error", reason=_short(f"exit code {rc}: {tail}", 300))
+    res["wall_s"] = wall
+    return res
+
+
+def _child_main(spec: str) -> int:
+    args = json.loads(spec)
+    chain = Chain(**{k: tuple(v) if isinstance(v, list) else v for k, v in args["chain"].items()})
+
+    def emit(partial):
+        print(json.dumps(partial), flush=True)
+
+    res = run_case(chain, Path(args["root"]), time_limit=args["time_limit"], seed=args["seed"],
+                   emit=emit)
+    print(json.dumps(res), flush=True)
+    return 0
+
+
+def _cell(text: str) -> str:
+    return text.replace("|", "\\|").replace("\n", " ")
+
+
+def render_markdown(rows, skipped, outside, meta) -> str:
+    """The corpus table as Markdown."""
+    counts = {s: sum(r["status"] == s for r in rows) for s in ("pass", "fail", "timeout", "error")}
+    lines = [
+        "# URDF corpus: example-robot-data",
+        "",
+        f"Every serial chain with {MIN_JOINTS} to {MAX_JOINTS} movable joints in the URDF files "
+        f"of example-robot-data {meta['example_robot_data']}, from the root link to the child "
+        "link of the chain's last movable joint (paths that differ only after it, and chains "
+        "with the same joints, origins and axes, kept once per file). Task: tip position for up "
+        f"to {POSITION_TASK_MAX_JOINTS} joints, full otherwise. Each locus is computed as by "
+        "`rankloci locus FILE --base-link ROOT --tip TIP --task TASK --numeric-parameters` and "
+        f"graded against Pinocchio {meta['pinocchio']}'s frame Jacobian of the tip link "
+        "(LOCAL_WORLD_ALIGNED), read from a copy of the URDF with the angles snapped as "
+        "rankloci snaps them:",
+        "",
+        f"- *mapping*: at {MAPPING_POINTS} random configurations rankloci's J (base frame, tip "
+        f"point) equals Pinocchio's to {MAPPING_RTOL:g} relative, and has the same rank;",
+        f"- *sound*: at each component's sample point and up to {POINTS_PER_COMPONENT} points "
+        f"solved onto it, Pinocchio's sigma_min/sigma_max <= {SOUND_RTOL:g};",
+        f"- *complete*: of {PROBE_STARTS} minimisations of Pinocchio's sigma_min/sigma_max from "
+        f"random starts (seed {meta['seed']}), every one that ends at a ratio <= "
+        f"{PROBE_SINGULAR_RTOL:g} lies on a component (scaled residual <= {COVER_RESIDUAL:g}).",
+        "",
+        f"Python {meta['python']} on {meta['machine']}, one process per chain, "
+        f"{meta['jobs']} at a time, locus time limit {meta['timeout_s']:g} s. "
+        "'time' is the locus alone; 'components' counts those of the model's own locus.",
+        "",
+    ]
+    if meta.get("max_per_robot"):
+        lines += [f"At most {meta['max_per_robot']} chains per robot (the shortest first).", ""]
+    lines += [
+        f"**{len(rows)} chains: {counts['pass']} pass, {counts['fail']} fail, "
+        f"{counts['timeout']} time out, {counts['error']} error.**",
+        "",
+        "| robot | file | chain | joints | task | time (s) | components | result | reason |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    for r in rows:
+        t = f"{r['locus_s']:.2f}" if r.get("locus_s") is not None else ""
+        comps = "" if r.get("components") is None else str(r["components"])
+        if r.get("degenerate"):
+            comps += " (degenerate)"
+        lines.append(f"| {r['robot']} | {r['file']} | {_cell(r['base'])} -> {_cell(r['tip'])} | "
+                     f"{r['n']} | {r['task']} | {t} | {comps} | {r['status']} | "
+                     f"{_cell(r['reason'])} |")
+    lines += ["", "Files without chains in the corpus:", ""]
+    lines += [f"- `{s['file']}`: {_cell(s['reason'])}" for s in skipped]
+    lines += ["", f"{outside} root-to-leaf path(s) with fewer than {MIN_JOINTS} or more than "
+                  f"{MAX_JOINTS} movable joints are not in the corpus.", ""]
+    return "\n".join(lines)
+
+
+def main(argv=None) -> int:
+    sys.path.insert(0, str(HERE.parent))
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--timeout", type=float, default=60.0, help="locus time limit per chain (s)")
+    ap.add_argument("--jobs", type=int, default=2, help="chains computed at the same time")
+    ap.add_argument("--robots", default="", help="comma-separated robot names (default: all)")
+    ap.add_argument("--max-per-robot", type=int, default=0,
+                    help="at most this many chains per robot, the shortest first (0: all)")
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--output", default=str(HERE / "corpus"))
+    ap.add_argument("--case", help=argparse.SUPPRESS)
+    args = ap.parse_args(argv)
+    if args.case:
+        return _child_main(args.case)
+
+    from importlib.metadata import version
+
+    root = robots_dir()
+    if root is None:
+        print("example-robot-data is not installed (pip install -e '.[test]')", file=sys.stderr)
+        return 2
+    chains, skipped, outside = corpus(root)
+    if args.robots:
+        wanted = set(args.robots.split(","))
+        chains = [c for c in chains if c.robot in wanted]
+    if args.max_per_robot:
+        kept = []
+        for robot in sorted({c.robot for c in chains}):
+            mine = sorted((c for c in chains if c.robot == robot), key=lambda c: c.n)
+            kept += mine[: args.max_per_robot]
+        chains = [c for c in chains if c in kept]
+    print(f"{len(chains)} chains", file=sys.stderr, flush=True)
+
+    def one(chain):
+        res = _run_child(chain, root, args.timeout, args.seed)
+        row = {"robot": chain.robot, "file": chain.file, "base": chain.base, "tip": chain.tip,
+               "n": chain.n, "task": chain.task, "joints": list(chain.joints),
+               "also_leaves": list(chain.also)} | res
+        print(f"{row['status']:>7} {row['wall_s']:6.1f} s  {chain.file}: {chain.label}  "
+              f"{row['reason'][:120]}", file=sys.stderr, flush=True)
+        return row
+
+    # longest chains first, so that the slow ones do not all end up at the end of the run
+    order = sorted(range(len(chains)), key=lambda i: -chains[i].n)
+    with ThreadPoolExecutor(max_workers=args.jobs) as pool:
+        done = dict(zip(order, pool.map(one, [chains[i] for i in order])))
+    rows = [done[i] for i in range(len(chains))]
+    meta = {"python": platform.python_version(), "machine": platform.machine(),
+            "timeout_s": args.timeout, "jobs": args.jobs, "seed": args.seed,
+            "max_per_robot": args.max_per_robot, "robots": args.robots or "all",
+            "example_robot_data": version("example-robot-data"), "pinocchio": version("pin"),
+            "tolerances": {"SOUND_RTOL": SOUND_RTOL, "PROBE_SINGULAR_RTOL": PROBE_SINGULAR_RTOL,
+                           "COVER_RESIDUAL": COVER_RESIDUAL, "MAPPING_RTOL": MAPPING_RTOL}}
+    counts = {s: sum(r["status"] == s for r in rows) for s in ("pass", "fail", "timeout", "error")}
+    Path(args.output + ".json").write_text(json.dumps(
+        {"meta": meta, "summary": counts, "skipped_files": skipped,
+         "paths_outside_joint_range": outside, "chains": rows}, indent=2) + "\n")
+    Path(args.output + ".md").write_text(render_markdown(rows, skipped, outside, meta))
+    print(f"{len(rows)} chains: " + ", ".join(f"{v} {k}" for k, v in counts.items()),
+          file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
