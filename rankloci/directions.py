@@ -35,8 +35,7 @@ def directions_in_model_frame(locus, model, tm):
               and turns_about_z(model, tm.frame))
     if rows not in ([0, 1, 2, 3, 4, 5], [0, 1, 2], [3, 4, 5]) and not planar:
         return locus
-    comps = []
-    for c in locus.components:
+    def mapped(c):
         q = {v: c.sample[str(v)] for v in tm.variables}
         params = {p: c.sample.get(str(p), float(val)) for p, val in model.parameters.items()}
         A_used = velocity_map(model, q, tm.frame, tm.point, params)
@@ -51,5 +50,7 @@ def directions_in_model_frame(locus, model, tm):
             full = np.concatenate([w, extra])
             full = full / max(np.linalg.norm(full), 1e-300)
             new.append(tuple(float(x) for x in full))
-        comps.append(dataclasses.replace(c, direction_at_sample=tuple(new)))
-    return dataclasses.replace(locus, components=tuple(comps))
+        return dataclasses.replace(c, direction_at_sample=tuple(new))
+
+    return dataclasses.replace(locus, components=tuple(mapped(c) for c in locus.components),
+                               special=tuple(mapped(c) for c in locus.special))

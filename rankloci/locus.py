@@ -16,7 +16,10 @@ import sympy as sp
 
 __all__ = ["Component", "Locus", "Outcome", "SCHEMA"]
 
-SCHEMA = "rankloci.locus/1"
+SCHEMA = "rankloci.locus/2"
+
+#: Schemas of locus files that can be read back (``rankloci check --locus``).
+READABLE_SCHEMAS = ("rankloci.locus/1", SCHEMA)
 
 
 class Outcome(enum.StrEnum):
@@ -98,7 +101,8 @@ class Component:
     for_model : bool
         Whether the component has real points for the model's own parameter
         values (a component with parameter conditions the model does not
-        satisfy, or whose equations have no real solution for them, has not).
+        satisfy, or whose equations have no real solution for them, has not);
+        see :attr:`exists_for_model`.
     """
 
     equations: tuple
@@ -119,11 +123,11 @@ class Component:
     def exists_for_model(self) -> bool:
         """Is this a component of the model's own locus?
 
-        It is when it has real points for the model's parameter values and
-        needs no special parameter values; the others are kept apart as
-        special-parameter components.
+        It is when it has real points for the model's own parameter values:
+        its parameter conditions, if any, hold for them.  The others are kept
+        apart, in :attr:`Locus.special`.
         """
-        return self.for_model and not self.parameter_conditions
+        return self.for_model
 
     def to_dict(self) -> dict:
         return {
@@ -143,7 +147,14 @@ class Component:
 
 @dataclass(frozen=True)
 class Locus:
-    """The rank-deficiency locus of a matrix: a union of components."""
+    """The rank-deficiency locus of a matrix: a union of components.
+
+    ``components`` is the locus of the model as given: every component has
+    real points for the model's own parameter values.  ``special`` holds the
+    components that exist only for other parameter values (a link length of
+    zero, two equal offsets the model does not have): the analysis found
+    them with symbolic parameters, and they say where the locus would change.
+    """
 
     model: str
     variables: tuple
@@ -156,6 +167,7 @@ class Locus:
     seconds: float = 0.0
     notes: tuple = ()
     base: "Locus | None" = None   # for an augmented matrix: the locus of J itself
+    special: tuple = ()           # components for other parameter values only
 
     def to_dict(self) -> dict:
         return {
@@ -165,10 +177,13 @@ class Locus:
             "parameters": {str(k): float(v) for k, v in self.parameters.items()},
             "matrix": {"rows": self.shape[0], "cols": self.shape[1]},
             "method": self.method,
-            "components": [c.to_dict() | ({"kind": c.kind, "meets": list(c.meets)}
-                                          if self.base is not None else {})
-                           for c in self.components],
+            "components": [self._component_dict(c) for c in self.components],
+            "special_components": [self._component_dict(c) for c in self.special],
             "degenerate": self.degenerate,
             "seconds": round(self.seconds, 4),
             "notes": list(self.notes),
         } | ({"base_locus": self.base.to_dict()} if self.base is not None else {})
+
+    def _component_dict(self, c) -> dict:
+        extra = {"kind": c.kind, "meets": list(c.meets)} if self.base is not None else {}
+        return c.to_dict() | extra

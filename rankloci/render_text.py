@@ -36,8 +36,8 @@ def locus_text(locus, *, row_labels=()) -> str:
              f"{locus.seconds:.2f} s"]
     if locus.degenerate:
         lines.append("the matrix is rank deficient at every configuration (degenerate design)")
-    main = [c for c in locus.components if c.exists_for_model]
-    special = [c for c in locus.components if not c.exists_for_model]
+    main = list(locus.components)
+    special = list(locus.special)
     lines.append(f"{len(main)} component(s) of the rank-deficiency locus:")
     for i, c in enumerate(main, 1):
         lines.extend(_component_lines(i, c, row_labels))
@@ -103,7 +103,7 @@ def locus_latex(locus) -> str:
     """The components as an amsmath ``align*`` block per component."""
     out = [f"% rank-deficiency locus of {locus.model} ({locus.shape[0]}x{locus.shape[1]}), "
            f"method {locus.method}"]
-    for i, c in enumerate(locus.components, 1):
+    for i, c in enumerate(locus.components + locus.special, 1):
         tag = " (special parameters)" if not c.exists_for_model else ""
         tag += f", {c.kind}" if c.kind else ""
         out.append(f"% component {i}: dimension {c.dimension}, rank drop {c.rank_drop}{tag}")

@@ -296,9 +296,10 @@ def test_ssrms_with_joint_3_locked():
 def test_json_has_kind_per_component_and_the_base_locus(capsys):
     assert main(["locus", "planar3r", "--augment", "sin(q2)", "--format", "json", "--quiet"]) == 0
     data = json.loads(capsys.readouterr().out)
-    assert data["base_locus"]["schema"] == "rankloci.locus/1"
+    assert data["base_locus"]["schema"] == "rankloci.locus/2"
     assert data["base_locus"]["matrix"] == {"rows": 2, "cols": 3}
-    kinds = [c["kind"] for c in data["components"] if c["for_model"] and not c["parameter_conditions"]]
+    assert all(c["for_model"] for c in data["components"])
+    kinds = [c["kind"] for c in data["components"]]
     assert sorted(set(kinds)) == ["algorithmic", "mixed"]
     assert all("kind" in c and "meets" in c for c in data["components"])
 

@@ -43,7 +43,7 @@ def scaled_value(expr, params: dict, values: dict) -> float:
 
 def test_planar2r_json_schema_and_equations(capsys):
     data = locus_json(capsys, "planar2r")
-    assert data["schema"] == "rankloci.locus/1"
+    assert data["schema"] == "rankloci.locus/2"
     assert data["model"] == "planar2r"
     assert data["variables"] == ["q1", "q2"]
     assert data["parameters"] == {"l1": 1.0, "l2": 1.0}
@@ -200,3 +200,31 @@ def test_tree_files_are_written_and_parse(capsys, tmp_path):
 def test_tree_with_unknown_suffix_is_a_usage_error(capsys, tmp_path):
     code, out, err = run(capsys, "locus", "planar2r", "--tree", str(tmp_path / "tree.png"))
     assert code == 2 and out == "" and len(err.splitlines()) == 1
+
+
+def test_components_are_the_models_own_and_special_ones_are_kept_apart(capsys):
+    """planar2r (l1 = l2 = 1): det J = l1 l2 sin q2.  The model's locus is sin q2 = 0; l1 = 0
+    and l2 = 0 hold only for other link lengths and are listed under special_components."""
+    data = locus_json(capsys, "planar2r")
+    assert [c["equations"] for c in data["components"]] == [["sin(q2)"]]
+    assert all(c["for_model"] and not c["parameter_conditions"] for c in data["components"])
+    special = sorted(c["parameter_conditions"] for c in data["special_components"])
+    assert special == [["l1"], ["l2"]]
+    assert not any(c["for_model"] for c in data["special_components"])
+
+
+def test_schema_1_files_are_read_with_special_components_kept_apart(tmp_path, capsys):
+    """A rankloci.locus/1 file listed special-parameter components among the others."""
+    path = tmp_path / "old.json"
+    path.write_text(json.dumps({
+        "schema": "rankloci.locus/1", "model": "planar2r", "variables": ["q1", "q2"],
+        "components": [{"equations": ["sin(q2)"], "parameter_conditions": [], "for_model": True},
+                       {"equations": ["l1"], "parameter_conditions": ["l1"],
+                        "for_model": True}]}), encoding="utf-8")
+    code = main(["check", "planar2r", "--locus", str(path), "--quiet", "--format", "json"])
+    out = capsys.readouterr()
+    assert code == 0, out.err
+    report = json.loads(out.out)
+    assert report["ok"]
+    assert [c["equations"] for c in report["on_locus"]] == [["sin(q2)"]]
+    assert report["skipped_components"] == [["l1"]]

@@ -224,7 +224,7 @@ def cmd_check(args) -> int:
     from ..exact.singular import singular_cross_check
 
     exact = singular_cross_check(task_matrix(model, frame="auto", numeric=True), locus,
-                                 rng=np.random.default_rng(args.seed))
+                                 rng=np.random.default_rng(args.seed), parameters=J.parameters)
     ok = report.ok and exact.status != "disagree"
     if args.format == "json":
         print(json.dumps({**report.to_dict(), "singular": exact.to_dict(), "ok": ok}, indent=2))

@@ -201,7 +201,7 @@ def build_parser() -> ArgumentParser:
     p.add_argument("model", metavar="MODEL|FILE",
                    help="a built-in model name (see 'rankloci models') or a .toml/.urdf file")
     p.add_argument("--locus", metavar="LOCUS.json",
-                   help="check this rankloci.locus/1 file instead of computing the locus")
+                   help="check this locus file (schema rankloci.locus/1 or /2) instead of computing the locus")
     p.add_argument("--samples", type=int, default=10,
                    help="points per component, off-locus points and probe starts (default 10)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed of the random points (default 0)")

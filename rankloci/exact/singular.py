@@ -65,10 +65,12 @@ def _to_cs(expr, cs):
     return sp.expand(sp.expand_trig(expr).xreplace(rep))
 
 
-def singular_cross_check(tm, locus, *, rng) -> SingularResult:
+def singular_cross_check(tm, locus, *, rng, parameters=None) -> SingularResult:
     """Compare the minimal primes of the maximal-minor ideal with ``locus``.
 
-    ``tm`` must have numeric parameters and only angle variables.
+    ``tm`` must have numeric parameters and only angle variables.  The
+    locus's equations may still name parameters (a locus read from a file):
+    ``parameters`` (default ``locus.parameters``) gives their values, by name.
     """
     if not singular_available():
         return SingularResult("skipped", "Singular is not installed (Debian package 'singular')")
@@ -113,7 +115,9 @@ def singular_cross_check(tm, locus, *, rng) -> SingularResult:
     primes = _parse_primes(proc.stdout)
     if proc.returncode != 0 or not primes:
         return SingularResult("skipped", f"Singular failed: {proc.stderr.strip()[:200]}")
-    findings = _compare(primes, gens, cs, tm, locus, rng)
+    values = {str(k): v for k, v in (locus.parameters if parameters is None
+                                     else parameters).items()}
+    findings = _compare(primes, gens, cs, tm, _with_values(locus, values), rng)
     return SingularResult("agree" if not findings else "disagree",
                           f"{len(primes)} minimal associated prime(s)",
                           tuple(tuple(p) for p in primes), tuple(findings))
@@ -136,6 +140,19 @@ def _parse_poly(text, names):
     from ..expr import parse_expression
 
     return parse_expression(text.replace("^", "**"), names)
+
+
+def _with_values(locus, values):
+    """``locus`` with the parameter values substituted into its components' equations."""
+    import dataclasses
+
+    def numeric(c):
+        def sub(e):
+            return e.subs({s: values[s.name] for s in e.free_symbols if s.name in values})
+        return dataclasses.replace(c, equations=tuple(sub(e) for e in c.equations),
+                                   excluding=tuple(sub(e) for e in c.excluding))
+
+    return dataclasses.replace(locus, components=tuple(numeric(c) for c in locus.components))
 
 
 def _compare(primes, gens, cs, tm, locus, rng):

@@ -92,7 +92,11 @@ def finalize(ctx: Context) -> list[Component]:
 def _component(ctx: Context, eqs, branch, pts) -> _Candidate:
     ring, tm = ctx.ring, ctx.tm
     model_pts = ctx.model_sampler.points(branch) if ctx.model_sampler is not ctx.sampler else pts
-    for_model = bool(model_pts)
+    # the samplers solve for parameters that only parameter conditions constrain: the
+    # component is the model's when those conditions hold at the model's own values
+    at_model = [ctx.model_point()]
+    for_model = bool(model_pts) and all(ctx.probe.vanishes(c, at_model)
+                                        for c in branch.conditions if ctx.parameter_only(c))
     g = model_pts[0] if model_pts else pts[0]
     qv = ring.joint_values(g)
     pv = ring.parameter_values(g)

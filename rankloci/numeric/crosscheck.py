@@ -194,7 +194,8 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
         e = sp.sympify(e).xreplace(rename)
         return e.subs({s: params_by_name[s.name] for s in e.free_symbols if s.name in params_by_name})
 
-    checked, skipped, findings = [], [], []
+    checked, findings = [], []
+    skipped = [tuple(sp.sstr(e) for e in comp.equations) for comp in locus.special]
     for i, comp in enumerate(locus.components, start=1):
         eq_text = tuple(sp.sstr(e) for e in comp.equations)
         if not comp.exists_for_model:
@@ -290,7 +291,7 @@ MAX_RANK_DROP = 100
 
 
 def parse_locus(data, model):
-    """A :class:`~rankloci.locus.Locus` from its ``rankloci.locus/1`` dict, in `model`'s symbols.
+    """A :class:`~rankloci.locus.Locus` from its ``rankloci.locus/1`` or ``/2`` dict, in `model`'s symbols.
 
     Raises
     ------
@@ -300,14 +301,13 @@ def parse_locus(data, model):
     """
     from ..errors import ExpressionError, ModelError
     from ..expr import parse_expression
-    from ..locus import SCHEMA as LOCUS_SCHEMA
-    from ..locus import Component, Locus
+    from ..locus import READABLE_SCHEMAS, Component, Locus
 
     if not isinstance(data, dict):
         raise ModelError("a locus file must hold a JSON object", field="schema")
-    if data.get("schema") != LOCUS_SCHEMA:
-        raise ModelError(f"schema is {data.get('schema')!r}, expected {LOCUS_SCHEMA!r}",
-                         field="schema")
+    if data.get("schema") not in READABLE_SCHEMAS:
+        raise ModelError(f"schema is {str(data.get('schema'))[:40]!r}, expected one of "
+                         f"{', '.join(READABLE_SCHEMAS)}", field="schema")
     names = [v.name for v in model.variables]
     if data.get("variables") != names:
         raise ModelError(f"variables {data.get('variables')!r} are not the model's {names}",
@@ -316,6 +316,9 @@ def parse_locus(data, model):
     comps = data.get("components")
     if not isinstance(comps, list):
         raise ModelError("'components' must be a list", field="components")
+    special = data.get("special_components", [])
+    if not isinstance(special, list):
+        raise ModelError("'special_components' must be a list", field="special_components")
 
     def parse_all(items, where):
         if not isinstance(items, list):
@@ -326,8 +329,9 @@ def parse_locus(data, model):
             raise ModelError(str(e), field=where) from None
 
     out = []
-    for k, c in enumerate(comps, start=1):
-        where = f"components[{k}]"
+    for k, c in [(k, c) for k, c in enumerate(comps, start=1)] + \
+            [(-k, c) for k, c in enumerate(special, start=1)]:
+        where = f"components[{k}]" if k > 0 else f"special_components[{-k}]"
         if not isinstance(c, dict) or "equations" not in c:
             raise ModelError("each component must be an object with 'equations'", field=where)
         rank_drop = c.get("rank_drop", 1)
@@ -340,8 +344,11 @@ def parse_locus(data, model):
             rank_drop=rank_drop,
             parameter_conditions=parse_all(c.get("parameter_conditions", []),
                                            f"{where}.parameter_conditions"),
-            for_model=bool(c.get("for_model", True)),
+            # schema /1 listed special-parameter components among the others
+            for_model=k > 0 and bool(c.get("for_model", True))
+            and not (data["schema"] == READABLE_SCHEMAS[0] and c.get("parameter_conditions")),
             excluding=parse_all(c.get("excluding", []), f"{where}.excluding")))
     return Locus(model=str(data.get("model", model.name)), variables=tuple(model.variables),
                  parameters={}, shape=(0, 0), method=str(data.get("method", "file")),
-                 components=tuple(out))
+                 components=tuple(c for c in out if c.exists_for_model),
+                 special=tuple(c for c in out if not c.exists_for_model))

@@ -180,14 +180,19 @@ class Context:
         joint = 2 * self.ring.n_angles + len(self.ring.others)
         return all(i >= joint for i in self.ring.variable_indices(f))
 
-    def special_parameters(self, f, where: str):
-        """Note a parameter-only factor that is not analysed further."""
-        text = sp.sstr(self.ring.to_sympy(f))
-        vals = np.array([0.0] * len(self.ring.names))
+    def model_point(self) -> np.ndarray:
+        """A generator vector with the model's parameter values (joint generators zero)."""
+        vals = np.zeros(len(self.ring.names))
         base = 2 * self.ring.n_angles + len(self.ring.others)
         for j, p in enumerate(self.ring.params):
             vals[base + j] = self.model_values[p]
         vals[self.ring.surd_start:] = self.ring.surd_values
+        return vals
+
+    def special_parameters(self, f, where: str):
+        """Note a parameter-only factor that is not analysed further."""
+        text = sp.sstr(self.ring.to_sympy(f))
+        vals = self.model_point()
         if any(n.startswith((f"the model's parameter values satisfy {text} = 0",
                              f"for parameters with {text} = 0")) for n in self.notes):
             return

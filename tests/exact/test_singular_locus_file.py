@@ -29,3 +29,15 @@ def test_check_reads_its_own_locus_json(tmp_path, capsys, name):
     report = json.loads(out.out)
     singular = report["singular"]
     assert singular["status"] == "agree", singular
+
+
+def test_equations_that_name_parameters_get_the_models_values(tmp_path, capsys):
+    """l1*sin(q2) = 0 is planar2r's locus at l1 = 1; the exact check substitutes the value."""
+    path = tmp_path / "l.json"
+    path.write_text(json.dumps({"schema": "rankloci.locus/2", "model": "planar2r",
+                                "variables": ["q1", "q2"],
+                                "components": [{"equations": ["l1*sin(q2)"]}]}), encoding="utf-8")
+    code = main(["check", "planar2r", "--locus", str(path), "--quiet", "--format", "json"])
+    out = capsys.readouterr()
+    assert code == 0, out.err
+    assert json.loads(out.out)["singular"]["status"] == "agree"
