@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from ..methods import method_for
 from .blocks import (SIGMA, Bullets, Code, Figure, Heading, Math, Para, Table, block_label,
                      variables_text)
 from .mathfmt import LINE_WIDTH, broken_lines, latex, value_latex
@@ -230,8 +231,7 @@ def _comparison_section(report):
     if report.locus is None:
         return []
     out = [Heading(2, "Method comparison", block_label(report, "methods"))]
-    tm = report.tm
-    if tm.shape[0] == tm.shape[1]:
+    if method_for(report.tm.shape) == "determinant":
         out.append(Para("$J$ is square, so the determinant method is the only one: the "
                         "singular vector and subdeterminant methods both reduce to "
                         "$\\det J = 0$ here."))
