@@ -168,6 +168,7 @@ class Locus:
     notes: tuple = ()
     base: "Locus | None" = None   # for an augmented matrix: the locus of J itself
     special: tuple = ()           # components for other parameter values only
+    complete: bool | None = None  # the self-check passed (None: not checked)
 
     def to_dict(self) -> dict:
         return {
@@ -180,6 +181,7 @@ class Locus:
             "components": [self._component_dict(c) for c in self.components],
             "special_components": [self._component_dict(c) for c in self.special],
             "degenerate": self.degenerate,
+            "complete": self.complete,
             "seconds": round(self.seconds, 4),
             "notes": list(self.notes),
         } | ({"base_locus": self.base.to_dict()} if self.base is not None else {})

@@ -150,9 +150,25 @@ def cmd_locus(args) -> int:
                          f"{tm.shape[0]}x{tm.shape[1]}") from None
     if progress:
         progress(f"{tm.name}: {tm.shape[0]}x{tm.shape[1]} matrix, method {method}, seed {args.seed}")
+    should_stop = _deadline(args.timeout)
+
+    def compute(t, seed):
+        return augmented_locus(model, t, method, seed=seed, progress=progress,
+                               should_stop=should_stop, clock=time.perf_counter)
+
     try:
-        locus = augmented_locus(model, tm, method, seed=args.seed, progress=progress,
-                                should_stop=_deadline(args.timeout), clock=time.perf_counter)
+        if args.verify:
+            from ..augmented import parse_augment
+            from ..jacobian import task_matrix
+            from ..verify import verified_locus
+
+            reference = task_matrix(model, task=args.task,
+                                    augment=parse_augment(model, args.augment or ()))
+            if progress:
+                progress("self-check: the locus is checked numerically before it is shown")
+            locus, _ = verified_locus(compute, tm, reference, seed=args.seed, progress=progress)
+        else:
+            locus = compute(tm, args.seed)
     except LocusTimeout as e:
         print(f"rankloci: error: {e}; raise --timeout (now {args.timeout:g} s) or try "
               f"--numeric-parameters", file=sys.stderr)
@@ -177,6 +193,10 @@ def cmd_locus(args) -> int:
         if args.show_tree:
             print()
             print(tree_text(locus.tree))
+    if locus.complete is False:
+        print("rankloci: the locus failed its self-check and is incomplete (see its notes)",
+              file=sys.stderr)
+        return EXIT_FAILED
     return EXIT_OK
 
 

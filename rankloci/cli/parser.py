@@ -193,6 +193,10 @@ def build_parser() -> ArgumentParser:
     p.add_argument("--seed", type=seed_arg, default=0, help="seed of the numeric probes (default 0)")
     p.add_argument("--timeout", type=float, default=600.0,
                    help="give up after this many seconds (default 600; 0 = never)")
+    p.add_argument("--no-verify", dest="verify", action="store_false",
+                   help="skip the self-check (dimension bound and numeric probe at the model's "
+                        "values) that runs before the locus is shown, and the recomputation it "
+                        "triggers when it fails")
     p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
     p.set_defaults(frame_default="auto")
 

@@ -228,3 +228,26 @@ def test_schema_1_files_are_read_with_special_components_kept_apart(tmp_path, ca
     assert report["ok"]
     assert [c["equations"] for c in report["on_locus"]] == [["sin(q2)"]]
     assert report["skipped_components"] == [["l1"]]
+
+
+def test_a_locus_its_self_check_rejects_is_printed_incomplete_with_exit_1(monkeypatch, capsys):
+    """Never a locus that the tool's own check rejects, shown as if it passed."""
+    import dataclasses
+
+    import rankloci.augmented as augmented
+
+    real = augmented.augmented_locus
+
+    def losing(*args, **kwargs):
+        return dataclasses.replace(real(*args, **kwargs), components=())
+
+    monkeypatch.setattr(augmented, "augmented_locus", losing)
+    code = main(["locus", "planar3r", "--format", "json", "--quiet"])
+    out = capsys.readouterr()
+    assert code == 1
+    data = json.loads(out.out)
+    assert data["complete"] is False
+    assert any(n.startswith("INCOMPLETE") for n in data["notes"])
+    assert "incomplete" in out.err
+    assert main(["locus", "planar3r", "--format", "json", "--quiet", "--no-verify"]) == 0
+    assert json.loads(capsys.readouterr().out)["complete"] is None

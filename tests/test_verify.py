@@ -1,0 +1,79 @@
+"""The self-check that runs before a locus is shown (rankloci.verify)."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from rankloci.io import load_model
+from rankloci.jacobian import task_matrix
+from rankloci.methods import compute_locus, method_for
+from rankloci.verify import dimension_bound, dimension_findings, verified_locus
+
+
+def _compute(t, seed):
+    return compute_locus(t, method_for(t.shape), rng=np.random.default_rng(seed))
+
+
+def _planar3r():
+    model = load_model("planar3r")
+    return task_matrix(model, frame="auto"), task_matrix(model)
+
+
+@pytest.mark.parametrize("shape, nvars, drop, bound", [
+    ((2, 3), 3, 1, 1), ((6, 6), 6, 1, 5), ((6, 7), 7, 1, 5), ((6, 10), 10, 1, 5),
+    ((6, 6), 6, 2, 2), ((7, 6), 6, 1, 4), ((2, 4), 4, 2, 0)])
+def test_dimension_bound_is_the_eagon_northcott_codimension(shape, nvars, drop, bound):
+    """codim <= k (m - n + k) for rank n - k of an n x m matrix, n <= m."""
+    assert dimension_bound(shape, nvars, drop) == bound
+
+
+def test_a_correct_locus_passes_at_the_first_attempt():
+    tm, ref = _planar3r()
+    locus, v = verified_locus(_compute, tm, ref, seed=0)
+    assert v.complete and locus.complete is True
+    assert v.attempts == ("as computed: passed",)
+    assert not dimension_findings(locus)
+
+
+def test_a_locus_missing_its_component_is_recomputed():
+    """The first computation loses the component (sin q2 = 0 ...); the check sees singular points
+    on no component and the next attempt, correct, is returned with a note."""
+    tm, ref = _planar3r()
+    calls = []
+
+    def flaky(t, seed):
+        calls.append(seed)
+        locus = _compute(t, seed)
+        return dataclasses.replace(locus, components=()) if len(calls) == 1 else locus
+
+    locus, v = verified_locus(flaky, tm, ref, seed=0)
+    assert len(calls) == 2
+    assert v.complete and locus.components
+    assert v.attempts[0].endswith("failed") and v.attempts[1].endswith("passed")
+    assert any("failed its self-check" in n for n in locus.notes)
+
+
+def test_a_locus_that_never_passes_is_marked_incomplete():
+    tm, ref = _planar3r()
+
+    def broken(t, seed):
+        return dataclasses.replace(_compute(t, seed), components=())
+
+    locus, v = verified_locus(broken, tm, ref, seed=0)
+    assert not v.complete and locus.complete is False
+    assert len(v.attempts) == 3 and all(a.endswith("failed") for a in v.attempts)
+    assert any("singular point on no component" in p for p in v.problems)
+    assert any(n.startswith("INCOMPLETE") for n in locus.notes)
+    assert locus.to_dict()["complete"] is False
+
+
+def test_a_component_below_the_bound_is_reported():
+    tm, ref = _planar3r()
+    locus = _compute(tm, 0)
+    low = dataclasses.replace(locus, components=tuple(
+        dataclasses.replace(c, dimension=0) for c in locus.components))
+    (finding,) = dimension_findings(low)
+    assert "below the bound 1" in finding
