@@ -16,6 +16,11 @@ Frames and reference points are named by :func:`frame_position`:
 - an integer ``k`` in ``0..n``: the frame after joint ``k`` (``0`` is the
   frame after the base transform).
 
+A mimic joint moves by ``multiplier * q`` (:attr:`RobotModel.joint_coordinates`),
+so by the chain rule the Jacobian column of ``q`` is the sum of the twists of
+the joints that move with ``q``, each times its multiplier: one column per
+variable.
+
 The Jacobian rows are the linear velocity of the reference point, then the
 angular velocity, both expressed in the chosen frame.  Its rank does not
 depend on the frame; for the full 6-row task it does not depend on the
@@ -42,11 +47,17 @@ __all__ = [
 
 
 def _motion(kind: str, axis, q) -> sp.Matrix:
-    """4x4 transform of a joint moving by ``q`` about/along the unit ``axis``."""
+    """4x4 transform of a joint moving by ``q`` about/along the unit ``axis``.
+
+    ``q`` is a variable or, for a mimic joint, an integer multiple of one:
+    ``cos(2*q)`` is expanded to a polynomial in ``cos(q)`` and ``sin(q)``.
+    """
     x, y, z = axis
     if kind == "prismatic":
         return sp.Matrix([[1, 0, 0, x * q], [0, 1, 0, y * q], [0, 0, 1, z * q], [0, 0, 0, 1]])
     c, s = sp.cos(q), sp.sin(q)
+    if not isinstance(q, sp.Symbol):
+        c, s = sp.expand_trig(c), sp.expand_trig(s)
     if (x, y, z) == (0, 0, 1):
         R = sp.Matrix([[c, -s, 0], [s, c, 0], [0, 0, 1]])
     elif (x, y, z) == (0, 0, -1):
@@ -108,7 +119,7 @@ def _mul(A: sp.Matrix, B: sp.Matrix) -> sp.Matrix:
 
 def _factors(model: RobotModel) -> list[sp.Matrix]:
     out = [sp.Matrix(model.base)]
-    for j, q in zip(model.joints, model.variables):
+    for j, q in zip(model.joints, model.joint_coordinates):
         out += [sp.Matrix(j.pre), _motion(j.kind, j.axis, q), sp.Matrix(j.post)]
     out.append(sp.Matrix(model.tool))
     return out
@@ -191,7 +202,7 @@ def _cross(a, b):
 def _jacobian_cached(model: RobotModel, frame, point) -> sp.ImmutableMatrix:
     T = relative_transforms(model, frame)
     p_ref = T[frame_position(model, point)][:3, 3]
-    cols = []
+    twists = []
     for i, joint in enumerate(model.joints):
         Ti = T[3 * i + 2]  # frame in which joint i+1 moves
         z = Ti[:3, :3] * sp.Matrix(joint.axis)
@@ -200,7 +211,15 @@ def _jacobian_cached(model: RobotModel, frame, point) -> sp.ImmutableMatrix:
             w = z
         else:
             v, w = z, sp.zeros(3, 1)
-        cols.append(v.col_join(w))
+        twists.append(v.col_join(w))
+    if all(j.mimic is None for j in model.joints):
+        return sp.ImmutableMatrix(sp.Matrix.hstack(*twists))
+    cols = []
+    for q in model.variables:  # chain rule: d/dq of every joint that moves with q
+        col = sp.zeros(6, 1)
+        for c, t in zip(model.joint_coordinates, twists):
+            col += sp.diff(c, q) * t
+        cols.append(col.applyfunc(trig_normal))
     return sp.ImmutableMatrix(sp.Matrix.hstack(*cols))
 
 

@@ -12,6 +12,11 @@ rotation about (revolute) or a translation along (prismatic) the unit vector
 it last (``post = I``) and URDF puts the origin in ``pre``.  The DH fields are
 kept beside, for display.
 
+A joint with a :class:`Mimic` (a URDF gripper finger) has no variable of its
+own: it moves by ``multiplier * q`` where ``q`` is the variable of the joint it
+follows, so ``variables`` holds one symbol per joint *without* a mimic, and
+the Jacobian one column per variable.
+
 A :class:`MatrixModel` is any symbolic matrix in named variables.
 """
 
@@ -25,6 +30,7 @@ import sympy as sp
 
 __all__ = [
     "DHParams",
+    "Mimic",
     "Joint",
     "RobotModel",
     "MatrixModel",
@@ -87,6 +93,19 @@ class DHParams:
 
 
 @dataclass(frozen=True)
+class Mimic:
+    """The coupling of a joint that follows another: it moves by ``multiplier * q``.
+
+    ``q`` is the variable of joint ``joint`` (0-based index in
+    :attr:`RobotModel.joints`), which has no mimic itself.  A constant offset
+    of the coupling is part of the follower's ``pre`` transform.
+    """
+
+    joint: int
+    multiplier: sp.Expr
+
+
+@dataclass(frozen=True)
 class Joint:
     """One joint of a serial chain in the general form ``pre * Motion * post``."""
 
@@ -97,6 +116,7 @@ class Joint:
     name: str = ""
     dh: DHParams | None = None
     limits: tuple[float, float] | None = None
+    mimic: Mimic | None = None  # set when the joint follows another joint's variable
 
     def __post_init__(self):
         if self.kind not in ("revolute", "prismatic"):
@@ -126,9 +146,11 @@ class RobotModel(_ContentIdentity):
     name : str
         Identifier; equals the file stem for model files.
     joints : tuple of Joint
-        Joint ``i`` (0-based) moves variable ``variables[i]``.
+        Joint ``i`` (0-based) moves by ``joint_coordinates[i]``: variable
+        ``variables[i]`` when no joint has a :class:`Mimic`.
     variables : tuple of sympy.Symbol
-        Joint variables ``q1..qn`` (real symbols).
+        Joint variables ``q1..qn`` (real symbols), one per joint without a
+        mimic, in chain order.
     parameters : dict
         Parameter symbol -> numeric value (a sympy number).
     base, tool : sympy.ImmutableMatrix
@@ -160,13 +182,21 @@ class RobotModel(_ContentIdentity):
 
     @property
     def dof(self) -> int:
-        """Number of joints."""
+        """Number of joints (mimic joints included: the link frames are 0..dof)."""
         return len(self.joints)
+
+    @property
+    def joint_coordinates(self) -> tuple[sp.Expr, ...]:
+        """What each joint moves by: its variable, or ``multiplier * q`` for a mimic joint."""
+        own = dict(zip((i for i, j in enumerate(self.joints) if j.mimic is None), self.variables))
+        return tuple(own[i] if j.mimic is None else j.mimic.multiplier * own[j.mimic.joint]
+                     for i, j in enumerate(self.joints))
 
     @property
     def angle_variables(self) -> tuple[sp.Symbol, ...]:
         """Joint variables of revolute joints (they enter through sin and cos)."""
-        return tuple(v for v, j in zip(self.variables, self.joints) if j.kind == "revolute")
+        own = (j for j in self.joints if j.mimic is None)
+        return tuple(v for v, j in zip(self.variables, own) if j.kind == "revolute")
 
     def content_key(self) -> str:
         """A string that changes whenever anything the kinematics depend on changes."""
@@ -174,6 +204,8 @@ class RobotModel(_ContentIdentity):
                  repr([v.name for v in self.variables]), srepr_matrix(self.base), srepr_matrix(self.tool)]
         for j in self.joints:
             parts += [j.kind, sp.srepr(sp.Tuple(*j.axis)), srepr_matrix(j.pre), srepr_matrix(j.post)]
+            if j.mimic is not None:
+                parts.append(f"mimic {j.mimic.joint} {sp.srepr(j.mimic.multiplier)}")
         parts += [f"{k}={sp.srepr(v)}" for k, v in sorted(self.parameters.items(), key=lambda kv: kv[0].name)]
         parts += [f"{n}:{sp.srepr(e)}" for n, e in self.augment]
         parts += [f"point {n}={k}" for n, k in self.points]

@@ -19,11 +19,23 @@ Conventions
   origin, and ``post_i`` is the identity.  Fixed joints after the last movable
   joint make up :attr:`RobotModel.tool`; ``base`` is the identity.
 - ``revolute`` and ``continuous`` joints are revolute, ``prismatic`` joints
-  prismatic; ``floating`` and ``planar`` joints and ``mimic`` joints on the
-  chain are not supported.  Joint limits are kept for revolute and prismatic
-  joints; a continuous joint has none (the specification ignores them).
-- Joint variables are ``q1..qn`` in chain order, whatever the URDF joint
-  names (kept as :attr:`Joint.name`).
+  prismatic; ``floating`` and ``planar`` joints are not supported.  Joint
+  limits are kept for revolute and prismatic joints; a continuous joint has
+  none (the specification ignores them).
+- A joint with ``<mimic joint="J" multiplier="m" offset="o"/>`` (defaults 1
+  and 0) moves by ``m * q_J + o`` and has no variable of its own
+  (:class:`~rankloci.model.Mimic`); its offset is a constant motion folded
+  into its ``pre``, and the Jacobian column of ``q_J`` gets ``m`` times its
+  twist.  A mimic of a mimic is followed (multipliers and offsets compose) to
+  a joint that mimics nothing, which must be a movable joint of the chain,
+  before or after the follower; intermediate joints may lie off the chain.
+  Every joint on the way must be of the follower's kind (revolute or
+  prismatic), and a revolute follower's composed multiplier must be an
+  integer, so the kinematics stay polynomial in the cosines and sines of the
+  variables.  Multipliers are read as the rational of their shortest decimal
+  form, offsets as rpy angles (revolute) or lengths (prismatic).
+- Joint variables are ``q1..qn`` in chain order for the joints without a
+  mimic, whatever the URDF joint names (kept as :attr:`Joint.name`).
 
 The document is read by :mod:`rankloci.io.urdf_xml` (safely: entity
 declarations and external references are refused) and its decimal numbers
@@ -39,18 +51,21 @@ from pathlib import Path
 
 import sympy as sp
 
-from ..errors import ModelError
-from ..model import TASKS, Joint, RobotModel
-from .urdf_exact import exact_axis, exact_origin, expanded_product
+from ..errors import ExpressionError, ModelError
+from ..expr import exact_number
+from ..model import TASKS, Joint, Mimic, RobotModel
+from .urdf_exact import exact_axis, exact_motion, exact_origin, expanded_product
 from .urdf_xml import (
     JOINT_KINDS,
     UNSUPPORTED_TYPES,
+    UrdfJoint,
     axis_floats,
     chain_joints,
     check_joint_numbers,
     joint_limits,
     joints_by_name,
     link_names,
+    mimic_floats,
     name_list,
     origin_floats,
     parent_joints,
@@ -84,8 +99,9 @@ def parse_urdf(text: str, *, name: str, file: str = "", base_link: str | None = 
     -------
     RobotModel
         One joint per revolute, continuous or prismatic joint on the chain,
-        with ``convention="urdf"``, the full 6-row task, base frame, the
-        robot's ``name`` attribute as title, and fixed joints folded into the
+        one variable per such joint without a mimic, with
+        ``convention="urdf"``, the full 6-row task, base frame, the robot's
+        ``name`` attribute as title, and fixed joints folded into the
         neighbouring transforms.
 
     Raises
@@ -93,8 +109,9 @@ def parse_urdf(text: str, *, name: str, file: str = "", base_link: str | None = 
     ModelError
         On invalid or hostile XML, a missing or malformed attribute, an
         unknown or unsupported joint type, a link tree that is cyclic or not
-        connected, an unknown base or tip link, several leaves and no tip, or
-        a chain without movable joints.
+        connected, an unknown base or tip link, several leaves and no tip, a
+        chain without movable joints, or a mimic that cannot be followed (see
+        the module docstring).
 
     Examples
     --------
@@ -119,6 +136,16 @@ def parse_urdf(text: str, *, name: str, file: str = "", base_link: str | None = 
     [0, 0,  0,   1]])
     >>> m.tool[:3, 3].T
     Matrix([[1/4, 0, 0]])
+
+    A finger that mimics the joint before it adds its twist to that joint's
+    column:
+
+    >>> finger = urdf.replace('<joint name="flange" type="fixed">',
+    ...     '<joint name="flange" type="revolute"><mimic joint="j2" multiplier="-1"/>'
+    ...     '<axis xyz="0 0 1"/>')
+    >>> m = parse_urdf(finger, name="arm")
+    >>> m.variables, m.joint_coordinates
+    ((q1, q2), (q1, q2, -q2))
     """
     where = file or None
     root = parse_document(text, where)
@@ -146,15 +173,14 @@ def parse_urdf(text: str, *, name: str, file: str = "", base_link: str | None = 
                              f"link below it with --base)", file=where, field="type")
         if j.type in JOINT_KINDS:
             index[j.name] = len(index) + 1
-            if j.element.find("mimic") is not None:
-                raise ModelError(f"joint {j.name!r} mimics another joint; mimic joints are "
-                                 f"not supported", file=where, joint=index[j.name],
-                                 field="mimic")
     for j in joints.values():
         check_joint_numbers(j, index.get(j.name), where)
     if not index:
         raise ModelError(f"no revolute, continuous or prismatic joint between "
                          f"{base_link!r} and {tip_link!r}", file=where)
+    chain_text = f"{base_link} -> {tip_link}"
+    followed = {j.name: _followed_joint(j, joints, index, chain_text, where)
+                for j in chain if j.name in index and j.element.find("mimic") is not None}
 
     model_joints = []
     fixed = sp.eye(4)  # fixed transforms accumulated since the last movable joint
@@ -163,21 +189,31 @@ def parse_urdf(text: str, *, name: str, file: str = "", base_link: str | None = 
         fixed = expanded_product(fixed, exact_origin(*origin_floats(j, None, None)))
         if i is None:
             continue
+        kind = JOINT_KINDS[j.type]
+        axis = exact_axis(axis_floats(j, i, where))
+        mimic = None
+        if j.name in followed:
+            leader, multiplier, offset = followed[j.name]
+            mimic = Mimic(joint=index[leader] - 1, multiplier=multiplier)
+            if offset != 0:
+                fixed = expanded_product(fixed, exact_motion(kind, axis, offset))
         model_joints.append(Joint(
-            kind=JOINT_KINDS[j.type],
-            axis=exact_axis(axis_floats(j, i, where)),
+            kind=kind,
+            axis=axis,
             pre=sp.ImmutableMatrix(fixed),
             post=sp.ImmutableMatrix(sp.eye(4)),
             name=j.name,
             limits=joint_limits(j, i, where),
+            mimic=mimic,
         ))
         fixed = sp.eye(4)
 
     title = root.get("name", "")
+    free = sum(j.mimic is None for j in model_joints)
     return RobotModel(
         name=name,
         joints=tuple(model_joints),
-        variables=tuple(sp.Symbol(f"q{i}", real=True) for i in range(1, len(model_joints) + 1)),
+        variables=tuple(sp.Symbol(f"q{i}", real=True) for i in range(1, free + 1)),
         parameters={},
         title=title,
         source=f"URDF robot {title!r}, chain {base_link} -> {tip_link}",
@@ -187,6 +223,61 @@ def parse_urdf(text: str, *, name: str, file: str = "", base_link: str | None = 
         frame="base",
         convention="urdf",
     )
+
+
+def _followed_joint(j: UrdfJoint, joints: dict[str, UrdfJoint], index: dict[str, int],
+                    chain_text: str, where) -> tuple[str, sp.Expr, sp.Expr]:
+    """``(leader, multiplier, offset)``: the chain joint ``j`` moves by ``multiplier * q + offset``.
+
+    ``q`` is the variable of ``leader``, reached from ``j`` through its
+    ``<mimic>`` and the mimics of the joints it names; multiplier and offset
+    are exact, composed along the way.
+    """
+    i = index[j.name]
+    kind = JOINT_KINDS[j.type]
+    path = [j.name]
+    multiplier, offset = sp.Integer(1), sp.Integer(0)
+    current = j
+    while (m := mimic_floats(current, index.get(current.name), where)) is not None:
+        name, mult, off = m
+        via = "" if current is j else f" (through {' -> '.join(map(repr, path))})"
+        if name in path:
+            cycle = " -> ".join(map(repr, path[path.index(name):] + [name]))
+            raise ModelError(f"the mimic joints form a cycle: {cycle}; one of them must "
+                             f"have a variable of its own", file=where, joint=i, field="mimic")
+        leader = joints.get(name)
+        if leader is None:
+            raise ModelError(f"joint {j.name!r} mimics joint {name!r}{via}, which is not a "
+                             f"joint of this robot", file=where, joint=i, field="mimic")
+        if leader.type not in JOINT_KINDS:
+            raise ModelError(f"joint {j.name!r} mimics joint {name!r}{via}, which is "
+                             f"{leader.type}; only a revolute, continuous or prismatic joint "
+                             f"can be followed", file=where, joint=i, field="mimic")
+        if JOINT_KINDS[leader.type] != kind:
+            raise ModelError(f"joint {j.name!r} is {kind} but mimics joint {name!r}{via}, "
+                             f"which is {JOINT_KINDS[leader.type]}; a mimic joint must be of "
+                             f"the kind of the joint it follows", file=where, joint=i,
+                             field="mimic")
+        try:
+            mult, off = exact_number(mult), exact_number(off)
+        except ExpressionError as e:
+            raise ModelError(f"joint {j.name!r}: <mimic> of {current.name!r}: {e}",
+                             file=where, joint=i, field="mimic") from None
+        multiplier, offset = multiplier * mult, multiplier * off + offset
+        path.append(name)
+        current = leader
+    if current.name not in index:
+        via = "" if len(path) == 2 else f" (through {' -> '.join(map(repr, path))})"
+        raise ModelError(f"joint {j.name!r} mimics joint {current.name!r}{via}, which is not "
+                         f"on the chain {chain_text}; its variable would have no joint "
+                         f"(choose a chain through it with --base-link and --tip)",
+                         file=where, joint=i, field="mimic")
+    if kind == "revolute" and not multiplier.is_integer:
+        raise ModelError(f"joint {j.name!r} follows joint {current.name!r} with multiplier "
+                         f"{multiplier}; a revolute mimic joint needs an integer multiplier "
+                         f"(the kinematics must stay polynomial in cos and sin of the "
+                         f"variables)", file=where, joint=i, field="mimic multiplier")
+    return current.name, multiplier, offset
 
 
 def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None) -> RobotModel:

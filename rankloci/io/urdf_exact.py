@@ -13,6 +13,10 @@ orthogonal (converting float cosines entry by entry would not be).  Axis
 components are snapped the same way (``0.9999999`` is ``1``); an axis that
 does not snap becomes an exactly unit rational vector within rounding error
 of the normalised float axis.
+
+The constant offset of a mimic joint is a motion about or along its exact
+axis (:func:`exact_motion`): a rotation by an angle read like an rpy angle,
+or a translation by a rational length.
 """
 
 from __future__ import annotations
@@ -25,7 +29,7 @@ from ..expr import exact_number
 from ..model import trans
 from ..tolerances import URDF_ANGLE_SNAP_ATOL
 
-__all__ = ["exact_origin", "exact_axis", "expanded_product"]
+__all__ = ["exact_origin", "exact_axis", "exact_motion", "expanded_product"]
 
 # Exact values a unit-axis component may snap to (besides their negatives).
 _NICE_COMPONENTS = (sp.Integer(0), sp.Rational(1, 2), sp.sqrt(2) / 2, sp.sqrt(3) / 2,
@@ -108,3 +112,32 @@ def exact_axis(v: tuple[float, ...]) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
     out[others[0]], out[others[1]] = 2 * a / d, 2 * b / d
     out[k] = (1 if u[k] > 0 else -1) * (1 - a**2 - b**2) / d
     return tuple(out)
+
+
+def exact_motion(kind: str, axis, value) -> sp.Matrix:
+    """Exact 4x4 motion by a constant ``value`` about (revolute) or along (prismatic) ``axis``.
+
+    ``axis`` is an exact unit vector (:func:`exact_axis`); ``value`` an exact
+    rational.  A translation is exact as it stands; a rotation takes its cosine
+    and sine from the float angle as an rpy angle does, so it is an exact
+    rotation (Rodrigues' formula on an exact unit axis with ``c**2 + s**2 == 1``).
+
+    Examples
+    --------
+    >>> exact_motion("revolute", (0, 0, 1), sp.Rational(15708, 10000))[:3, :3]
+    Matrix([
+    [0, -1, 0],
+    [1,  0, 0],
+    [0,  0, 1]])
+    >>> exact_motion("prismatic", (0, 1, 0), sp.Rational(1, 4))[:3, 3].T
+    Matrix([[0, 1/4, 0]])
+    """
+    k = sp.Matrix(axis)
+    m = sp.eye(4)
+    if kind == "prismatic":
+        m[:3, 3] = k * value
+        return m
+    c, s = _cos_sin(float(value))
+    K = sp.Matrix([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    m[:3, :3] = (c * sp.eye(3) + s * K + (1 - c) * k * k.T).applyfunc(sp.expand)
+    return m

@@ -4,7 +4,7 @@
 refuses entity declarations (billion laughs) and external references.  The
 functions below check that the links form one tree and find the chain of
 joints between two links; the ``*_floats`` functions read and validate the
-numbers of a joint's ``<origin>``, ``<axis>`` and ``<limit>``.  Every problem
+numbers of a joint's ``<origin>``, ``<axis>``, ``<limit>`` and ``<mimic>``.  Every problem
 is a :class:`~rankloci.errors.ModelError` carrying the file name (``where``)
 and, for a movable joint of the chain, its 1-based index.
 
@@ -27,7 +27,7 @@ __all__ = [
     "JOINT_KINDS", "KNOWN_TYPES", "UNSUPPORTED_TYPES", "UrdfJoint",
     "parse_document", "link_names", "joints_by_name", "parent_joints", "single_leaf",
     "chain_joints", "name_list", "origin_floats", "axis_floats", "joint_limits",
-    "check_joint_numbers",
+    "mimic_floats", "check_joint_numbers",
 ]
 
 #: URDF joint type -> RobotModel joint kind, for the joint types that move.
@@ -262,9 +262,27 @@ def joint_limits(j: UrdfJoint, i, where) -> tuple[float, float] | None:
     return (lower, upper)
 
 
+def mimic_floats(j: UrdfJoint, i, where) -> tuple[str, float, float] | None:
+    """``(joint, multiplier, offset)`` of a joint's <mimic> (defaults 1 and 0); None without one.
+
+    The joint moves by ``multiplier * q + offset`` where ``q`` is the position
+    of the joint named ``joint``.
+    """
+    el = j.element.find("mimic")
+    if el is None:
+        return None
+    leader = _required(el, "joint", f"<mimic> of joint {j.name!r}", where, joint=i, field="mimic")
+    values = []
+    for attr, default in (("multiplier", "1"), ("offset", "0")):
+        values.append(_floats(el.get(attr, default), 1, f"joint {j.name!r}: <mimic {attr}>",
+                              where, joint=i, field=f"mimic {attr}")[0])
+    return leader, values[0], values[1]
+
+
 def check_joint_numbers(j: UrdfJoint, i, where) -> None:
     """Validate every number of a joint, on the chain or not."""
     origin_floats(j, i, where)
     if j.type in JOINT_KINDS:
         axis_floats(j, i, where)
         joint_limits(j, i, where)
+        mimic_floats(j, i, where)

@@ -506,10 +506,10 @@ MALFORMED = {
     "planar": (
         _urdf(_joint("j1", "revolute", "a", "b") + _joint("j2", "planar", "b", "c")),
         {}, ["'j2'", "planar", "supported"], None, "type"),
-    "mimic": (
+    "mimic of an unknown joint": (
         _urdf(_joint("j1", "revolute", "a", "b") + _joint("j2", "revolute", "b", "c",
-                                                          '<mimic joint="j1"/>')),
-        {}, ["'j2'", "mimic"], 2, "mimic"),
+                                                          '<mimic joint="j0"/>')),
+        {}, ["'j2'", "'j0'", "not a joint"], 2, "mimic"),
     "missing link": (
         _urdf(_joint("j1", "revolute", "a", "b") + _joint("j2", "revolute", "b", "zz")),
         {}, ["'j2'", "'zz'", "not defined"], None, "child"),
