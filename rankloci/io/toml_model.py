@@ -150,6 +150,43 @@ def _check_keys(data, allowed):
         raise _err(f"unknown top-level key(s) {sorted(unknown)}; allowed: {sorted(allowed)}")
 
 
+def _belongs(table: str, key: str, value) -> bool:
+    """Whether ``key = value`` is an entry a ``[table]`` (or ``[[table]]``) may hold."""
+    if table == "parameters":
+        return isinstance(value, (int, float)) and not isinstance(value, bool)
+    if table == "points":
+        return isinstance(value, int) and not isinstance(value, bool)
+    if table == "joint":
+        return key in _JOINT_KEYS
+    if table == "augment":
+        return key in ("name", "expr")
+    return False
+
+
+def _check_misplaced(data):
+    """Refuse a top-level key that a ``[table]`` header above it swallowed.
+
+    In TOML every key after ``[parameters]`` belongs to that table up to the
+    next header, so ``matrix = ...`` written below it is not a top-level key.
+    Only a key the file lacks at the top level, and that the table cannot
+    hold, is taken for such a slip.
+    """
+    top = (_ROBOT_KEYS | _MATRIX_KEYS) - set(data)
+    for table, value in data.items():
+        if isinstance(value, dict):
+            tables = [(f"[{table}]", value)]
+        elif isinstance(value, list) and value and all(isinstance(v, dict) for v in value):
+            tables = [(f"[[{table}]] number {i}" if len(value) > 1 else f"[[{table}]]", v)
+                      for i, v in enumerate(value, 1)]
+        else:
+            continue
+        for where, entries in tables:
+            for key, v in entries.items():
+                if key in top and not _belongs(table, key, v):
+                    raise _err(f"{key!r} is inside {where}; top-level keys must come before "
+                               "the first [table]")
+
+
 def _text_field(data, key, default=""):
     v = data.get(key, default)
     if not isinstance(v, str):
@@ -278,6 +315,7 @@ def parse_model(text: str, *, file: str = "", name: str | None = None):
                 data = tomllib.loads(text)
             except tomllib.TOMLDecodeError as e:
                 raise _err(f"invalid TOML: {e}") from None
+            _check_misplaced(data)
             stem = Path(file).stem if file else None
             model_name = data.get("name", name or stem or "model")
             if not isinstance(model_name, str) or not _NAME_RE.match(model_name):

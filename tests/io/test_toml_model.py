@@ -105,6 +105,34 @@ def test_matrix_file_with_more_rows_than_columns():
     assert model.parameters[k] == 2
 
 
+def test_a_number_named_like_a_top_level_key_is_a_parameter():
+    """Only a key that its table cannot hold is taken for a misplaced top-level key."""
+    model = parse_model(_edit(MATRIX, "k = 2", "k = 2\ntitle = 3"), file="m.toml")
+    assert sorted(s.name for s in model.parameters) == ["k", "title"]
+    assert model.title == "m"
+
+
+def _readme_raw_matrix_example() -> str:
+    """The TOML block under **Raw matrices.** in README.md."""
+    import re
+    from pathlib import Path
+
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text(encoding="utf-8")
+    section = readme.split("**Raw matrices.**", 1)[1]
+    return re.search(r"```toml\n(.*?)```", section, re.S).group(1)
+
+
+def test_the_readme_raw_matrix_example_parses():
+    text = _readme_raw_matrix_example()
+    assert "matrix = " in text
+    model = parse_model(text, file="example.toml")
+    assert isinstance(model, MatrixModel)
+    x, y = model.variables
+    (k,) = model.parameters
+    assert model.matrix == sp.ImmutableMatrix([[sp.cos(x), k * y], [sp.sin(x), 1], [0, y]])
+    assert model.parameters[k] == 2
+
+
 def test_same_text_gives_equal_models_and_a_change_does_not():
     a, b = parse_model(ARM), parse_model(ARM)
     assert a == b and hash(a) == hash(b)
@@ -282,6 +310,19 @@ BAD = [
      "m.toml: unknown top-level key(s) ['frame']"),
     ("too-many-joints", "arm.toml", 'name = "arm"\n' + "[[joint]]\n" * 65, (None, "joint"),
      "arm.toml: field 'joint': more than 64 joints"),
+    ("matrix-below-parameters", "m.toml",
+     'name = "m"\nvariables = ["x"]\n[parameters]\nk = 2.0\nmatrix = [["k*x"]]\n', (None, None),
+     "m.toml: 'matrix' is inside [parameters]; top-level keys must come before the first [table]"),
+    ("variables-below-parameters", "m.toml",
+     'name = "m"\nmatrix = [["k*x"]]\n[parameters]\nk = 2.0\nvariables = ["x"]\n', (None, None),
+     "m.toml: 'variables' is inside [parameters]; top-level keys must come before"),
+    ("task-below-the-last-joint", "arm.toml", _edit(ARM, 'task = "full"\n', "") + 'task = "planar"\n',
+     (None, None), "arm.toml: 'task' is inside [[joint]] number 3; top-level keys must come before"),
+    ("source-below-base", "arm.toml",
+     _edit(ARM, 'source = "written for the tests"\n', "") + '[base]\nxyz = [0, 0, 1]\nsource = "x"\n',
+     (None, None), "arm.toml: 'source' is inside [base]; top-level keys must come before"),
+    ("title-below-the-only-augment", "m.toml", MATRIX + '[[augment]]\nexpr = "x"\ntitle = "m"\n',
+     (None, None), "m.toml: 'title' is inside [[augment]]; top-level keys must come before"),
 ]
 
 
