@@ -262,7 +262,8 @@ def cmd_report(args) -> int:
     from pathlib import Path
 
     from ..io import builtin_models, load_model
-    from ..report import FORMATS, ReportError, build_report, read_model_notes, write_report
+    from ..report import (FORMATS, ReportError, build_report, file_stem, read_model_notes,
+                          write_report)
 
     formats = [f.strip() for f in args.format.split(",") if f.strip()]
     bad = [f for f in formats if f not in FORMATS]
@@ -276,9 +277,10 @@ def cmd_report(args) -> int:
     models = [load_model(spec, base_link=args.base_link, tip_link=args.tip_link)
               for spec in specs]  # bad input fails here, before any writing
     if args.model == "all":
-        targets = [Path(args.output or "reports") / m.name for m in models]
+        targets = [Path(args.output or "reports") / file_stem(m.name) for m in models]
     else:
-        targets = [Path(args.output) if args.output else Path("reports") / models[0].name]
+        targets = [Path(args.output) if args.output
+                   else Path("reports") / file_stem(models[0].name)]
     for out in targets:
         if out.exists() and not out.is_dir():
             raise UsageError(f"-o {str(out)!r}: exists and is not a directory")

@@ -24,8 +24,9 @@ The modules, in the order of the data:
 """
 
 from .build import ComponentView, Report, build_report
+from .escape import file_stem
 from .figure_files import FigureFile
 from .write import FORMATS, ReportError, read_model_notes, write_report
 
 __all__ = ["Report", "FigureFile", "ComponentView", "build_report", "write_report",
-           "read_model_notes", "ReportError", "FORMATS"]
+           "read_model_notes", "ReportError", "FORMATS", "file_stem"]

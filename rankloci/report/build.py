@@ -68,8 +68,14 @@ class Report:
 
     @property
     def name(self) -> str:
-        """The model's name, which names the report's files."""
-        return self.model.name
+        """The model's name as a file stem (:func:`~rankloci.report.escape.file_stem`).
+
+        It names the report's files and its LaTeX labels, so it holds only
+        ASCII letters, digits, ``_`` and ``-``.
+        """
+        from .escape import file_stem
+
+        return file_stem(self.model.name)
 
     @property
     def method(self) -> str:

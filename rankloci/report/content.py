@@ -14,6 +14,7 @@ from __future__ import annotations
 import sympy as sp
 
 from .blocks import Bullets, Code, Heading, Marker, Math, Para, Table, block_label, variables_text
+from .escape import literal
 from .findings import findings_blocks
 from .mathfmt import LINE_WIDTH, broken_lines, latex, math_width, trig_latex
 
@@ -34,8 +35,8 @@ def _num(x, digits=6) -> str:
 
 def report_blocks(report, *, timings: bool = True) -> list:
     """The blocks of ``report``, in order."""
-    out = [Heading(1, f"Singularity report: {report.model.title or report.name} "
-                      f"(`{report.name}`)", block_label(report))]
+    title = literal(report.model.title) if report.model.title.strip() else report.name
+    out = [Heading(1, f"Singularity report: {title} (`{report.name}`)", block_label(report))]
     out += _summary(report)
     out += _model_section(report)
     out += _jacobian_section(report)
@@ -87,10 +88,10 @@ def _model_section(report):
     m = report.model
     out = [Heading(2, "The model", block_label(report, "model"))]
     if m.source:
-        out.append(Para(" ".join(m.source.split()), lead="Source."))
+        out.append(Para(literal(m.source), lead="Source."))
     notes = report.model_notes
     if notes:
-        out.append(Para(" ".join(notes.split()), lead="Notes."))
+        out.append(Para(literal(notes), lead="Notes."))
     if isinstance(m, RobotModel):
         out += _joint_table(report, m)
     else:
@@ -135,7 +136,7 @@ def _joint_table(report, m):
             xyz = ", ".join(_num(float(pre[k, 3].subs(m.parameters)), 4) for k in range(3))
             axis = ", ".join(_num(float(sp.sympify(a).subs(m.parameters)), 4) for a in j.axis)
             lim = (f"[{j.limits[0]:.4g}, {j.limits[1]:.4g}]" if j.limits else "none")
-            rows.append((str(i), f"`{j.name}`" if j.name else "-", j.kind, _m(q),
+            rows.append((str(i), literal(j.name, code=True) if j.name else "-", j.kind, _m(q),
                          f"({xyz})", f"({axis})", lim))
         out.append(Table(("joint", "name", "type", "variable", "origin xyz", "axis", "limits"),
                          tuple(rows), "lllcccc"))
@@ -149,7 +150,7 @@ def _task_section(report, m):
 
     tm = report.tm
     out = [Heading(3, "Task, frame and constraint rows")]
-    labels = ", ".join(f"`{r}`" for r in tm.row_labels)
+    labels = ", ".join(literal(r, code=True) for r in tm.row_labels)
     items = [f"Rows of $J$: {labels}."]
     if isinstance(m, RobotModel):
         items.append(f"Rows `vx vy vz` are the linear velocity of the task point (the origin of "
@@ -163,7 +164,8 @@ def _task_section(report, m):
                              "of the chain.")
     if m.augment:
         for name, g in m.augment:
-            items.append(f"Constraint row `{name}`: the gradient of $g(q) = {latex(g)}$.")
+            items.append(f"Constraint row {literal(name, code=True)}: the gradient of "
+                         f"$g(q) = {latex(g)}$.")
     items.append(f"Joint variables (columns): {variables_text(tm.variables)}.")
     out.append(Bullets(tuple(items)))
     return out

@@ -3,14 +3,69 @@
 Text in the report's blocks may hold ``$math$`` and ```code``` segments;
 :func:`rich_tex` and :func:`rich_md` escape the text around them for each
 output, :func:`tex_escape` and :func:`md_escape` escape plain text.
-Everything here is pure.
+
+Text taken from a model file (its title, source, joint names) is not rich
+text: a ``$`` or a backtick in it is a character, not markup.  Such text
+enters a block through :func:`literal`, which marks it so that both
+renderers escape all of it.  :func:`file_stem` turns a model's name into a
+name for the report's files.  Everything here is pure.
 """
 
 from __future__ import annotations
 
 import re
 
-__all__ = ["tex_escape", "md_escape", "rich_tex", "rich_md"]
+__all__ = ["tex_escape", "md_escape", "rich_tex", "rich_md", "literal", "file_stem",
+           "MAX_STEM"]
+
+#: The longest file stem :func:`file_stem` returns.
+MAX_STEM = 64
+
+_STEM_BAD = re.compile(r"[^A-Za-z0-9_-]+")
+
+
+def file_stem(name: str) -> str:
+    """``name`` as the stem of a file name: ASCII letters, digits, ``_`` and ``-`` only.
+
+    Every run of other characters becomes one ``_``; the stem starts with a
+    letter or a digit (so that no program reads it as an option, and it is
+    never ``.`` or ``..``) and has at most :data:`MAX_STEM` characters.  A
+    name with nothing usable is ``model``.  Valid model names are unchanged.
+
+    Examples
+    --------
+    >>> file_stem("puma560"), file_stem("my robot$%\\\\x"), file_stem(".."), file_stem("*")
+    ('puma560', 'my_robot_x', 'model', 'model')
+    """
+    stem = _STEM_BAD.sub("_", name).lstrip("_-")[:MAX_STEM]
+    return stem or "model"
+
+
+# A literal segment: _OPEN, "t" (text) or "c" (code), the text, _CLOSE.  The
+# marks are control characters, which literal() removes from the text it wraps.
+_OPEN, _CLOSE = "\x0e", "\x0f"
+_LITERAL = re.compile("\x0e([tc])([^\x0e\x0f]*)\x0f")
+_CONTROL = re.compile(r"[\x00-\x1f\x7f]+")
+
+
+def literal(text: str, *, code: bool = False) -> str:
+    """Plain ``text`` (from a model file) marked for rich text: every character is shown as is.
+
+    Runs of white space and control characters become one space, so that the
+    text stays on one line.  With ``code=True`` it is set as code where the
+    output can do so safely.
+
+    Examples
+    --------
+    >>> title = literal("Arm with $x$ and ![img](http://x)")
+    >>> print(rich_md("Title: " + title + ", $q_1$"))
+    Title: Arm with &#36;x&#36; and !&#91;img&#93;(http://x), $q_1$
+    >>> print(rich_tex("joint " + literal("a_1", code=True)))
+    joint \\texttt{a\\_1}
+    """
+    flat = " ".join(_CONTROL.sub(" ", text).split())
+    return _OPEN + ("c" if code else "t") + flat + _CLOSE
+
 
 _TEX_SPECIAL = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#",
                 "_": r"\_", "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}",
@@ -34,7 +89,11 @@ def tex_escape(text: str) -> str:
     """
     out = []
     for ch in text:
-        if ch in _TEX_SPECIAL:
+        if ch in "\n\t":
+            out.append(ch)
+        elif ch < " " or ch == "\x7f":
+            out.append(" ")
+        elif ch in _TEX_SPECIAL:
             out.append(_TEX_SPECIAL[ch])
         elif ch in _TEX_UNICODE:
             out.append(_TEX_UNICODE[ch])
@@ -46,6 +105,10 @@ def tex_escape(text: str) -> str:
 
 
 _MD_SPECIAL = re.compile(r"([\\`*_<>|#])")
+# In text from a model file, [ and ] (links and images) and $ (math) become character
+# references: a backslash before [ or ( starts display or inline math in some renderers.
+_MD_LITERAL = re.compile(r"([\\`*_<>|#~])|([\[\]$])")
+_MD_CODE_SAFE = re.compile(r"[A-Za-z0-9_.,:;/()+= -]*")
 
 
 def md_escape(text: str) -> str:
@@ -59,6 +122,28 @@ def md_escape(text: str) -> str:
     return _MD_SPECIAL.sub(r"\\\1", text)
 
 
+def _literal_md(kind: str, text: str) -> str:
+    """A :func:`literal` segment as Markdown."""
+    if kind == "c" and text and _MD_CODE_SAFE.fullmatch(text):
+        return f"`{text}`"
+    return _MD_LITERAL.sub(lambda m: "\\" + m[1] if m[1] else f"&#{ord(m[2])};", text)
+
+
+def _literal_tex(kind: str, text: str) -> str:
+    """A :func:`literal` segment as LaTeX."""
+    return r"\texttt{" + tex_escape(text) + "}" if kind == "c" else tex_escape(text)
+
+
+def _with_literals(text: str, rich, plain) -> str:
+    """``text`` with its :func:`literal` segments spelled by ``plain``, the rest by ``rich``."""
+    parts = _LITERAL.split(text)
+    out = [rich(parts[0])]
+    for k in range(1, len(parts), 3):
+        out.append(plain(parts[k], parts[k + 1]))
+        out.append(rich(parts[k + 2]))
+    return "".join(out)
+
+
 _SEGMENTS = re.compile(r"(\$[^$]+\$|`[^`]+`)")
 
 
@@ -70,6 +155,8 @@ def rich_tex(text: str) -> str:
     >>> rich_tex("50% of $x_1$ in `a_b`")
     '50\\\\% of $x_1$ in \\\\texttt{a\\\\_b}'
     """
+    if _OPEN in text:
+        return _with_literals(text, rich_tex, _literal_tex)
     out = []
     for p in _SEGMENTS.split(text):
         if p.startswith("$") and p.endswith("$") and len(p) > 1:
@@ -89,6 +176,8 @@ def rich_md(text: str) -> str:
     >>> rich_md("a_b and $x_1$ in `a_b`")
     'a\\\\_b and $x_1$ in `a_b`'
     """
+    if _OPEN in text:
+        return _with_literals(text, rich_md, _literal_md)
     out = []
     for p in _SEGMENTS.split(text):
         if len(p) > 1 and ((p[0] == p[-1] == "$") or (p[0] == p[-1] == "`")):

@@ -85,8 +85,10 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot) -> tuple:
     from ..jacobian import task_matrix
     from ..numeric.equations import NumericMatrix
     from . import analysis as A
+    from .escape import file_stem
     from .figures import augmented_png, heatmap_png, manipulability_png, tree_png
 
+    stem = file_stem(model.name)  # names the files and titles the figures
     rng = np.random.default_rng(seed)
     names = [v.name for v in nm.variables]
     prismatic = [v not in nm.angles for v in nm.variables]
@@ -117,7 +119,7 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot) -> tuple:
                           if m not in (i, j))
         short = (f"a point of component {data.through}" if data.through
                  else "a singular point" if where.startswith("a singular") else "a regular point")
-        title = f"{model.name}: ({names[i]}, {names[j]}) slice through {short}"
+        title = f"{stem}: ({names[i]}, {names[j]}) slice through {short}"
         shown = [str(c[0]) for c in data.curves]
         if shown:
             drawn = f". Lines and dots: where component(s) {', '.join(shown)} meet the slice."
@@ -128,7 +130,7 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot) -> tuple:
         caption = (f"{SIGMA} of $J$ over the ({names[i]}, {names[j]}) slice through "
                    f"{where} (the cross), log colour scale"
                    + (f"; the other joints are fixed at {fixed}" if fixed else "") + drawn)
-        out.append(FigureFile(f"{model.name}-sigma-{k}.png",
+        out.append(FigureFile(f"{stem}-sigma-{k}.png",
                               heatmap_png(data, names, prismatic, title=title), caption, "sigma",
                               title))
     slices = [data for data, _ in slices]
@@ -142,8 +144,8 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot) -> tuple:
                    "paths $q(t) = q_0 + t d$, $-1 \\le t \\le 1$, each through the sample "
                    "point $q_0$ of one component (at $t = 0$) between two regular "
                    f"configurations; $d$ is random with $\\lVert d \\rVert = 1$ (seed {seed}).")
-        title = f"{model.name}: manipulability across the locus"
-        out.append(FigureFile(f"{model.name}-manipulability.png",
+        title = f"{stem}: manipulability across the locus"
+        out.append(FigureFile(f"{stem}-manipulability.png",
                               manipulability_png(paths, units=units, title=title),
                               caption, "manipulability", title))
     # the branch tree
@@ -155,8 +157,8 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot) -> tuple:
         caption = (f"Branch tree of the {locus.method} method. Green leaves are components, grey "
                    "leaves other stop reasons (in brackets); each node shows its branch "
                    "condition." + cut)
-        out.append(FigureFile(f"{model.name}-tree.png", tree_png(summary, dot=dot), caption,
-                              "tree", f"{model.name}: branch tree of the {locus.method} method"))
+        out.append(FigureFile(f"{stem}-tree.png", tree_png(summary, dot=dot), caption,
+                              "tree", f"{stem}: branch tree of the {locus.method} method"))
     # augmented Jacobian: J and J_aug side by side
     base = getattr(locus, "base", None) if locus is not None else None
     if base is not None and slices:
@@ -172,8 +174,8 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot) -> tuple:
                    "components of its own locus; right the augmented J, with the components "
                    "of the augmented locus. Components drawn on the right only are algorithmic "
                    "singularities.")
-        title = f"{model.name}: J and the augmented J"
-        out.append(FigureFile(f"{model.name}-augmented.png",
+        title = f"{stem}: J and the augmented J"
+        out.append(FigureFile(f"{stem}-augmented.png",
                               augmented_png(left, data, names, prismatic, title=title),
                               caption, "augmented", title))
     return tuple(out)

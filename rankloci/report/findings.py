@@ -14,6 +14,7 @@ import sympy as sp
 from ..methods import method_for
 from .blocks import (SIGMA, Bullets, Code, Figure, Heading, Math, Para, Table, block_label,
                      variables_text)
+from .escape import literal
 from .mathfmt import LINE_WIDTH, broken_lines, latex, value_latex
 
 __all__ = ["findings_blocks"]
@@ -84,7 +85,7 @@ def _component_blocks(report, view):
     for vec in c.direction_at_sample:
         what = "Lost joint direction (right null vector)" if tall else "Lost direction"
         items.append(f"{what} at the sample point: ({', '.join(f'{x:+.3f}' for x in vec)}) "
-                     f"over ({', '.join(over)}).")
+                     f"over ({literal(', '.join(over))}).")
     if not c.direction_at_sample and c.direction:
         items.append("Lost direction: $(" + ", ".join(latex(x) for x in c.direction[0]) + ")$.")
     sample = ", ".join(f"{k} = {v:+.4f}" for k, v in c.sample.items())

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from .blocks import Bullets, Code, Figure, Heading, Marker, Math, Para, Table
 from .content import report_blocks
-from .escape import rich_tex, tex_escape
+from .escape import literal, rich_tex, tex_escape
 from .mathfmt import math_width
 
 __all__ = ["render_latex", "blocks_latex", "PACKAGES"]
@@ -52,7 +52,8 @@ def render_latex(report, *, fragment: bool = False, timings: bool = True) -> str
         return head + body
     body = blocks_latex([b for b in blocks if not (isinstance(b, Heading) and b.level == 1)],
                         wide_matrix=wide, top=2)
-    title = tex_escape(f"Singularity report: {report.model.title or report.name}")
+    title = rich_tex("Singularity report: " + (literal(report.model.title)
+                                                 if report.model.title.strip() else report.name))
     return (_PREAMBLE + f"\\title{{{title}}}\n\\author{{rankloci}}\n\\date{{}}\n"
             "\\begin{document}\n\\maketitle\n" + body + "\\end{document}\n")
 

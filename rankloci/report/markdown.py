@@ -59,7 +59,7 @@ def blocks_markdown(blocks) -> str:
         elif isinstance(b, Bullets):
             out.append("\n".join("- " + rich_md(item) for item in b.items))
         elif isinstance(b, Figure):
-            alt = md_escape(b.alt or b.file).replace("[", "(").replace("]", ")")
+            alt = md_escape((b.alt or b.file).replace("[", "(").replace("]", ")"))
             out.append(f"![{alt}]({b.file})\n\n*{rich_md(b.caption)}*")
         elif isinstance(b, Code):
             out.append(f"```{b.language or 'text'}\n{b.text}\n```")

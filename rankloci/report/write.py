@@ -8,11 +8,20 @@ LaTeX, and the only other program the package runs is graphviz's ``dot``
 the target and then moves the files into place, so that a failure leaves
 nothing half-written.  The LaTeX command is passed in (or None): nothing here
 looks for programs.
+
+Every file a report writes is named ``STEM.ext`` or ``STEM-what.png``, where
+``STEM`` is :attr:`Report.name <rankloci.report.build.Report.name>` (ASCII
+letters, digits, ``_`` and ``-``), and lies directly in the target
+directory.  When a report is written again, the figures of the previous one
+that it does not produce are removed: only files whose whole name is one a
+report on the same ``STEM`` writes, so that reports on other models in the
+same directory are left alone.
 """
 
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import subprocess
 import tempfile
@@ -43,9 +52,29 @@ def read_model_notes(model) -> str:
     return " ".join(notes.split()) if isinstance(notes, str) else ""
 
 
-#: Figure files a report owns: an older one that is not produced again is removed.
-_FIGURE_PATTERNS = ("{name}-sigma-*.png", "{name}-manipulability.png", "{name}-tree.png",
-                    "{name}-augmented.png")
+#: The names of the figure files of a report after ``STEM-``: an older one that is not
+#: produced again is removed.
+_FIGURE_SUFFIX = r"(?:sigma-[1-9][0-9]*|manipulability|tree|augmented)\.png"
+
+#: What a file name of a report may be: a stem and one extension, nothing that leaves the
+#: directory.
+_FILE_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]*\.[a-z]+")
+
+
+def _owned_figures(directory: Path, stem: str) -> set[str]:
+    """Names of the files in ``directory`` that are figures of a report on ``stem``.
+
+    An exact match of the whole name; ``stem`` is not a pattern.
+    """
+    owned = re.compile(re.escape(stem) + "-" + _FIGURE_SUFFIX)
+    return {p.name for p in directory.iterdir() if owned.fullmatch(p.name) and p.is_file()}
+
+
+def _checked_name(fname: str) -> str:
+    """``fname`` when it is a plain file name of a report; ValueError otherwise."""
+    if not _FILE_NAME.fullmatch(fname):
+        raise ValueError(f"{fname!r} is not a file name a report may write")
+    return fname
 
 
 def write_report(report, directory, *, formats=FORMATS, fragment: bool = False,
@@ -85,10 +114,11 @@ def write_report(report, directory, *, formats=FORMATS, fragment: bool = False,
     tmp = Path(tempfile.mkdtemp(dir=anchor, prefix=f".{directory.name}.tmp-"))
     try:
         produced = []
-        for fig in report.figures:
-            (tmp / fig.name).write_bytes(fig.png)
-            produced.append(fig.name)
         name = report.name
+        _checked_name(f"{name}.md")
+        for fig in report.figures:
+            (tmp / _checked_name(fig.name)).write_bytes(fig.png)
+            produced.append(fig.name)
         if "md" in formats:
             (tmp / f"{name}.md").write_text(render_markdown(report, timings=timings),
                                             encoding="utf-8")
@@ -103,8 +133,7 @@ def write_report(report, directory, *, formats=FORMATS, fragment: bool = False,
             produced.append(f"{name}.pdf")
         directory.mkdir(parents=True, exist_ok=True)
         written = []
-        stale = {p.name for pattern in _FIGURE_PATTERNS
-                 for p in directory.glob(pattern.format(name=name))} - set(produced)
+        stale = _owned_figures(directory, name) - set(produced)
         for fname in produced:
             os.replace(tmp / fname, directory / fname)
             written.append(directory / fname)
