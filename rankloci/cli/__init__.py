@@ -13,8 +13,9 @@ from __future__ import annotations
 
 import sys
 import warnings
+from pathlib import Path
 
-from ..errors import RanklociError
+from ..errors import ModelError, RanklociError
 from .commands import COMMANDS, EXIT_OK, EXIT_USAGE
 from .output import show_warning
 from .parser import UsageError, build_parser
@@ -27,7 +28,8 @@ def main(argv=None) -> int:
 
     Bad input, a :class:`~rankloci.errors.RanklociError` or a
     :class:`~rankloci.cli.parser.UsageError`, is one line on stderr and exit
-    code 2; any other exception is a bug and propagates.  Warnings are
+    code 2 (naming the model file, when the model is a file and the error
+    does not name one); any other exception is a bug and propagates.  Warnings are
     printed as ``rankloci: warning: ...`` while it runs; the process's
     warning settings are as they were when it returns.
     """
@@ -38,20 +40,59 @@ def main(argv=None) -> int:
 
 def _run(argv) -> int:
     parser = build_parser()
+    args = None
     try:
         args = parser.parse_args(argv)
         if args.command is None:
             parser.print_help()
             return EXIT_USAGE
+        _check_chain_options(args)
         return COMMANDS[args.command](args)
     except (UsageError, RanklociError) as e:
-        print(f"rankloci: error: {e}", file=sys.stderr)
+        print(f"rankloci: error: {_error_line(e, args)}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt:
         print("rankloci: interrupted", file=sys.stderr)
         return 130
     except BrokenPipeError:
         return EXIT_OK
+
+
+def _is_model_file(spec: str) -> bool:
+    """Whether ``rankloci.io.load_model`` reads ``spec`` as a file (not a built-in name)."""
+    path = Path(spec)
+    return path.suffix.lower() in (".toml", ".urdf") or path.exists()
+
+
+def _check_chain_options(args) -> None:
+    """``--base-link`` and ``--tip`` choose the chain of a URDF file: refuse them for any other model."""
+    given = [option for option, dest in (("--base-link", "base_link"), ("--tip", "tip_link"))
+             if getattr(args, dest, None) is not None]
+    spec = getattr(args, "model", "")
+    if given and Path(spec).suffix.lower() != ".urdf":
+        what = ("not a .urdf file" if _is_model_file(spec)
+                else "the built-in models" if args.command == "report" and spec == "all"
+                else "a built-in model")
+        verb = "applies" if len(given) == 1 else "apply"
+        raise UsageError(f"{' and '.join(given)} {verb} to URDF files only; {spec!r} is {what}")
+
+
+def _error_line(error, args) -> str:
+    """The message of ``error`` on one line, naming the model file when it does not already.
+
+    An error found in the algebra (a :class:`~rankloci.errors.LocusError`,
+    which may come back from a child process as a plain
+    :class:`~rankloci.errors.RanklociError`) knows only the matrix entry, not
+    the file it came from.
+    """
+    text = " ".join(str(error).split())
+    if isinstance(error, UsageError) or (isinstance(error, ModelError) and error.file):
+        return text
+    spec = getattr(args, "model", None)
+    if not spec or not _is_model_file(spec):
+        return text
+    name = Path(spec).name
+    return text if text.startswith(f"{name}:") else f"{name}: {text}"
 
 
 def main_exit() -> None:

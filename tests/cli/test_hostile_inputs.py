@@ -1,8 +1,11 @@
 """Hostile and extreme input, command by command: one line on stderr and exit 2, never a traceback.
 
 Each case writes its files into a fresh folder, runs ``main([...])`` and checks the exit code,
-that stderr names the reason, and that no traceback escaped.  Limits are kept small so that each
-case takes well under a second of algebra.
+that stderr names the reason, that no traceback escaped and that nothing was written beside the
+input files.  Limits are kept small so that each case takes well under a second of algebra.
+
+At the end: the JSON that ``jacobian`` and ``locus`` print for the built-in models is strict
+JSON (no NaN or Infinity, which Python's ``json`` would write and other parsers refuse).
 """
 
 from __future__ import annotations
@@ -74,6 +77,27 @@ CASES = [
      ["check", "planar2r", "--locus", "l.json", "--quiet", "--samples", "2"], 2, "rank_drop"),
     ("deeply-nested-locus-file", {"l.json": _locus_file(raw="[" * 100000)},
      ["check", "planar2r", "--locus", "l.json", "--quiet", "--samples", "2"], 2, "l.json"),
+    ("matrix-below-parameters", {"r.toml": 'variables = ["x"]\n[parameters]\nk = 2.0\n'
+                                           'matrix = [["k*x"]]\n'},
+     ["jacobian", "r.toml"], 2, "r.toml: 'matrix' is inside [parameters]; top-level keys must come"),
+    ("tip-on-a-toml-model", {"m.toml": _planar("m")}, ["jacobian", "m.toml", "--tip", "l2"],
+     2, "--tip applies to URDF files only; 'm.toml' is not a .urdf file"),
+    ("base-link-on-a-builtin-model", {}, ["locus", "planar2r", "--base-link", "base", "--quiet"],
+     2, "--base-link applies to URDF files only; 'planar2r' is a built-in model"),
+    ("chain-options-on-a-report", {"m.toml": _planar("m")},
+     ["report", "m.toml", "--base-link", "a", "--tip", "b", "-o", "out", "--quiet"],
+     2, "--base-link and --tip apply to URDF files only"),
+    ("chain-options-on-all", {}, ["report", "all", "--tip", "b", "-o", "out", "--quiet"],
+     2, "'all' is the built-in models"),
+    ("non-polynomial-entry-locus", {"r.toml": _raw("r", [["tan(x)"]])},
+     ["locus", "r.toml", "--quiet"], 2, "r.toml: entry tan(x) is not a polynomial"),
+    ("non-polynomial-entry-check", {"r.toml": _raw("r", [["tan(x)"]])},
+     ["check", "r.toml", "--quiet", "--samples", "2"], 2, "r.toml: entry tan(x) is not a polynomial"),
+    ("non-polynomial-entry-report", {"r.toml": _raw("r", [["tan(x)"]])},
+     ["report", "r.toml", "-o", "out", "--format", "md", "--quiet"], 2,
+     "r.toml: entry tan(x) is not a polynomial"),
+    ("non-polynomial-entry-given-as-a-path", {"r.toml": _raw("r", [["x", "1/x"]], ["x"])},
+     ["locus", "./r.toml", "--quiet"], 2, "r.toml: entry"),
 ]
 
 
@@ -90,6 +114,8 @@ def test_hostile_input_is_refused_in_one_line(tmp_path, monkeypatch, capsys, cas
     lines = [line for line in err.splitlines() if line.strip()]
     assert len(lines) == 1, err
     assert reason in lines[0], lines[0]
+    assert lines[0].startswith("rankloci: error: "), lines[0]
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(files), "something was written"
 
 
 def test_flat_sum_of_many_terms_is_accepted(tmp_path, monkeypatch, capsys):
@@ -99,3 +125,44 @@ def test_flat_sum_of_many_terms_is_accepted(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
     assert main(["jacobian", "r.toml"]) == 0
     assert "1378*x" in capsys.readouterr().out      # 1 + 2 + ... + 52 = 1378
+
+
+# --- JSON output --------------------------------------------------------------------------------
+
+def _strict_json(text):
+    """``json.loads`` that refuses NaN, Infinity and -Infinity (which are not JSON)."""
+    def refuse(constant):
+        raise ValueError(f"{constant} in the JSON output")
+
+    return json.loads(text, parse_constant=refuse)
+
+
+def test_strict_json_refuses_what_python_would_write():
+    with pytest.raises(ValueError, match="NaN"):
+        _strict_json(json.dumps({"x": float("nan")}))
+    with pytest.raises(ValueError, match="Infinity"):
+        _strict_json(json.dumps([1.0, -float("inf")]))
+
+
+_SLOW_LOCI = {"pa10", "ssrms", "ssrms_lock3", "mobile10"}
+
+
+def _builtin_models():
+    from rankloci.io import builtin_models
+
+    return builtin_models()
+
+
+@pytest.mark.parametrize("name", _builtin_models())
+def test_jacobian_json_of_builtin_models_is_strict_json(name, capsys):
+    assert main(["jacobian", name, "--format", "json"]) == 0
+    data = _strict_json(capsys.readouterr().out)
+    assert data["model"] == name and data["matrix"]
+
+
+@pytest.mark.parametrize("name", [pytest.param(m, marks=pytest.mark.slow) if m in _SLOW_LOCI
+                                  else m for m in _builtin_models()])
+def test_locus_json_of_builtin_models_is_strict_json(name, capsys):
+    assert main(["locus", name, "--format", "json", "--quiet"]) == 0
+    data = _strict_json(capsys.readouterr().out)
+    assert data["model"] == name and data["components"]
