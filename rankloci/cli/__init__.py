@@ -65,7 +65,7 @@ def _is_model_file(spec: str) -> bool:
 
 
 def _check_chain_options(args) -> None:
-    """``--base-link`` and ``--tip`` choose the chain of a URDF file: refuse them for any other model."""
+    """Refuse ``--base-link`` and ``--tip`` (the chain of a URDF file) for any other model."""
     given = [option for option, dest in (("--base-link", "base_link"), ("--tip", "tip_link"))
              if getattr(args, dest, None) is not None]
     spec = getattr(args, "model", "")
