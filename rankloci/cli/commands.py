@@ -135,6 +135,7 @@ def cmd_locus(args) -> int:
     from ..augmented import augmented_locus
     from ..errors import LocusError, LocusTimeout
     from ..methods import method_for
+    from .limits import LimitExceeded, run_limited
     from ..render_text import locus_json, locus_latex, locus_text, tree_dot, tree_json, tree_text
 
     if args.tree and Path(args.tree).suffix not in (".dot", ".json", ".txt"):
@@ -150,28 +151,35 @@ def cmd_locus(args) -> int:
                          f"{tm.shape[0]}x{tm.shape[1]}") from None
     if progress:
         progress(f"{tm.name}: {tm.shape[0]}x{tm.shape[1]} matrix, method {method}, seed {args.seed}")
-    should_stop = _deadline(args.timeout)
+    def work(report):
+        should_stop = _deadline(args.timeout)
+        progress_in_child = report if progress else None
 
-    def compute(t, seed):
-        return augmented_locus(model, t, method, seed=seed, progress=progress,
-                               should_stop=should_stop, clock=time.perf_counter)
+        def compute(t, seed):
+            return augmented_locus(model, t, method, seed=seed, progress=progress_in_child,
+                                   should_stop=should_stop, clock=time.perf_counter)
+
+        if not args.verify:
+            return compute(tm, args.seed)
+        from ..augmented import parse_augment
+        from ..jacobian import task_matrix
+        from ..verify import verified_locus
+
+        reference = task_matrix(model, task=args.task,
+                                augment=parse_augment(model, args.augment or ()))
+        if progress:
+            report("self-check: the locus is checked numerically before it is shown")
+        return verified_locus(compute, tm, reference, seed=args.seed,
+                              progress=progress_in_child)[0]
 
     try:
-        if args.verify:
-            from ..augmented import parse_augment
-            from ..jacobian import task_matrix
-            from ..verify import verified_locus
-
-            reference = task_matrix(model, task=args.task,
-                                    augment=parse_augment(model, args.augment or ()))
-            if progress:
-                progress("self-check: the locus is checked numerically before it is shown")
-            locus, _ = verified_locus(compute, tm, reference, seed=args.seed, progress=progress)
-        else:
-            locus = compute(tm, args.seed)
+        locus = run_limited(work, timeout=args.timeout, memory_mb=args.memory, progress=progress)
     except LocusTimeout as e:
         print(f"rankloci: error: {e}; raise --timeout (now {args.timeout:g} s) or try "
               f"--numeric-parameters", file=sys.stderr)
+        return EXIT_FAILED
+    except LimitExceeded as e:
+        print(f"rankloci: error: the locus computation {e}", file=sys.stderr)
         return EXIT_FAILED
     if tm.frame is not None and (tm.frame, tm.point) != (getattr(model, "frame", None), "tool"):
         import dataclasses
@@ -203,10 +211,11 @@ def cmd_locus(args) -> int:
 def cmd_check(args) -> int:
     import numpy as np
 
-    from ..errors import ModelError
+    from ..errors import LocusTimeout, ModelError
     from ..io import load_model
     from ..jacobian import task_matrix
     from ..numeric.crosscheck import cross_check, parse_locus, render_check_text
+    from .limits import LimitExceeded, run_limited
 
     if args.samples < 1:
         raise UsageError(f"--samples must be at least 1, got {args.samples}")
@@ -227,24 +236,38 @@ def cmd_check(args) -> int:
         except ModelError as e:
             raise e.located(file=args.locus) from None
     else:
+        locus = None
+
+    def work(report_progress):
+        from ..exact.singular import singular_cross_check
         from ..methods import compute_locus, method_for
 
-        tm = task_matrix(model, frame="auto", numeric=args.numeric)
-        method = method_for(tm.shape)
-        if progress:
-            progress(f"{tm.name}: computing the locus ({method}, seed {args.seed})")
-        locus = compute_locus(tm, method, rng=np.random.default_rng(args.seed), progress=progress)
-    J = task_matrix(model)  # the model's own frame; parameters substituted by cross_check
-    if progress:
-        progress(f"{model.name}: checking {len(locus.components)} component(s), "
-                 f"{args.samples} samples, seed {args.seed}")
-    report = cross_check(locus, J.matrix, J.variables, angles=J.angles, parameters=J.parameters,
-                         samples=args.samples, rng=np.random.default_rng(args.seed),
-                         seed=args.seed)
-    from ..exact.singular import singular_cross_check
+        tell = report_progress if progress else (lambda msg: None)
+        checked = locus
+        if checked is None:
+            tm = task_matrix(model, frame="auto", numeric=args.numeric)
+            method = method_for(tm.shape)
+            tell(f"{tm.name}: computing the locus ({method}, seed {args.seed})")
+            checked = compute_locus(tm, method, rng=np.random.default_rng(args.seed),
+                                    progress=report_progress if progress else None,
+                                    should_stop=_deadline(args.timeout))
+        J = task_matrix(model)  # the model's own frame; parameters substituted by cross_check
+        tell(f"{model.name}: checking {len(checked.components)} component(s), "
+             f"{args.samples} samples, seed {args.seed}")
+        numeric = cross_check(checked, J.matrix, J.variables, angles=J.angles,
+                              parameters=J.parameters, samples=args.samples,
+                              rng=np.random.default_rng(args.seed), seed=args.seed)
+        exact = singular_cross_check(task_matrix(model, frame="auto", numeric=True), checked,
+                                     rng=np.random.default_rng(args.seed),
+                                     parameters=J.parameters)
+        return numeric, exact
 
-    exact = singular_cross_check(task_matrix(model, frame="auto", numeric=True), locus,
-                                 rng=np.random.default_rng(args.seed), parameters=J.parameters)
+    try:
+        report, exact = run_limited(work, timeout=args.timeout, memory_mb=args.memory,
+                                    progress=progress)
+    except (LocusTimeout, LimitExceeded) as e:
+        print(f"rankloci: error: the check {e}", file=sys.stderr)
+        return EXIT_FAILED
     ok = report.ok and exact.status != "disagree"
     if args.format == "json":
         print(json.dumps({**report.to_dict(), "singular": exact.to_dict(), "ok": ok}, indent=2))

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import argparse
 
+from .limits import DEFAULT_MEMORY_MB
+
 __all__ = ["UsageError", "ArgumentParser", "build_parser", "frame_arg", "task_arg", "seed_arg"]
 
 
@@ -38,6 +40,48 @@ def frame_arg(text: str):
         return int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"{text!r} is not 'base', 'tool' or a link number") from None
+
+
+def timeout_arg(text: str) -> float:
+    """Seconds of a time limit: a finite number 0 or above (0 = no limit).
+
+    Examples
+    --------
+    >>> timeout_arg("2.5")
+    2.5
+    >>> timeout_arg("nan")
+    Traceback (most recent call last):
+        ...
+    argparse.ArgumentTypeError: 'nan' is not a number of seconds 0 or above (0 = no limit)
+    """
+    import math
+
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not math.isfinite(value) or value < 0:
+        raise argparse.ArgumentTypeError(
+            f"{text[:20]!r} is not a number of seconds 0 or above (0 = no limit)")
+    return value
+
+
+def memory_arg(text: str) -> int:
+    """A memory limit in MiB: an integer 0 or above (0 = no limit).
+
+    Examples
+    --------
+    >>> memory_arg("4096")
+    4096
+    """
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if value < 0:
+        raise argparse.ArgumentTypeError(
+            f"{text[:20]!r} is not a number of MiB 0 or above (0 = no limit)")
+    return value
 
 
 def seed_arg(text: str) -> int:
@@ -191,8 +235,12 @@ def build_parser() -> ArgumentParser:
     p.add_argument("--tree", metavar="FILE", help="write the branch tree to FILE.dot, FILE.json or FILE.txt")
     p.add_argument("--show-tree", action="store_true", help="also draw the branch tree in the terminal")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed of the numeric probes (default 0)")
-    p.add_argument("--timeout", type=float, default=600.0,
-                   help="give up after this many seconds (default 600; 0 = never)")
+    p.add_argument("--timeout", type=timeout_arg, default=600.0,
+                   help="give up after this many seconds (default 600; 0 = never); the limit "
+                        "holds within a few seconds whatever the computation is doing")
+    p.add_argument("--memory", type=memory_arg, default=DEFAULT_MEMORY_MB, metavar="MIB",
+                   help=f"memory limit of the computation in MiB (default {DEFAULT_MEMORY_MB}; "
+                        "0 = none); running out is one error line and exit 1")
     p.add_argument("--no-verify", dest="verify", action="store_false",
                    help="skip the self-check (dimension bound and numeric probe at the model's "
                         "values) that runs before the locus is shown, and the recomputation it "
@@ -212,6 +260,10 @@ def build_parser() -> ArgumentParser:
     p.add_argument("--format", choices=("text", "json"), default="text")
     p.add_argument("--numeric-parameters", dest="numeric", action="store_true",
                    help="replace the geometric parameters by their values before the algebra")
+    p.add_argument("--timeout", type=timeout_arg, default=600.0,
+                   help="give up after this many seconds (default 600; 0 = never)")
+    p.add_argument("--memory", type=memory_arg, default=DEFAULT_MEMORY_MB, metavar="MIB",
+                   help=f"memory limit in MiB (default {DEFAULT_MEMORY_MB}; 0 = none)")
     p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
 
     p = sub.add_parser("report", help="write a report (Markdown, LaTeX, PDF, figures) on a model",
@@ -232,7 +284,7 @@ def build_parser() -> ArgumentParser:
                    help="write the .tex without a preamble, to \\input into a paper")
     p.add_argument("--numeric-parameters", dest="numeric", action="store_true",
                    help="replace the geometric parameters by their values before the algebra")
-    p.add_argument("--timeout", type=float, default=600.0,
+    p.add_argument("--timeout", type=timeout_arg, default=600.0,
                    help="seconds per locus computation (default 600; 0 = never); when it runs "
                         "out the report is written without the locus and says so")
     p.add_argument("--no-timings", dest="no_timings", action="store_true",

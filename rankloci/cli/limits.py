@@ -1,0 +1,170 @@
+"""Time and memory limits that hold: the work runs in a child process, killed at the limit.
+
+The locus computation polls its own deadline between branches, but a single
+step (one factorisation inside FLINT, one huge expansion in sympy) cannot be
+interrupted from Python.  So the command runs its work in a forked child:
+
+- the child stops itself cooperatively at ``timeout`` (the work's own
+  ``should_stop``), which reports how far it got;
+- the parent kills the child at ``timeout + KILL_GRACE`` seconds, whatever it
+  is doing, and reports the last progress message it received;
+- the child's address space is limited to ``memory_mb`` (``RLIMIT_AS``), so
+  running out of memory ends the child (a ``MemoryError``, or an abort inside
+  compiled code) instead of the machine.
+
+Progress messages and the result travel back through a pipe; the parent does
+all the printing.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import resource
+import signal
+import sys
+import time
+import traceback
+
+from ..errors import LocusTimeout, RanklociError
+
+__all__ = ["run_limited", "LimitExceeded", "KILL_GRACE", "DEFAULT_MEMORY_MB"]
+
+#: Seconds between the work's own deadline and the parent's kill.
+KILL_GRACE = 1.5
+
+#: Default address-space limit of the child, in MiB.  The built-in models peak below 300 MB
+#: of resident memory; the address space of an idle child (Python, numpy, sympy, FLINT and
+#: their thread arenas) is about 1.5 GB.
+DEFAULT_MEMORY_MB = 8192
+
+
+class LimitExceeded(Exception):
+    """The work ran out of time or memory; ``str`` says which and how far it got."""
+
+
+class ChildFailed(Exception):
+    """The work raised an exception that is not bad input: a bug, with the child's traceback."""
+
+
+def run_limited(work, *, timeout: float | None, memory_mb: int | None, progress=None):
+    """``work(progress)`` run in a child process under the limits; its return value.
+
+    Parameters
+    ----------
+    work : callable
+        Called in the child with a progress function; returns a picklable result.
+    timeout : float or None
+        Seconds; None or 0 for no limit.
+    memory_mb : int or None
+        Address-space limit of the child in MiB; None or 0 for no limit.
+    progress : callable, optional
+        Called in the parent with each progress message of the child.
+
+    Raises
+    ------
+    LimitExceeded
+        When the time or memory ran out.
+    RanklociError
+        Bad input found by the work (its message is kept).
+    ChildFailed
+        Any other exception in the work (a bug): the child's traceback.
+    """
+    # Load the compiled libraries before the fork: OpenBLAS (scipy's copy is loaded lazily)
+    # spins instead of failing when it cannot map its buffers under the child's limit.
+    import scipy.linalg  # noqa: F401
+    import scipy.optimize  # noqa: F401
+
+    ctx = multiprocessing.get_context("fork")
+    receive, send = ctx.Pipe(duplex=False)
+    child = ctx.Process(target=_child, args=(work, send, memory_mb), daemon=True)
+    start = time.monotonic()
+    child.start()
+    send.close()
+    last = "(no progress reported)"
+    kill_at = start + timeout + KILL_GRACE if timeout else None
+    try:
+        while True:
+            wait = None if kill_at is None else max(0.0, kill_at - time.monotonic())
+            if not receive.poll(wait):
+                _kill(child)
+                raise LimitExceeded(f"did not finish within {timeout:g} s and was stopped "
+                                    f"(last progress: {last})")
+            try:
+                kind, payload = receive.recv()
+            except EOFError:
+                child.join()
+                raise LimitExceeded(_death(child.exitcode, memory_mb, last)) from None
+            if kind == "progress":
+                last = payload
+                if progress:
+                    progress(payload)
+            elif kind == "result":
+                child.join()
+                return payload
+            elif kind == "timeout":
+                child.join()
+                raise LocusTimeout(payload)
+            elif kind == "bad-input":
+                child.join()
+                raise RanklociError(payload)
+            elif kind == "memory":
+                child.join()
+                raise LimitExceeded(f"ran out of memory (limit {memory_mb} MiB; raise --memory) "
+                                    f"(last progress: {last})")
+            else:
+                child.join()
+                raise ChildFailed(payload)
+    except KeyboardInterrupt:
+        _kill(child)
+        raise
+    finally:
+        receive.close()
+
+
+def _child(work, send, memory_mb):
+    signal.signal(signal.SIGINT, signal.SIG_IGN)       # the parent handles Ctrl-C
+    if memory_mb:
+        limit = int(memory_mb) * 2 ** 20
+        resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+
+    def progress(msg):
+        send.send(("progress", str(msg)))
+
+    try:
+        result = work(progress)
+        message = ("result", result)
+    except LocusTimeout as e:
+        message = ("timeout", str(e))
+    except RanklociError as e:
+        message = ("bad-input", str(e))
+    except MemoryError:
+        message = ("memory", "")
+    except BaseException:        # a bug: its traceback goes to the parent
+        message = ("bug", traceback.format_exc())
+    try:
+        send.send(message)
+    except MemoryError:
+        send.send(("memory", ""))
+    finally:
+        send.close()
+        sys.stdout.flush()
+        os._exit(0)
+
+
+def _kill(child):
+    if child.is_alive():
+        child.kill()
+    child.join()
+
+
+def _death(exitcode, memory_mb, last) -> str:
+    """Why a child that sent no result ended."""
+    if exitcode is not None and exitcode < 0:
+        name = signal.Signals(-exitcode).name
+        if memory_mb and -exitcode in (signal.SIGABRT, signal.SIGKILL, signal.SIGSEGV,
+                                       signal.SIGBUS):
+            return (f"ended by {name}, most likely out of memory inside compiled code (limit "
+                    f"{memory_mb} MiB; raise --memory) (last progress: {last})")
+        return f"ended by {name} (last progress: {last})"
+    return f"ended without a result (exit code {exitcode}) (last progress: {last})"

@@ -1,0 +1,68 @@
+"""Time and memory limits that hold: the work runs in a child process killed at the limit."""
+
+from __future__ import annotations
+
+import time
+
+import pytest
+
+from rankloci.cli.limits import KILL_GRACE, ChildFailed, LimitExceeded, run_limited
+from rankloci.errors import LocusTimeout, ModelError
+
+#: Slack for starting and reaping the child on a loaded 2-core machine (the limit itself is
+#: timeout + KILL_GRACE).
+SLACK = 5.0
+
+
+def _stuck(progress):
+    progress("entering a step that never returns")
+    while True:                      # not a sleep: a busy loop Python cannot leave early
+        pass
+
+
+def test_a_step_that_never_returns_is_killed_at_the_limit():
+    t0 = time.monotonic()
+    with pytest.raises(LimitExceeded, match="did not finish within 0.5 s") as err:
+        run_limited(_stuck, timeout=0.5, memory_mb=0)
+    assert time.monotonic() - t0 < 0.5 + KILL_GRACE + SLACK
+    assert "entering a step that never returns" in str(err.value)
+
+
+def _hungry(progress):
+    chunks = []
+    while True:
+        chunks.append(bytearray(50 * 2 ** 20))
+
+
+def test_running_out_of_memory_is_a_clean_error():
+    with pytest.raises(LimitExceeded, match="out of memory"):
+        run_limited(_hungry, timeout=60, memory_mb=1024)
+
+
+def test_results_progress_and_errors_come_back():
+    seen = []
+
+    def work(progress):
+        progress("half way")
+        return {"answer": 42}
+
+    assert run_limited(work, timeout=60, memory_mb=0, progress=seen.append) == {"answer": 42}
+    assert seen == ["half way"]
+
+    def bad_input(progress):
+        raise ModelError("no such joint", file="m.toml", joint=3)
+
+    with pytest.raises(Exception, match="m.toml: joint 3: no such joint"):
+        run_limited(bad_input, timeout=60, memory_mb=0)
+
+    def timed_out(progress):
+        raise LocusTimeout("ran out after 12 branches")
+
+    with pytest.raises(LocusTimeout, match="12 branches"):
+        run_limited(timed_out, timeout=60, memory_mb=0)
+
+    def bug(progress):
+        return 1 / 0
+
+    with pytest.raises(ChildFailed, match="ZeroDivisionError"):
+        run_limited(bug, timeout=60, memory_mb=0)
