@@ -142,6 +142,8 @@ def cmd_locus(args) -> int:
         raise UsageError(f"--tree {args.tree!r}: the file must end in .dot, .json or .txt")
     if args.tree and not Path(args.tree).resolve().parent.is_dir():
         raise UsageError(f"--tree {args.tree!r}: directory does not exist")
+    if args.tree and Path(args.tree).is_dir():
+        raise UsageError(f"--tree {args.tree!r} is a directory; give a file name")
     progress = progress_printer(args.quiet)
     model, tm = _load_task_matrix(args, progress)
     try:
@@ -294,8 +296,6 @@ def cmd_report(args) -> int:
         raise UsageError(f"--format {args.format!r}: give a comma list of {', '.join(FORMATS)}")
     if args.samples < 1:
         raise UsageError(f"--samples must be at least 1, got {args.samples}")
-    if args.timeout < 0:
-        raise UsageError(f"--timeout must be 0 (no limit) or positive, got {args.timeout:g}")
     specs = builtin_models() if args.model == "all" else [args.model]
     models = [load_model(spec, base_link=args.base_link, tip_link=args.tip_link)
               for spec in specs]  # bad input fails here, before any writing
@@ -307,6 +307,9 @@ def cmd_report(args) -> int:
     for out in targets:
         if out.exists() and not out.is_dir():
             raise UsageError(f"-o {str(out)!r}: exists and is not a directory")
+        anchor = next(p for p in [out, *out.absolute().parents] if p.exists())
+        if not anchor.is_dir():
+            raise UsageError(f"-o {str(out)!r}: {str(anchor)!r} is not a directory")
     progress = progress_printer(args.quiet)
     latex = None
     if "pdf" in formats:
@@ -334,6 +337,9 @@ def cmd_report(args) -> int:
             print(f"rankloci: error: {model.name}: {e}", file=sys.stderr)
             status = EXIT_FAILED
             continue
+        except OSError as e:
+            raise UsageError(f"-o {str(out)!r}: cannot write there: "
+                             f"{e.strerror or e}") from None
         if report.locus is None:
             print(f"rankloci: note: {model.name}: the locus did not finish within "
                   f"{args.timeout:g} s; the report says so", file=sys.stderr)

@@ -54,7 +54,7 @@ import sympy as sp
 from ..errors import ExpressionError, ModelError
 from ..expr import exact_number
 from ..model import TASKS, Joint, Mimic, RobotModel
-from .urdf_exact import exact_axis, exact_motion, exact_origin, expanded_product
+from .urdf_exact import bounded, exact_axis, exact_motion, exact_origin, expanded_product
 from .urdf_xml import (
     JOINT_KINDS,
     UNSUPPORTED_TYPES,
@@ -186,7 +186,7 @@ def parse_urdf(text: str, *, name: str, file: str = "", base_link: str | None = 
     fixed = sp.eye(4)  # fixed transforms accumulated since the last movable joint
     for j in chain:
         i = index.get(j.name)
-        fixed = expanded_product(fixed, exact_origin(*origin_floats(j, None, None)))
+        fixed = bounded(expanded_product(fixed, exact_origin(*origin_floats(j, None, None))))
         if i is None:
             continue
         kind = JOINT_KINDS[j.type]

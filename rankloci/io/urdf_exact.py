@@ -29,7 +29,12 @@ from ..expr import exact_number
 from ..model import trans
 from ..tolerances import URDF_ANGLE_SNAP_ATOL
 
-__all__ = ["exact_origin", "exact_axis", "exact_motion", "expanded_product"]
+__all__ = ["exact_origin", "exact_axis", "exact_motion", "expanded_product", "bounded"]
+
+#: Digits a rational entry of a composed transform may have before its rotation is replaced by
+#: the nearest short exact rotation (:func:`bounded`).  One rpy rotation of a float angle has
+#: entries of about 34 digits; a chain of them would multiply the digits without bound.
+MAX_TRANSFORM_DIGITS = 40
 
 # Exact values a unit-axis component may snap to (besides their negatives).
 _NICE_COMPONENTS = (sp.Integer(0), sp.Rational(1, 2), sp.sqrt(2) / 2, sp.sqrt(3) / 2,
@@ -66,6 +71,63 @@ def _rotation(axis: str, t: float) -> sp.Matrix:
 def expanded_product(a: sp.Matrix, b: sp.Matrix) -> sp.Matrix:
     """``a * b`` with every entry expanded."""
     return (a * b).applyfunc(sp.expand)
+
+
+def _digits(x) -> int:
+    return max(x.p.bit_length(), x.q.bit_length()) * 30103 // 100000 + 1
+
+
+def bounded(T: sp.Matrix) -> sp.Matrix:
+    """``T``, or, when its rational entries grow past MAX_TRANSFORM_DIGITS, a short exact twin.
+
+    Composing fixed joints with float rpy angles multiplies the denominators
+    of their exact rational rotations.  The rotation of such a product is
+    replaced by the exact rotation of the rational quaternion nearest to it
+    (each component the shortest decimal of its float value, so the entries
+    have about 34 digits and the matrix is exactly orthogonal), within
+    rounding error of the product; the translation by the shortest decimals
+    of its floats.  Transforms with radicals (snapped angles) are exact and
+    short, and are returned as they are.
+
+    Examples
+    --------
+    >>> T = sp.eye(4)
+    >>> for _ in range(50):
+    ...     T = bounded(expanded_product(T, exact_origin((0, 0, 0.1), (0.3, 0.2, 0.1))))
+    >>> (T[:3, :3] * T[:3, :3].T == sp.eye(3), max(_digits(x) for x in T) <= 80)
+    (True, True)
+    """
+    if not all(x.is_Rational for x in T) or max(_digits(x) for x in T) <= MAX_TRANSFORM_DIGITS:
+        return T
+    import numpy as np
+
+    R = np.array(T[:3, :3].evalf(20), dtype=float)
+    # the quaternion of R (Shepperd's method: divide by the largest of the four candidates)
+    tr = np.trace(R)
+    cand = [tr, R[0, 0], R[1, 1], R[2, 2]]
+    k = int(np.argmax(cand))
+    if k == 0:
+        w = np.sqrt(1 + tr) / 2
+        q = [w, (R[2, 1] - R[1, 2]) / (4 * w), (R[0, 2] - R[2, 0]) / (4 * w),
+             (R[1, 0] - R[0, 1]) / (4 * w)]
+    else:
+        i, j, m = k - 1, k % 3, (k + 1) % 3
+        v = np.sqrt(1 + R[i, i] - R[j, j] - R[m, m]) / 2
+        q = [0.0] * 4
+        q[0] = (R[m, j] - R[j, m]) / (4 * v)
+        q[1 + i] = v
+        q[1 + j] = (R[j, i] + R[i, j]) / (4 * v)
+        q[1 + m] = (R[m, i] + R[i, m]) / (4 * v)
+    a, b, c, d = (exact_number(float(x)) if abs(x) > 1e-15 else sp.Integer(0) for x in q)
+    n = a * a + b * b + c * c + d * d
+    rot = sp.Matrix([
+        [a * a + b * b - c * c - d * d, 2 * (b * c - a * d), 2 * (b * d + a * c)],
+        [2 * (b * c + a * d), a * a - b * b + c * c - d * d, 2 * (c * d - a * b)],
+        [2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d]]) / n
+    out = sp.eye(4)
+    out[:3, :3] = rot
+    out[:3, 3] = sp.Matrix([exact_number(float(x)) for x in T[:3, 3]])
+    return out
 
 
 def exact_origin(xyz, rpy) -> sp.Matrix:

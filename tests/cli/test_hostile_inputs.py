@@ -100,6 +100,11 @@ CASES = [
     ("non-polynomial-entry-report", {"r.toml": _raw("r", [["tan(x)"]])},
      ["report", "r.toml", "-o", "out", "--format", "md", "--quiet"], 2,
      "r.toml: entry tan(x) is not a polynomial"),
+    ("report-into-a-regular-file", {"afile": "not a folder"},
+     ["report", "planar2r", "-o", "afile/sub", "--format", "md", "--quiet"], 2,
+     "is not a directory"),
+    ("tree-onto-a-directory", {"D.json/keep": "x"},
+     ["locus", "planar2r", "--tree", "D.json", "--quiet"], 2, "is a directory"),
     ("non-polynomial-entry-given-as-a-path", {"r.toml": _raw("r", [["x", "1/x"]], ["x"])},
      ["locus", "./r.toml", "--quiet"], 2, "r.toml: entry"),
 ]
@@ -109,6 +114,7 @@ CASES = [
 def test_hostile_input_is_refused_in_one_line(tmp_path, monkeypatch, capsys, case, files, argv,
                                               code, reason):
     for name, text in files.items():
+        (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
         (tmp_path / name).write_text(text, encoding="utf-8")
     monkeypatch.chdir(tmp_path)
     got = main(argv)
@@ -119,7 +125,8 @@ def test_hostile_input_is_refused_in_one_line(tmp_path, monkeypatch, capsys, cas
     assert len(lines) == 1, err
     assert reason in lines[0], lines[0]
     assert lines[0].startswith("rankloci: error: "), lines[0]
-    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(files), "something was written"
+    written = sorted(str(p.relative_to(tmp_path)) for p in tmp_path.rglob("*") if p.is_file())
+    assert written == sorted(files), "something was written"
 
 
 def test_flat_sum_of_many_terms_is_accepted(tmp_path, monkeypatch, capsys):
@@ -170,3 +177,33 @@ def test_locus_json_of_builtin_models_is_strict_json(name, capsys):
     assert main(["locus", name, "--format", "json", "--quiet"]) == 0
     data = _strict_json(capsys.readouterr().out)
     assert data["model"] == name and data["components"]
+
+
+def test_report_where_nothing_can_be_created_is_one_line(tmp_path, monkeypatch, capsys):
+    """/proc takes no new folders: the error names -o, and nothing is left behind."""
+    monkeypatch.chdir(tmp_path)
+    code = main(["report", "planar2r", "-o", "/proc/rankloci-test/out", "--format", "md",
+                 "--quiet", "--samples", "2"])
+    err = capsys.readouterr().err
+    assert code == 2 and "Traceback" not in err
+    assert err.strip().count("\n") == 0 and "-o '/proc/rankloci-test/out'" in err
+
+
+def test_fifty_fixed_rotations_stay_short(tmp_path, monkeypatch, capsys):
+    """Fixed joints at rpy 0.3 0.2 0.1 compose exact rational rotations whose digits would
+    grow without bound (past Python's 4300-digit conversion limit); they are kept short."""
+    links = "".join(f'<link name="l{i}"/>' for i in range(53))
+    joints = "".join(
+        f'<joint name="f{i}" type="fixed"><parent link="l{i}"/><child link="l{i + 1}"/>'
+        f'<origin rpy="0.3 0.2 0.1" xyz="0 0 0.1"/></joint>' for i in range(50))
+    moving = ('<joint name="a" type="revolute"><parent link="l50"/><child link="l51"/>'
+              '<axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>'
+              '<joint name="b" type="revolute"><parent link="l51"/><child link="l52"/>'
+              '<origin xyz="0.1 0 0"/><axis xyz="0 1 0"/>'
+              '<limit lower="-3" upper="3" effort="1" velocity="1"/></joint>')
+    (tmp_path / "f.urdf").write_text(f'<robot name="f">{links}{joints}{moving}</robot>',
+                                     encoding="utf-8")
+    monkeypatch.chdir(tmp_path)
+    assert main(["jacobian", "f.urdf"]) == 0
+    out = capsys.readouterr().out
+    assert max(len(word) for word in out.replace("*", " ").replace("/", " ").split()) < 200
