@@ -323,7 +323,7 @@ def _normal(e):
 def equation_sets(locus, special: bool = False):
     """The equations of each component, normalised and sorted: of the model's own components,
     or (``special=True``) of the others."""
-    comps = [c for c in locus.components if c.exists_for_model != special]
+    comps = locus.special if special else locus.components
     return sorted(tuple(sorted(_normal(e) for e in c.equations)) for c in comps)
 
 

@@ -221,7 +221,7 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
     if base is not None:
         augmented = tuple(ComponentView(i, c, not c.exists_for_model,
                                         kind=getattr(c, "kind", None))
-                          for i, c in enumerate(locus.components, start=1))
+                          for i, c in enumerate(locus.components + locus.special, start=1))
 
     # figures
     say(f"{model.name}: figures")
@@ -257,7 +257,7 @@ def _component_views(model, model_tm, locus, nm, params, rng, jac):
     tall = model_tm.shape[0] > model_tm.shape[1]
     frame = getattr(model, "frame", "base")
     views = []
-    for i, c in enumerate(locus.components, start=1):
+    for i, c in enumerate(locus.components + locus.special, start=1):
         special = not c.exists_for_model
         folded = []
         for e in c.equations:
