@@ -284,37 +284,52 @@ def snapped_urdf(text) -> str:
 class PinocchioJacobian:
     """J(q) of a chain from Pinocchio: the tip link's frame Jacobian, LOCAL_WORLD_ALIGNED.
 
-    ``q`` holds the chain's joint values in chain order (rankloci's q1..qn); every other joint
-    of the robot stays at Pinocchio's neutral configuration (it cannot move the tip).  The
-    columns are the chain's joints; the rows are (vx, vy, vz, wx, wy, wz), or the first three
-    for the position task.
+    ``q`` holds one value per chain joint without a ``<mimic>``, in chain order (rankloci's
+    q1..qn).  A joint that mimics another (through any number of mimics) is set to
+    ``multiplier * q + offset`` of the joint it ends at, which must be on the chain, and its
+    column is added, times the multiplier, to that joint's column.  Every other joint of the
+    robot stays at Pinocchio's neutral configuration (it cannot move the tip).  The rows are
+    (vx, vy, vz, wx, wy, wz), or the first three for the position task.
     """
 
     def __init__(self, urdf_text: str, joints, tip: str, task: str):
+        import defusedxml.ElementTree as SafeET
         import numpy as np
         import pinocchio as pin
 
-        self._pin = pin
-        self.model = pin.buildModelFromXML(snapped_urdf(urdf_text))
+        self._pin, self._np = pin, np
+        text = snapped_urdf(urdf_text)
+        self.model = pin.buildModelFromXML(text)   # mimic joints as joints of their own
         self.data = self.model.createData()
         if not self.model.existFrame(tip, pin.FrameType.BODY):
             raise ValueError(f"Pinocchio has no body frame {tip!r}")
         self.frame = self.model.getFrameId(tip, pin.FrameType.BODY)
-        self.joints = []
+        elements = {j.get("name"): j for j in SafeET.fromstring(text).iter("joint")}
+        leaders = {name: _followed(name, elements) for name in joints}
+        free = [name for name in joints if leaders[name][0] == name]
+        #: "revolute" or "prismatic" per variable
+        self.kinds = tuple("prismatic" if elements[n].get("type") == "prismatic" else "revolute"
+                           for n in free)
+        self.joints = []   # (idx_q, nq, idx_v, variable index, multiplier, offset)
         for name in joints:
             if not self.model.existJointName(name):
                 raise ValueError(f"Pinocchio has no joint {name!r}")
+            leader, mult, off = leaders[name]
+            if leader not in free:
+                raise ValueError(f"joint {name!r} mimics {leader!r}, which is not on the chain")
             jm = self.model.joints[self.model.getJointId(name)]
-            self.joints.append((jm.idx_q, jm.nq, jm.idx_v))
-        self.columns = [iv for _, _, iv in self.joints]
+            self.joints.append((jm.idx_q, jm.nq, jm.idx_v, free.index(leader), mult, off))
         self.rows = slice(0, 3) if task == "position" else slice(0, 6)
         self.q0 = pin.neutral(self.model)
-        self._np = np
+        self._combine = np.zeros((self.model.nv, len(free)))
+        for _, _, iv, k, mult, _ in self.joints:
+            self._combine[iv, k] += mult
 
     def configuration(self, q):
-        """Pinocchio's configuration vector for chain joint values ``q``."""
+        """Pinocchio's configuration vector for the chain's variables ``q``."""
         x = self.q0.copy()
-        for (iq, nq, _), v in zip(self.joints, q):
+        for iq, nq, _, k, mult, off in self.joints:
+            v = mult * q[k] + off
             if nq == 2:   # a continuous joint: (cos, sin)
                 x[iq], x[iq + 1] = math.cos(v), math.sin(v)
             else:
@@ -328,7 +343,7 @@ class PinocchioJacobian:
         pin.updateFramePlacement(self.model, self.data, self.frame)
         J = pin.getFrameJacobian(self.model, self.data, self.frame,
                                  pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)
-        return self._np.array(J[self.rows][:, self.columns])
+        return self._np.asarray(J[self.rows] @ self._combine)
 
     def derivatives(self, q):
         """dJ/dq_k by central differences (FD_STEP): shape (n, rows, cols)."""
@@ -343,6 +358,24 @@ class PinocchioJacobian:
 
 
 # --- grading --------------------------------------------------------------------------------
+
+def _followed(name: str, elements) -> tuple[str, float, float]:
+    """``(leader, multiplier, offset)``: joint ``name`` moves by ``multiplier * q_leader +
+    offset``, following its ``<mimic>`` elements to a joint without one.  A revolute offset is an
+    angle, snapped as rankloci snaps angles."""
+    mult, off = 1.0, 0.0
+    follower, seen = name, {name}
+    while (m := elements[name].find("mimic")) is not None:
+        a, b = float(m.get("multiplier", "1")), float(m.get("offset", "0"))
+        mult, off = mult * a, mult * b + off
+        name = m.get("joint", "").strip()
+        if name in seen or name not in elements:
+            raise ValueError(f"the mimic of joint {follower!r} cannot be followed")
+        seen.add(name)
+    if off and elements[follower].get("type") != "prismatic":
+        off = _snapped_angle(off)
+    return name, mult, off
+
 
 def sigma_ratio(J) -> float:
     """sigma_min / sigma_max (0 for a zero matrix)."""
@@ -431,7 +464,7 @@ def grade(model, tm, locus, ref: PinocchioJacobian, rng) -> dict:
     from rankloci.jacobian import task_matrix
     from rankloci.numeric.equations import Equations, NumericMatrix, points_on
 
-    kinds = [j.kind for j in model.joints]
+    kinds = ref.kinds
     problems = []
 
     # mapping: rankloci's J in the base frame about the tip against Pinocchio's, entry by entry
@@ -556,6 +589,10 @@ def run_case(chain: Chain, root: Path, *, time_limit: float | None = 60.0, seed:
                                 chain.task)
     except (ValueError, RuntimeError) as e:
         out["reason"] = f"Pinocchio: {e}"
+        return out
+    if len(ref.kinds) != len(tm.variables):
+        out["reason"] = (f"rankloci has {len(tm.variables)} variables, the reference "
+                         f"{len(ref.kinds)}")
         return out
     method = method_for(tm.shape)
     end = None if not time_limit else time.monotonic() + time_limit
@@ -705,15 +742,23 @@ def render_markdown(rows, skipped, outside, meta) -> str:
     ]
     if meta.get("max_per_robot"):
         lines += [f"At most {meta['max_per_robot']} chains per robot (the shortest first).", ""]
+    degenerate = sum(r["status"] == "pass" and bool(r.get("degenerate")) for r in rows)
     lines += [
         f"**{len(rows)} chains: {counts['pass']} pass, {counts['fail']} fail, "
         f"{counts['timeout']} time out, {counts['error']} error.**",
+        "",
+        f"{degenerate} of the passes are degenerate loci (J rank deficient everywhere, marked "
+        "so): a chain graded on the position of the child link of its last joint loses that "
+        "joint's column when the joint is revolute, since the link's origin lies on its axis. "
+        "These check that rankloci and Pinocchio agree on it, no more.",
         "",
         "| robot | file | chain | joints | task | time (s) | components | result | reason |",
         "| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
     ]
     for r in rows:
         t = f"{r['locus_s']:.2f}" if r.get("locus_s") is not None else ""
+        if r["status"] == "timeout" and r.get("components") is None:
+            t = f"> {meta['timeout_s']:g}"
         comps = "" if r.get("components") is None else str(r["components"])
         if r.get("degenerate"):
             comps += " (degenerate)"
