@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
+from ..errors import ModelError
 from ..model import RobotModel
 
 __all__ = ["BatchJacobian"]
@@ -32,6 +33,9 @@ class BatchJacobian:
     """
 
     def __init__(self, model: RobotModel, params=None):
+        if any(getattr(j, "mimic", None) is not None for j in model.joints):
+            raise ModelError("the batched Jacobian does not support mimic joints; use the "
+                             "symbolic Jacobian (rankloci.kinematics.geometric_jacobian)")
         values = {k: float(v) for k, v in (model.parameters if params is None else params).items()}
 
         def num(M):
