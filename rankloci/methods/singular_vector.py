@@ -32,6 +32,10 @@ from .null_vectors import left_null_vectors
 
 __all__ = ["singular_vector_tree"]
 
+#: Regular blocks whose determinants are compared on a branch where the null vectors
+#: degenerate (the smallest wins); each costs one determinant of the substituted matrix.
+MINOR_CANDIDATES = 3
+
 
 def singular_vector_tree(ctx: Context) -> bool:
     """Grow the branch tree in ``ctx``; return True if the matrix is degenerate."""
@@ -163,7 +167,7 @@ def _minor_branch(ctx: Context, M, branch, parent):
     if ctx.probe.generic_rank(Mb, pts) < len(Mb):
         ctx.leaf(branch, parent, Outcome.ALL_MINORS_VANISH)
         return
-    cols, D = choose_columns(ctx, Mb, pts, candidates=3)
+    cols, D = choose_columns(ctx, Mb, pts, candidates=MINOR_CANDIDATES)
     ctx.annotate(parent, columns=[c + 1 for c in cols])
     ctx.split(branch, parent, D, "a minor on a branch",
               lambda child, node: _minor_branch(ctx, M, child, node))
