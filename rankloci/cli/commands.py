@@ -63,32 +63,63 @@ def _check_link_numbers(args, model) -> None:
                              f"(its link frames are 0..{model.dof}, base and tool)")
 
 
-def _load_task_matrix(args, progress=None):
+def _load_model(args):
+    """The model and its parsed constraint rows (quick: the parser bounds the work)."""
     from ..augmented import parse_augment
     from ..io import load_model
-    from ..jacobian import task_matrix
 
     model = load_model(args.model, base_link=getattr(args, "base_link", None),
                        tip_link=getattr(args, "tip_link", None))
     _check_link_numbers(args, model)
-    extra = parse_augment(model, args.augment or ())
+    return model, parse_augment(model, args.augment or ())
+
+
+def _task_matrix(args, model, extra, progress=None):
+    """The task matrix the arguments ask for (symbolic work: run it under the limits)."""
+    from ..jacobian import task_matrix
+
     if progress:
         progress(f"building the symbolic matrix of {model.name}")
     frame = args.frame if args.frame is not None else getattr(args, "frame_default", None)
-    tm = task_matrix(model, task=args.task, frame=frame,
-                     point=getattr(args, "point", "tool"), augment=extra,
-                     numeric=getattr(args, "numeric", False))
-    return model, tm
+    return task_matrix(model, task=args.task, frame=frame,
+                       point=getattr(args, "point", "tool"), augment=extra,
+                       numeric=getattr(args, "numeric", False))
+
+
+def _limited(args, work, progress, what):
+    """``run_limited`` with the command's limits; None (after one error line) when they ran out."""
+    from ..errors import LocusTimeout
+    from .limits import LimitExceeded, run_limited
+
+    try:
+        return run_limited(work, timeout=args.timeout, memory_mb=args.memory, progress=progress)
+    except LocusTimeout as e:
+        print(f"rankloci: error: {e}; raise --timeout (now {args.timeout:g} s) or try "
+              f"--numeric-parameters", file=sys.stderr)
+    except LimitExceeded as e:
+        print(f"rankloci: error: {what} {e}", file=sys.stderr)
+    return None
 
 
 def cmd_jacobian(args) -> int:
-    import sympy as sp
-
     from ..model import RobotModel
 
-    model, tm = _load_task_matrix(args)
+    model, extra = _load_model(args)
     if isinstance(model, RobotModel) is False and args.point != "tool":
         raise UsageError("--point applies to robot models only")
+    text = _limited(args, lambda progress: _jacobian_text(args, _task_matrix(args, model, extra)),
+                    None, "building the Jacobian")
+    if text is None:
+        return EXIT_FAILED
+    print(text)
+    return EXIT_OK
+
+
+def _jacobian_text(args, tm) -> str:
+    import sympy as sp
+
+    lines = []
+    print = lines.append         # the lines of the output, in order
     J = tm.matrix
     if args.format == "json":
         out = {
@@ -112,7 +143,7 @@ def cmd_jacobian(args) -> int:
         for i in range(J.rows):
             for j in range(J.cols):
                 print(f"J[{tm.row_labels[i]}, {tm.variables[j]}] = {sp.sstr(J[i, j])}")
-    return EXIT_OK
+    return "\n".join(lines)
 
 
 #: The clock ``--timeout`` is measured on, in seconds.  A module-level name so
@@ -133,9 +164,8 @@ def cmd_locus(args) -> int:
     from pathlib import Path
 
     from ..augmented import augmented_locus
-    from ..errors import LocusError, LocusTimeout
+    from ..errors import LocusError
     from ..methods import method_for
-    from .limits import LimitExceeded, run_limited
     from ..render_text import locus_json, locus_latex, locus_text, tree_dot, tree_json, tree_text
 
     if args.tree and Path(args.tree).suffix not in (".dot", ".json", ".txt"):
@@ -145,49 +175,45 @@ def cmd_locus(args) -> int:
     if args.tree and Path(args.tree).is_dir():
         raise UsageError(f"--tree {args.tree!r} is a directory; give a file name")
     progress = progress_printer(args.quiet)
-    model, tm = _load_task_matrix(args, progress)
-    try:
-        method = method_for(tm.shape, args.method)
-    except LocusError:  # a method this shape does not allow: determinant on a non-square J
-        raise UsageError(f"--method {args.method} needs a square matrix; this one is "
-                         f"{tm.shape[0]}x{tm.shape[1]}") from None
-    if progress:
-        progress(f"{tm.name}: {tm.shape[0]}x{tm.shape[1]} matrix, method {method}, seed {args.seed}")
+    model, extra = _load_model(args)
+
     def work(report):
+        tell = report if progress else None
+        tm = _task_matrix(args, model, extra, tell)
+        try:
+            method = method_for(tm.shape, args.method)
+        except LocusError:  # a method this shape does not allow: determinant on a non-square J
+            raise UsageError(f"--method {args.method} needs a square matrix; this one is "
+                             f"{tm.shape[0]}x{tm.shape[1]}") from None
+        if tell:
+            tell(f"{tm.name}: {tm.shape[0]}x{tm.shape[1]} matrix, method {method}, "
+                 f"seed {args.seed}")
         should_stop = _deadline(args.timeout)
-        progress_in_child = report if progress else None
 
         def compute(t, seed):
-            return augmented_locus(model, t, method, seed=seed, progress=progress_in_child,
+            return augmented_locus(model, t, method, seed=seed, progress=tell,
                                    should_stop=should_stop, clock=time.perf_counter)
 
+        where = (tm.row_labels, tm.frame, tm.point)
         if not args.verify:
-            return compute(tm, args.seed)
-        from ..augmented import parse_augment
+            return compute(tm, args.seed), where
         from ..jacobian import task_matrix
         from ..verify import verified_locus
 
-        reference = task_matrix(model, task=args.task,
-                                augment=parse_augment(model, args.augment or ()))
-        if progress:
-            report("self-check: the locus is checked numerically before it is shown")
-        return verified_locus(compute, tm, reference, seed=args.seed,
-                              progress=progress_in_child)[0]
+        reference = task_matrix(model, task=args.task, augment=extra)
+        if tell:
+            tell("self-check: the locus is checked numerically before it is shown")
+        return verified_locus(compute, tm, reference, seed=args.seed, progress=tell)[0], where
 
-    try:
-        locus = run_limited(work, timeout=args.timeout, memory_mb=args.memory, progress=progress)
-    except LocusTimeout as e:
-        print(f"rankloci: error: {e}; raise --timeout (now {args.timeout:g} s) or try "
-              f"--numeric-parameters", file=sys.stderr)
+    got = _limited(args, work, progress, "the locus computation")
+    if got is None:
         return EXIT_FAILED
-    except LimitExceeded as e:
-        print(f"rankloci: error: the locus computation {e}", file=sys.stderr)
-        return EXIT_FAILED
-    if tm.frame is not None and (tm.frame, tm.point) != (getattr(model, "frame", None), "tool"):
+    locus, (row_labels, frame, point) = got
+    if frame is not None and (frame, point) != (getattr(model, "frame", None), "tool"):
         import dataclasses
 
-        where = f"link frame {tm.frame}" if isinstance(tm.frame, int) else f"the {tm.frame} frame"
-        about = f", about the origin of link frame {tm.point}" if isinstance(tm.point, int) else ""
+        where = f"link frame {frame}" if isinstance(frame, int) else f"the {frame} frame"
+        about = f", about the origin of link frame {point}" if isinstance(point, int) else ""
         locus = dataclasses.replace(locus, notes=locus.notes + (
             f"J was computed in {where}{about} (same rank); symbolic lost directions are "
             f"expressed there, the directions at the sample points in the model's frame",))
@@ -195,11 +221,11 @@ def cmd_locus(args) -> int:
         text = {".dot": tree_dot, ".json": tree_json, ".txt": tree_text}[Path(args.tree).suffix](locus.tree)
         write_atomic(args.tree, text + "\n")
     if args.format == "json":
-        print(locus_json(locus, rows=list(tm.row_labels), seed=args.seed))
+        print(locus_json(locus, rows=list(row_labels), seed=args.seed))
     elif args.format == "latex":
         print(locus_latex(locus))
     else:
-        print(locus_text(locus, row_labels=tm.row_labels))
+        print(locus_text(locus, row_labels=row_labels))
         if args.show_tree:
             print()
             print(tree_text(locus.tree))

@@ -31,7 +31,7 @@ from ..errors import LocusTimeout, RanklociError
 __all__ = ["run_limited", "LimitExceeded", "KILL_GRACE", "DEFAULT_MEMORY_MB"]
 
 #: Seconds between the work's own deadline and the parent's kill.
-KILL_GRACE = 1.5
+KILL_GRACE = 1.0
 
 #: Default address-space limit of the child, in MiB.  The built-in models peak below 300 MB
 #: of resident memory; the address space of an idle child (Python, numpy, sympy, FLINT and
@@ -70,6 +70,8 @@ def run_limited(work, *, timeout: float | None, memory_mb: int | None, progress=
     ChildFailed
         Any other exception in the work (a bug): the child's traceback.
     """
+    from .parser import UsageError
+
     # Load the compiled libraries before the fork: OpenBLAS (scipy's copy is loaded lazily)
     # spins instead of failing when it cannot map its buffers under the child's limit.
     import scipy.linalg  # noqa: F401
@@ -108,6 +110,9 @@ def run_limited(work, *, timeout: float | None, memory_mb: int | None, progress=
             elif kind == "bad-input":
                 child.join()
                 raise RanklociError(payload)
+            elif kind == "usage":
+                child.join()
+                raise UsageError(payload)
             elif kind == "memory":
                 child.join()
                 raise LimitExceeded(f"ran out of memory (limit {memory_mb} MiB; raise --memory) "
@@ -123,6 +128,8 @@ def run_limited(work, *, timeout: float | None, memory_mb: int | None, progress=
 
 
 def _child(work, send, memory_mb):
+    from .parser import UsageError
+
     signal.signal(signal.SIGINT, signal.SIG_IGN)       # the parent handles Ctrl-C
     if memory_mb:
         limit = int(memory_mb) * 2 ** 20
@@ -136,6 +143,8 @@ def _child(work, send, memory_mb):
         message = ("result", result)
     except LocusTimeout as e:
         message = ("timeout", str(e))
+    except UsageError as e:
+        message = ("usage", str(e))
     except RanklociError as e:
         message = ("bad-input", str(e))
     except MemoryError:

@@ -221,6 +221,10 @@ def build_parser() -> ArgumentParser:
     p.add_argument("--point", type=frame_arg, default="tool",
                    help="reference point: origin of base, tool, or link frame 0..n (default tool)")
     p.add_argument("--numeric", action="store_true", help="replace parameters by their values")
+    p.add_argument("--timeout", type=timeout_arg, default=600.0,
+                   help="give up after this many seconds (default 600; 0 = never)")
+    p.add_argument("--memory", type=memory_arg, default=DEFAULT_MEMORY_MB, metavar="MIB",
+                   help=f"memory limit in MiB (default {DEFAULT_MEMORY_MB}; 0 = none)")
     p.add_argument("--format", choices=("text", "latex", "json"), default="text")
 
     p = sub.add_parser("locus", help="compute the rank-deficiency (singularity) locus",

@@ -75,6 +75,14 @@ from .urdf_xml import (
 
 __all__ = ["parse_urdf", "read_urdf", "JOINT_KINDS"]
 
+#: Largest URDF file read (the biggest URDF of example-robot-data is about 0.2 MB; meshes live
+#: in their own files).
+MAX_FILE_BYTES = 10_000_000
+#: Most joints (fixed ones included) on the chain from the base link to the tip.
+MAX_CHAIN_JOINTS = 500
+#: Most movable joints on the chain, as for a TOML model file.
+MAX_MOVABLE_JOINTS = 64
+
 
 def parse_urdf(text: str, *, name: str, file: str = "", base_link: str | None = None,
                tip_link: str | None = None) -> RobotModel:
@@ -164,6 +172,13 @@ def parse_urdf(text: str, *, name: str, file: str = "", base_link: str | None = 
         raise ModelError(f"tip link {tip_link!r} is not a link of this robot "
                          f"({name_list(links)})", file=where, field="tip_link")
     chain = chain_joints(base_link, tip_link, parent_of, where)
+    if len(chain) > MAX_CHAIN_JOINTS:
+        raise ModelError(f"the chain {base_link} -> {tip_link} has {len(chain)} joints, more than "
+                         f"{MAX_CHAIN_JOINTS}", file=where)
+    movable = sum(j.type in JOINT_KINDS for j in chain)
+    if movable > MAX_MOVABLE_JOINTS:
+        raise ModelError(f"the chain {base_link} -> {tip_link} has {movable} movable joints, more "
+                         f"than {MAX_MOVABLE_JOINTS}", file=where)
 
     index = {}  # joint name -> 1-based index among the chain's movable joints
     for j in chain:
@@ -296,6 +311,8 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
     """
     p = Path(path)
     try:
+        if p.stat().st_size > MAX_FILE_BYTES:
+            raise ModelError(f"file larger than {MAX_FILE_BYTES} bytes", file=p.name)
         text = p.read_bytes().decode("utf-8-sig")
     except OSError as e:
         raise ModelError(f"cannot read file: {e.strerror or e}", file=p.name) from None

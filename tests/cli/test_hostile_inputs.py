@@ -100,6 +100,19 @@ CASES = [
     ("non-polynomial-entry-report", {"r.toml": _raw("r", [["tan(x)"]])},
      ["report", "r.toml", "-o", "out", "--format", "md", "--quiet"], 2,
      "r.toml: entry tan(x) is not a polynomial"),
+    ("jacobian-past-its-time-limit",
+     {"m.toml": 'name = "m"\nconvention = "dh"\n' + "".join(
+         f'[[joint]]\na = 0.1\nalpha = "{"pi/2" if k % 2 else "-pi/2"}"\nd = 0.2\n'
+         for k in range(20))},
+     ["jacobian", "m.toml", "--timeout", "1"], 1, "did not finish within 1 s"),
+    ("urdf-chain-of-600-joints",
+     {"c.urdf": "<robot name='c'>" + "".join(f"<link name='l{k}'/>" for k in range(601))
+      + "".join(f"<joint name='j{k}' type='fixed'><parent link='l{k}'/>"
+                f"<child link='l{k + 1}'/></joint>" for k in range(599))
+      + "<joint name='a' type='revolute'><parent link='l599'/><child link='l600'/>"
+        "<axis xyz='0 0 1'/><limit lower='-1' upper='1' effort='1' velocity='1'/></joint>"
+      + "</robot>"},
+     ["jacobian", "c.urdf"], 2, "more than 500"),
     ("report-into-a-regular-file", {"afile": "not a folder"},
      ["report", "planar2r", "-o", "afile/sub", "--format", "md", "--quiet"], 2,
      "is not a directory"),
