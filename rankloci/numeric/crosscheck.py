@@ -286,6 +286,9 @@ def render_check_text(report: CheckReport) -> str:
     return "\n".join(lines)
 
 
+#: The most components a locus file may hold (the built-in models have at most 12).
+MAX_LOCUS_COMPONENTS = 1000
+
 #: The largest rank drop a locus file may state (a 100 x 100 matrix losing all its rank).
 MAX_RANK_DROP = 100
 
@@ -319,6 +322,8 @@ def parse_locus(data, model):
     special = data.get("special_components", [])
     if not isinstance(special, list):
         raise ModelError("'special_components' must be a list", field="special_components")
+    if len(comps) + len(special) > MAX_LOCUS_COMPONENTS:
+        raise ModelError(f"more than {MAX_LOCUS_COMPONENTS} components", field="components")
 
     def parse_all(items, where):
         if not isinstance(items, list):

@@ -79,6 +79,12 @@ CASES = [
      ["check", "planar2r", "--locus", "l.json", "--quiet", "--samples", "2"], 2, "rank_drop"),
     ("boolean-rank-drop", {"l.json": _locus_file(rank_drop=True)},
      ["check", "planar2r", "--locus", "l.json", "--quiet", "--samples", "2"], 2, "rank_drop"),
+    ("locus-file-with-5000-components",
+     {"l.json": _locus_file(raw=json.dumps({
+         "schema": "rankloci.locus/2", "model": "planar2r", "variables": ["q1", "q2"],
+         "components": [{"equations": ["sin(q2)"]}] * 5000}))},
+     ["check", "planar2r", "--locus", "l.json", "--quiet", "--samples", "2"], 2,
+     "more than 1000 components"),
     ("deeply-nested-locus-file", {"l.json": _locus_file(raw="[" * 100000)},
      ["check", "planar2r", "--locus", "l.json", "--quiet", "--samples", "2"], 2, "l.json"),
     ("matrix-below-parameters", {"r.toml": 'variables = ["x"]\n[parameters]\nk = 2.0\n'
