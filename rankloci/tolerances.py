@@ -120,12 +120,13 @@ DIMENSION_STEP = 1e-6
 DIMENSION_RTOL = 1e-7
 
 #: A probe point of one component lies on another when every equation of the
-#: other is at most CONTAINED_ATOL there.  The points are sample points accurate
-#: to ROOT_XTOL (relative to the terms' size, of order one for unit-scale
-#: models), rotated in free variables that the other's equations do not see,
-#: so an on-component residual stays below ~1e-10; points off it give
-#: residuals of 1e-3 and up.
-CONTAINED_ATOL = 1e-7
+#: other, divided by the sum of the absolute values of its coefficients (parameters
+#: substituted; a trigonometric monomial is at most 1), is at most CONTAINED_RTOL
+#: there.  The points are sample points accurate to ROOT_XTOL relative to the
+#: terms' size, rotated in free variables that the other's equations do not see, so
+#: an on-component value stays below ~1e-12 of that scale (UR5 position task:
+#: 1.2e-7 against coefficients summing to 3e8); points off it give 1e-3 and up.
+CONTAINED_RTOL = 1e-9
 
 #: At such a point an excluded expression counts as vanishing when it is at most
 #: CONTAINED_EXCLUSION_RTOL times the sum of its coefficients' absolute values.

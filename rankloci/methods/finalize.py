@@ -21,7 +21,7 @@ import sympy as sp
 from ..algebra import transpose
 from ..locus import Component, Outcome
 from ..numeric.gauss_newton import gauss_newton
-from ..tolerances import (CONTAINED_ATOL, CONTAINED_EXCLUSION_RTOL, DIMENSION_RTOL,
+from ..tolerances import (CONTAINED_EXCLUSION_RTOL, CONTAINED_RTOL, DIMENSION_RTOL,
                           DIMENSION_STEP, NEAR_ADMITTED_EXCLUSION_RTOL, NEAR_ADMITTED_RADIUS,
                           NEAR_ADMITTED_STEP)
 from ..tree import prune
@@ -274,7 +274,8 @@ def _merge_zero_pi(cands: list[_Candidate]) -> list[_Candidate]:
 def _vanish_at(funcs, points, nvars: int, rng) -> bool:
     """Is every point in the component whose numeric functions are ``funcs``?
 
-    The equations must vanish at each point (``CONTAINED_ATOL``).  A point
+    The equations (scaled by their coefficient sizes) must vanish at each point
+    (``CONTAINED_RTOL``).  A point
     where an exclusion vanishes too may still be in the closure of the
     component: it is, when points of the equations' zero set with the
     exclusions nonzero lie arbitrarily near (tested by projecting small
@@ -282,7 +283,7 @@ def _vanish_at(funcs, points, nvars: int, rng) -> bool:
     """
     f, g, gscale = funcs
     for x in points:
-        if np.any(np.abs(np.array(f(*x), dtype=float)) > CONTAINED_ATOL):
+        if np.any(np.abs(np.array(f(*x), dtype=float)) > CONTAINED_RTOL):
             return False
         if g is not None and np.any(np.abs(np.array(g(*x), dtype=float))
                                     <= CONTAINED_EXCLUSION_RTOL * gscale):
@@ -300,13 +301,19 @@ def _near_admitted(f, g, gscale, x, nvars, rng, tries: int = 6) -> bool:
     for _ in range(tries):
         y0 = x[:nvars] + NEAR_ADMITTED_STEP * rng.standard_normal(nvars)
         y = gauss_newton(rows, y0)
-        if y is None or np.max(np.abs(rows(y[None, :])[0])) > CONTAINED_ATOL \
+        if y is None or np.max(np.abs(rows(y[None, :])[0])) > CONTAINED_RTOL \
                 or np.max(np.abs(y - x[:nvars])) > NEAR_ADMITTED_RADIUS:
             continue
         vals = np.abs(np.array(g(*np.concatenate([y, x[nvars:]])), dtype=float))
         if np.all(vals > NEAR_ADMITTED_EXCLUSION_RTOL * gscale):
             return True
     return False
+
+
+def _coefficient_size(e) -> float:
+    """Sum of the absolute values of the coefficients of ``e`` (1 for a zero sum)."""
+    total = sum(abs(float(t.as_coeff_Mul()[0])) for t in sp.Add.make_args(e))
+    return total if total > 0 else 1.0
 
 
 def _remove_contained(ctx: Context, cands: list[_Candidate]) -> list[_Candidate]:
@@ -345,7 +352,12 @@ def _remove_contained(ctx: Context, cands: list[_Candidate]) -> list[_Candidate]
     def functions(k):
         if k not in compiled:
             c = k.comp
-            f = sp.lambdify(syms, list(c.equations), modules="numpy")
+            raw = sp.lambdify(syms, list(c.equations), modules="numpy")
+            fscale = np.array([_coefficient_size(sp.expand(e.subs(pvals))) for e in c.equations])
+
+            def f(*x, raw=raw, fscale=fscale):
+                return np.array(raw(*x), dtype=float).ravel() / fscale
+
             g = sp.lambdify(syms, list(c.excluding), modules="numpy") if c.excluding else None
             excl = [sp.expand(e.subs(pvals)) for e in c.excluding]
             gscale = np.array([sum(abs(float(t.as_coeff_Mul()[0])) for t in sp.Add.make_args(e))
