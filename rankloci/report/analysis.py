@@ -25,8 +25,8 @@ from ..tolerances import COVER_RESIDUAL, REGULAR_MIN_RATIO
 
 __all__ = ["SliceData", "PathData", "Comparison", "TreeSummary", "slice_grid", "slice_joints",
            "path_through", "compare_loci", "tree_summary", "model_components", "sigma_ratios",
-           "component_points", "equation_weights", "regular_point", "node_outcome",
-           "is_component_leaf"]
+           "component_points", "component_equations", "equation_weights", "regular_point",
+           "node_outcome", "is_component_leaf"]
 
 #: Grid points per axis of a heat map: 181 puts a node every 2 degrees on [-pi, pi].
 GRID = 181
@@ -52,21 +52,33 @@ def _manipulability(Js: np.ndarray) -> np.ndarray:
     return np.prod(np.linalg.svd(Js, compute_uv=False), axis=-1)
 
 
-def _equation_function(comp, nm: NumericMatrix, parameters):
+def component_equations(comp, nm: NumericMatrix, parameters) -> Equations:
+    """The component's equations and side conditions as numpy functions of ``nm``'s variables.
+
+    The component is the closure of the set where its equations vanish and
+    none of its ``excluding`` expressions does; :meth:`Equations.admits`
+    tells whether a point keeps away from the excluded sets.  Parameters are
+    replaced by their values in ``parameters``.
+    """
     by_name = {v.name: v for v in nm.variables}
     params = {str(k): v for k, v in parameters.items()}
-    exprs = []
-    for e in comp.equations:
+
+    def numeric(e):
         e = sp.sympify(e)
         e = e.xreplace({s: by_name[s.name] for s in e.free_symbols if s.name in by_name})
-        e = e.subs({s: params[s.name] for s in e.free_symbols if s.name in params})
-        exprs.append(e)
-    return Equations(exprs, nm.variables, {})
+        return e.subs({s: params[s.name] for s in e.free_symbols if s.name in params})
+
+    return Equations([numeric(e) for e in comp.equations], nm.variables, {},
+                     excluding=[numeric(e) for e in getattr(comp, "excluding", ())])
 
 
 def component_points(comp, nm: NumericMatrix, parameters, rng, n: int) -> list[np.ndarray]:
-    """The component's sample point and up to ``n`` more points solved onto it."""
-    eqs = _equation_function(comp, nm, parameters)
+    """The component's sample point and up to ``n`` more points solved onto it.
+
+    The points keep away from the component's excluded sets: where an excluded
+    expression vanishes, the equations may hold at regular configurations.
+    """
+    eqs = component_equations(comp, nm, parameters)
     first = np.array([comp.sample[v.name] for v in nm.variables], dtype=float)
     return [first] + [np.asarray(q) for q in points_on(eqs, nm, rng, n)]
 
@@ -140,7 +152,9 @@ def slice_grid(nm: NumericMatrix, locus_components, parameters, axes, point, *, 
     ``locus_components`` is a list of (index, Component); each is drawn where
     all its equations vanish on the slice: the zero contour of one equation,
     kept where the others vanish too, or, where they vanish only at isolated
-    points, those points (refined by least squares).
+    points, those points (refined by least squares).  Only points outside the
+    component's excluded sets are drawn (:meth:`Equations.admits`): there the
+    equations may vanish at regular configurations.
     """
     xs, ys, R = ratio_grid(nm, axes, point, n)
     # the curves are traced on a grid two steps wider, so that a component on the border
@@ -148,7 +162,7 @@ def slice_grid(nm: NumericMatrix, locus_components, parameters, axes, point, *, 
     cx, cy, Q = _grid_points(nm, axes, point, n, margin=2)
     curves = []
     for idx, comp in locus_components:
-        lines, pts = _component_on_slice(_equation_function(comp, nm, parameters), Q, axes,
+        lines, pts = _component_on_slice(component_equations(comp, nm, parameters), Q, axes,
                                          cx, cy, point)
         if lines or len(pts):
             curves.append((idx, tuple(lines), pts))
@@ -156,7 +170,37 @@ def slice_grid(nm: NumericMatrix, locus_components, parameters, axes, point, *, 
                      tuple(curves))
 
 
+def _admitted_runs(seg, admitted):
+    """The runs of at least two consecutive points of ``seg`` where ``admitted`` holds."""
+    runs, start = [], None
+    for k, ok in enumerate(list(admitted) + [False]):
+        if ok and start is None:
+            start = k
+        elif not ok and start is not None:
+            if k - start >= 2:
+                runs.append(seg[start:k])
+            start = None
+    return runs
+
+
 def _component_on_slice(eqs: Equations, Q, axes, xs, ys, point):
+    """(polylines, isolated points) of the component on the slice, outside its excluded sets."""
+    lines, pts = _zero_set_on_slice(eqs, Q, axes, xs, ys, point)
+
+    def admits(xy):
+        q = np.array(point, dtype=float)
+        q[axes[0]], q[axes[1]] = xy
+        return eqs.admits(q)
+
+    kept = []
+    for seg in lines:
+        kept += _admitted_runs(seg, [admits(p) for p in seg])
+    pts = np.array([p for p in pts if admits(p)]).reshape(-1, 2)
+    return kept, pts
+
+
+def _zero_set_on_slice(eqs: Equations, Q, axes, xs, ys, point):
+    """(polylines, isolated points) where all the equations vanish on the slice."""
     import contourpy
 
     if eqs.empty:
@@ -337,7 +381,7 @@ def compare_loci(a, b, nm: NumericMatrix, parameters, rng, *, points: int = 4) -
     if a.degenerate != b.degenerate:
         diffs.append(f"{a.method} says degenerate={a.degenerate}, {b.method} {b.degenerate}")
     for x, y in ((a, b), (b, a)):
-        ys = [_equation_function(c, nm, parameters) for _, c in model_components(y)]
+        ys = [component_equations(c, nm, parameters) for _, c in model_components(y)]
         for i, comp in model_components(x):
             pts = component_points(comp, nm, parameters, rng, points)
             tested += len(pts)

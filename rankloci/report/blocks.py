@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from .mathfmt import latex
 
 __all__ = ["Heading", "Para", "Math", "Table", "Bullets", "Figure", "Code", "Marker", "SIGMA",
-           "block_label", "variables_text"]
+           "block_label", "variables_text", "plural", "counted", "numbered"]
 
 #: The ratio the checks and the heat maps are about, as text with math.
 SIGMA = r"$\sigma_{\min}/\sigma_{\max}$"
@@ -106,3 +106,38 @@ def variables_text(variables) -> str:
     ('$q_{1}, q_{2}$', 'none')
     """
     return ("$" + ", ".join(latex(v) for v in variables) + "$") if variables else "none"
+
+
+def plural(word: str, n: int, many: str | None = None) -> str:
+    """``word`` for one, its plural (``many``, by default ``word + "s"``) for any other number.
+
+    Examples
+    --------
+    >>> plural("component", 1), plural("component", 2), plural("branch", 3, "branches")
+    ('component', 'components', 'branches')
+    """
+    return word if n == 1 else (many or word + "s")
+
+
+def counted(n: int, word: str, many: str | None = None) -> str:
+    """``1 component``, ``2 components``: a number with its noun in the right form.
+
+    Examples
+    --------
+    >>> counted(1, "branch", "branches"), counted(0, "node")
+    ('1 branch', '0 nodes')
+    """
+    return f"{n} {plural(word, n, many)}"
+
+
+def numbered(word: str, numbers) -> str:
+    """``component 1``, ``components 1 and 3``, ``components 1, 2 and 3``.
+
+    Examples
+    --------
+    >>> numbered("component", [2]), numbered("component", [1, 2, 3])
+    ('component 2', 'components 1, 2 and 3')
+    """
+    items = [str(n) for n in numbers]
+    listed = items[0] if len(items) == 1 else ", ".join(items[:-1]) + " and " + items[-1]
+    return f"{plural(word, len(items))} {listed}"

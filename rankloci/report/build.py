@@ -34,6 +34,7 @@ class ComponentView:
     special: bool
     readings: tuple = ()
     folded: tuple = ()        # equivalent compact forms of the equations (or ())
+    folded_excluding: tuple = ()  # compact forms of the side conditions (or ())
     kind: str | None = None
     summary: str = ""         # a short reading for tables: geometry first, "" if none is short
 
@@ -257,21 +258,27 @@ def _component_views(model, model_tm, locus, nm, params, rng, jac):
     tall = model_tm.shape[0] > model_tm.shape[1]
     frame = getattr(model, "frame", "base")
     views = []
-    for i, c in enumerate(locus.components + locus.special, start=1):
-        special = not c.exists_for_model
-        folded = []
-        for e in c.equations:
+
+    def fold(exprs):
+        """Compact forms of all of ``exprs`` in the Jacobian's notation, or () if one has none."""
+        out = []
+        for e in exprs:
             f = angle_sums(e)
             atoms = sorted(f.atoms(sp.sin, sp.cos), key=sp.default_sort_key)
             ab = abbreviations(variables, taken, atoms)
             g = compact(f.xreplace(ab), list(model_tm.parameters))
             if g.has(sp.sin, sp.cos) or math_width(latex(g)) > 0.8 * math_width(latex(e)):
-                folded = []
-                break
+                return ()
             for fn, s in ab.items():
                 if s in g.free_symbols:
                     notation.setdefault(str(s), (s, fn))
-            folded.append(g)
+            out.append(g)
+        return tuple(out)
+
+    for i, c in enumerate(locus.components + locus.special, start=1):
+        special = not c.exists_for_model
+        folded = fold(c.equations)
+        folded_excluding = fold(c.excluding) if folded else ()
         geometry, directions = [], []
         if not special:
             geometry = _named_readings(model, c, nm, params, rng, component_points)
@@ -282,8 +289,8 @@ def _component_views(model, model_tm, locus, nm, params, rng, jac):
                                                  frame=frame, variables=variables)
         short = [r for r in directions if len(r) <= SUMMARY_CHARS]
         summary = geometry[0] if geometry else (short[0] if short else "")
-        views.append(ComponentView(i, c, special, tuple(geometry + directions), tuple(folded),
-                                   getattr(c, "kind", None), summary))
+        views.append(ComponentView(i, c, special, tuple(geometry + directions), folded,
+                                   folded_excluding, getattr(c, "kind", None), summary))
     items = sorted(notation.values(), key=lambda p: _notation_key(p[1], variables))
     return tuple(views), tuple(items)
 

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from .blocks import SIGMA
+from .blocks import SIGMA, numbered, plural
 
 __all__ = ["FigureFile", "report_figures", "MAX_SLICES", "MAX_PATHS"]
 
@@ -120,9 +120,16 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot) -> tuple:
         short = (f"a point of component {data.through}" if data.through
                  else "a singular point" if where.startswith("a singular") else "a regular point")
         title = f"{stem}: ({names[i]}, {names[j]}) slice through {short}"
-        shown = [str(c[0]) for c in data.curves]
+        shown = [c[0] for c in data.curves]
         if shown:
-            drawn = f". Lines and dots: where component(s) {', '.join(shown)} meet the slice."
+            drawn = (f". Lines and dots: where {numbered('component', shown)} "
+                     f"{'meets' if len(shown) == 1 else 'meet'} the slice")
+            sided = [i for i in shown if dict(comps)[i].excluding]
+            if sided:
+                drawn += (f", drawn only away from the excluded {plural('set', len(sided))} "
+                          f"of {numbered('component', sided)} (there the equations also "
+                          "vanish at regular configurations)")
+            drawn += "."
         elif locus is None:
             drawn = ". The locus did not finish, so none is drawn."
         else:

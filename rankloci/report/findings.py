@@ -17,7 +17,7 @@ from .blocks import (SIGMA, Bullets, Code, Figure, Heading, Math, Para, Table, b
 from .escape import literal
 from .mathfmt import LINE_WIDTH, broken_lines, latex, value_latex
 
-__all__ = ["findings_blocks"]
+__all__ = ["findings_blocks", "plain_equations"]
 
 
 def findings_blocks(report) -> list:
@@ -31,13 +31,18 @@ def findings_blocks(report) -> list:
     return out
 
 
-def _equation_math(exprs, *, width: float = LINE_WIDTH) -> Math:
-    """``e = 0`` for each expression, broken between terms where a line is too wide."""
-    parts = [broken_lines(e, tail=" = 0", width=width) for e in exprs]
+def _equation_math(exprs, excluding=(), *, width: float = LINE_WIDTH) -> Math:
+    """``e = 0`` for each expression and ``x != 0`` for each of ``excluding``.
+
+    Lines that are too wide are broken between terms.
+    """
+    rels = [(e, " = 0", " &= 0") for e in exprs]
+    rels += [(x, r" \neq 0", r" &\neq 0") for x in excluding]
+    parts = [broken_lines(e, tail=tail, width=width) for e, tail, _ in rels]
     if len(parts) == 1 and len(parts[0]) == 1:
         return Math((parts[0][0],))
     if all(len(p) == 1 for p in parts):
-        return Math(tuple(latex(e) + " &= 0" for e in exprs), aligned=True)
+        return Math(tuple(latex(e) + tail for e, _, tail in rels), aligned=True)
     lines = []
     for p in parts:
         lines.append("&" + p[0])
@@ -59,10 +64,10 @@ def _component_blocks(report, view):
     c = view.component
     out = [Heading(3, f"Component {view.index}", block_label(report, "component", view.index))]
     eqs = [e for e in c.equations if e not in c.parameter_conditions] or list(c.equations)
-    out.append(_equation_math(eqs))
+    out.append(_equation_math(eqs, c.excluding))
     if view.folded and list(view.folded) != eqs:
         out.append(Para("Equivalently, in the notation of the Jacobian section:"))
-        out.append(_equation_math(view.folded))
+        out.append(_equation_math(view.folded, view.folded_excluding or c.excluding))
     items = []
     if c.solved:
         items.append(f"Solved: {_solved(c)}.")
@@ -77,8 +82,11 @@ def _component_blocks(report, view):
     elif not c.for_model:
         items.append("Has no real point for the model's parameter values.")
     if c.excluding:
-        ex = ", ".join(f"${latex(e)} \\neq 0$" for e in c.excluding)
-        items.append(f"The closure of the set where the equations hold and {ex}.")
+        ex = ", ".join(f"${latex(e)} \\neq 0$" for e in view.folded_excluding or c.excluding)
+        items.append(f"Side condition: the component is the closure of the set where the "
+                     f"equations hold and {ex}. Where the excluded expression vanishes the "
+                     "equations can hold at regular configurations, so points there are not "
+                     "taken as points of the component (sample points, checks, figures).")
     labels = list(report.tm.row_labels)
     tall = report.tm.shape[0] > report.tm.shape[1]
     over = [str(v) for v in report.tm.variables] if tall else labels
@@ -94,9 +102,25 @@ def _component_blocks(report, view):
     if view.readings:
         out.append(Para("At the sample point (verified numerically):", lead="Reading."))
         out.append(Bullets(tuple(r[0].upper() + r[1:] + "." for r in view.readings)))
-    plain = ",  ".join(f"{sp.sstr(e)} = 0" for e in c.equations)
-    out.append(Code(plain))
+    out.append(Code(plain_equations(c)))
     return out
+
+
+def plain_equations(comp) -> str:
+    """The component's equations and side conditions as plain text (Python syntax).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> q1, q2 = sp.symbols("q1 q2")
+    >>> print(plain_equations(SimpleNamespace(equations=(sp.sin(q1),), excluding=(q2,))))
+    sin(q1) = 0
+    where q2 != 0
+    """
+    text = ",  ".join(f"{sp.sstr(e)} = 0" for e in comp.equations)
+    if comp.excluding:
+        text += "\nwhere " + ",  ".join(f"{sp.sstr(e)} != 0" for e in comp.excluding)
+    return text
 
 
 def _locus_section(report):

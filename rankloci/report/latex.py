@@ -112,11 +112,18 @@ def blocks_latex(blocks, *, wide_matrix: bool = False, top: int = 1) -> str:
 
 
 def _code(text: str) -> str:
-    """Verbatim-like text that may be broken across lines (plain-text equations can be long)."""
-    body = tex_escape(text).replace(",  ", ", \\allowbreak ")
-    for op in (" + ", " - ", " = ", "*"):
-        body = body.replace(op, op + "\\allowbreak{}" if op != "*" else "*\\allowbreak{}")
-    return f"{{\\raggedright\\small\\texttt{{{body}}}\\par}}"
+    """Verbatim-like text that may be broken across lines (plain-text equations can be long).
+
+    Each line of ``text`` starts a new line.
+    """
+    lines = []
+    for line in text.split("\n"):
+        body = tex_escape(line).replace(",  ", ", \\allowbreak ")
+        for op in (" + ", " - ", " = ", " != ", "*"):
+            body = body.replace(op, op + "\\allowbreak{}" if op != "*" else "*\\allowbreak{}")
+        lines.append(body)
+    joined = "\\\\".join(lines)
+    return f"{{\\raggedright\\small\\texttt{{{joined}}}\\par}}"
 
 
 def _cell_width(text: str) -> float:
