@@ -107,7 +107,7 @@ def cmd_jacobian(args) -> int:
     model, extra = _load_model(args)
     if isinstance(model, RobotModel) is False and args.point != "tool":
         raise UsageError("--point applies to robot models only")
-    text = _limited(args, lambda progress: _jacobian_text(args, _task_matrix(args, model, extra)),
+    text = _limited(args, lambda tell: _jacobian_text(args, _task_matrix(args, model, extra, tell)),
                     None, "building the Jacobian")
     if text is None:
         return EXIT_FAILED
@@ -178,7 +178,7 @@ def cmd_locus(args) -> int:
     model, extra = _load_model(args)
 
     def work(report):
-        tell = report if progress else None
+        tell = report            # the parent prints it unless --quiet, and keeps the last one
         tm = _task_matrix(args, model, extra, tell)
         try:
             method = method_for(tm.shape, args.method)
@@ -270,14 +270,14 @@ def cmd_check(args) -> int:
         from ..exact.singular import singular_cross_check
         from ..methods import compute_locus, method_for
 
-        tell = report_progress if progress else (lambda msg: None)
+        tell = report_progress
         checked = locus
         if checked is None:
             tm = task_matrix(model, frame="auto", numeric=args.numeric)
             method = method_for(tm.shape)
             tell(f"{tm.name}: computing the locus ({method}, seed {args.seed})")
             checked = compute_locus(tm, method, rng=np.random.default_rng(args.seed),
-                                    progress=report_progress if progress else None,
+                                    progress=report_progress,
                                     should_stop=_deadline(args.timeout))
         J = task_matrix(model)  # the model's own frame; parameters substituted by cross_check
         tell(f"{model.name}: checking {len(checked.components)} component(s), "
@@ -308,11 +308,19 @@ def cmd_check(args) -> int:
     return EXIT_OK if ok else EXIT_FAILED
 
 
+#: A report runs several locus computations (the model's, the other method's, J under an
+#: augmented J_aug), each stopped at --timeout and the report still written; the whole report
+#: is killed at REPORT_TIME_FACTOR * --timeout + REPORT_TIME_EXTRA seconds.
+REPORT_TIME_FACTOR = 4
+REPORT_TIME_EXTRA = 120.0
+
+
 def cmd_report(args) -> int:
     import shutil
     from pathlib import Path
 
     from ..io import builtin_models, load_model
+    from .limits import LimitExceeded, run_limited
     from ..report import (FORMATS, ReportError, build_report, file_stem, read_model_notes,
                           write_report)
 
@@ -353,24 +361,39 @@ def cmd_report(args) -> int:
     status = EXIT_OK
     for model, out in zip(models, targets):
         t0 = time.perf_counter()
-        report = build_report(model, seed=args.seed, samples=args.samples, numeric=args.numeric,
-                              timeout=args.timeout, clock=time.perf_counter, progress=progress,
-                              dot=dot, model_notes=read_model_notes(model), stamp=stamp)
+
+        def work(tell, model=model, out=out):
+            report = build_report(model, seed=args.seed, samples=args.samples,
+                                  numeric=args.numeric, timeout=args.timeout,
+                                  clock=time.perf_counter, progress=tell,
+                                  dot=dot, model_notes=read_model_notes(model), stamp=stamp)
+            try:
+                paths = write_report(report, out, formats=formats, fragment=args.fragment,
+                                     latex=latex, timings=not args.no_timings)
+            except ReportError as e:
+                return None, str(e), False, False
+            except OSError as e:
+                raise UsageError(f"-o {str(out)!r}: cannot write there: "
+                                 f"{e.strerror or e}") from None
+            check_ok = report.check is None or (report.check.ok and (
+                report.exact is None or report.exact.status != "disagree"))
+            return paths, "", report.locus is None, check_ok
+
+        limit = REPORT_TIME_FACTOR * args.timeout + REPORT_TIME_EXTRA if args.timeout else None
         try:
-            paths = write_report(report, out, formats=formats, fragment=args.fragment,
-                                 latex=latex, timings=not args.no_timings)
-        except ReportError as e:
-            print(f"rankloci: error: {model.name}: {e}", file=sys.stderr)
+            paths, failure, no_locus, check_ok = run_limited(
+                work, timeout=limit, memory_mb=args.memory, progress=progress)
+        except LimitExceeded as e:
+            print(f"rankloci: error: {model.name}: the report {e}", file=sys.stderr)
             status = EXIT_FAILED
             continue
-        except OSError as e:
-            raise UsageError(f"-o {str(out)!r}: cannot write there: "
-                             f"{e.strerror or e}") from None
-        if report.locus is None:
+        if paths is None:
+            print(f"rankloci: error: {model.name}: {failure}", file=sys.stderr)
+            status = EXIT_FAILED
+            continue
+        if no_locus:
             print(f"rankloci: note: {model.name}: the locus did not finish within "
                   f"{args.timeout:g} s; the report says so", file=sys.stderr)
-        check_ok = report.check is None or (report.check.ok and (
-            report.exact is None or report.exact.status != "disagree"))
         if not check_ok:
             print(f"rankloci: {model.name}: the numeric cross-check FAILED; see the report",
                   file=sys.stderr)

@@ -291,6 +291,8 @@ def build_parser() -> ArgumentParser:
     p.add_argument("--timeout", type=timeout_arg, default=600.0,
                    help="seconds per locus computation (default 600; 0 = never); when it runs "
                         "out the report is written without the locus and says so")
+    p.add_argument("--memory", type=memory_arg, default=DEFAULT_MEMORY_MB, metavar="MIB",
+                   help=f"memory limit in MiB (default {DEFAULT_MEMORY_MB}; 0 = none)")
     p.add_argument("--no-timings", dest="no_timings", action="store_true",
                    help="leave out the timing table (then equal seeds give identical files)")
     p.add_argument("--timestamp", action="store_true",
