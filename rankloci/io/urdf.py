@@ -196,6 +196,17 @@ def parse_urdf(text: str, *, name: str, file: str = "", base_link: str | None = 
     chain_text = f"{base_link} -> {tip_link}"
     followed = {j.name: _followed_joint(j, joints, index, chain_text, where)
                 for j in chain if j.name in index and j.element.find("mimic") is not None}
+    off_chain = {}
+    for follower, (leader, _, _) in followed.items():
+        if leader not in index:
+            off_chain.setdefault(leader, []).append(follower)
+    for leader, followers in off_chain.items():
+        if len(followers) > 1:
+            raise ModelError(f"joints {', '.join(map(repr, followers))} all follow joint "
+                             f"{leader!r}, which is not on the chain {chain_text}; choose a "
+                             f"chain through it with --base-link and --tip", file=where,
+                             joint=index[followers[-1]], field="mimic")
+        del followed[followers[0]]  # the one follower moves as a joint of its own
 
     model_joints = []
     fixed = sp.eye(4)  # fixed transforms accumulated since the last movable joint
@@ -282,11 +293,9 @@ def _followed_joint(j: UrdfJoint, joints: dict[str, UrdfJoint], index: dict[str,
         path.append(name)
         current = leader
     if current.name not in index:
-        via = "" if len(path) == 2 else f" (through {' -> '.join(map(repr, path))})"
-        raise ModelError(f"joint {j.name!r} mimics joint {current.name!r}{via}, which is not "
-                         f"on the chain {chain_text}; its variable would have no joint "
-                         f"(choose a chain through it with --base-link and --tip)",
-                         file=where, joint=i, field="mimic")
+        # the followed joint moves nothing else on this chain: the follower's own angle is
+        # a variable of the chain (q_j = m q + o is a change of variable that keeps the rank)
+        return current.name, multiplier, offset
     if kind == "revolute" and not multiplier.is_integer:
         raise ModelError(f"joint {j.name!r} follows joint {current.name!r} with multiplier "
                          f"{multiplier}; a revolute mimic joint needs an integer multiplier "

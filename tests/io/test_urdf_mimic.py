@@ -324,8 +324,9 @@ REFUSED = {
     "no joint attribute": (_two('<mimic multiplier="1"/>'), "c", ["'j2'", "'joint'"], 2, "mimic"),
     "unknown leader": (_two(_mimic("j9")), "c", ["'j2'", "'j9'", "not a joint of this robot"], 2,
                        "mimic"),
-    "leader off the chain": (_two(_mimic("s1"), "", "revolute", "revolute", SIDE), "c",
-                             ["'j2'", "'s1'", "not on the chain a -> c", "--tip"], 2, "mimic"),
+    "two followers of a leader off the chain": (
+        _two(_mimic("s1"), _mimic("s1"), "revolute", "revolute", SIDE), "c",
+        ["'j1', 'j2'", "'s1'", "not on the chain a -> c", "--tip"], 2, "mimic"),
     "leader is fixed": (_two(_mimic("j1"), "", "fixed"), "c", ["'j2'", "'j1'", "fixed"], 1,
                         "mimic"),
     "mimics itself": (_two(_mimic("j2")), "c", ["cycle", "'j2' -> 'j2'"], 2, "mimic"),
@@ -447,3 +448,15 @@ def test_real_mimics_that_cannot_be_followed(robots):
     with pytest.raises(ModelError, match="'index_q1', which is not a joint"):
         read_urdf(robots / "alex_description/urdf/alex_psyonic_hands.urdf",
                   base_link="Left_thumb_base", tip_link="Left_index_L2")
+
+
+def test_the_one_follower_of_a_leader_off_the_chain_moves_as_a_joint_of_its_own():
+    """j2 follows s1, which moves nothing else on the chain a -> c: q_j2 = m q_s1 + o is a change
+    of variable that keeps the rank, so j2 gets a variable of its own (as Panda's right finger
+    does on the chain to panda_rightfinger)."""
+    from rankloci.io.urdf import parse_urdf
+
+    model = parse_urdf(_two(_mimic("s1", 2, 0.1), "", "revolute", "revolute", SIDE),
+                       name="m", tip_link="c")
+    assert len(model.variables) == 2
+    assert all(j.mimic is None for j in model.joints)
