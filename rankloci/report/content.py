@@ -18,7 +18,7 @@ from .escape import literal
 from .findings import findings_blocks
 from .mathfmt import LINE_WIDTH, broken_lines, latex, math_width, trig_latex
 
-__all__ = ["report_blocks", "matrix_blocks"]
+__all__ = ["report_blocks", "matrix_blocks", "comparison_headline"]
 
 
 def _m(expr) -> str:
@@ -71,8 +71,7 @@ def _summary(report):
         ok = report.check.ok and (report.exact is None or report.exact.status != "disagree")
         bits.append(" The numeric cross-check " + ("passes." if ok else "FAILS."))
     if report.comparison is not None:
-        bits.append(" The svm and subdeterminant methods "
-                    + ("agree." if report.comparison.agree else "disagree (see the method comparison)."))
+        bits.append(" " + comparison_headline(report.comparison))
     if report.locus.degenerate:
         bits.append(" The matrix is rank deficient at every configuration (degenerate design).")
     blocks.append(Para("".join(bits)))
@@ -80,6 +79,30 @@ def _summary(report):
     if named:
         blocks.append(Bullets(tuple(f"Component {i}: {r}." for i, r in named)))
     return blocks
+
+
+def comparison_headline(cmp) -> str:
+    """One sentence on whether the two methods agree and, if not, which one the SVD sides with.
+
+    Examples
+    --------
+    >>> from rankloci.report.analysis import Comparison, Disagreement
+    >>> d = Disagreement("subdeterminant", "svm", 2, ("q1 = 0",), 5, ((0.0, 1.0),), (0.3,))
+    >>> cmp = Comparison(("svm", "subdeterminant"), False, False, ("",), disagreements=(d,))
+    >>> print(comparison_headline(cmp))  # doctest: +NORMALIZE_WHITESPACE
+    The svm and subdeterminant methods disagree; the SVD at the points where they differ
+    sides with the svm locus (see the method comparison).
+    """
+    a, b = cmp.methods
+    if cmp.agree:
+        return f"The {a} and {b} methods agree."
+    if cmp.right:
+        return (f"The {a} and {b} methods disagree; the SVD at the points where they differ "
+                f"sides with the {cmp.right[0]} locus (see the method comparison).")
+    if cmp.disagreements:
+        return (f"The {a} and {b} methods disagree, and the SVD at the points where they differ "
+                "finds each locus wrong somewhere (see the method comparison).")
+    return f"The {a} and {b} methods disagree (see the method comparison)."
 
 
 def _model_section(report):

@@ -12,12 +12,13 @@ from __future__ import annotations
 import sympy as sp
 
 from ..methods import method_for
+from ..tolerances import RANK_RTOL
 from .blocks import (SIGMA, Bullets, Code, Figure, Heading, Math, Para, Table, block_label,
-                     variables_text)
+                     plural, variables_text)
 from .escape import literal
 from .mathfmt import LINE_WIDTH, broken_lines, latex, value_latex
 
-__all__ = ["findings_blocks", "plain_equations"]
+__all__ = ["findings_blocks", "plain_equations", "disagreement_verdict"]
 
 
 def findings_blocks(report) -> list:
@@ -277,14 +278,70 @@ def _comparison_section(report):
                 f"of the {cmp.points_tested} points tested on a component of one lies on a "
                 "component of the other.")
     else:
-        text = "The two methods disagree:"
+        text = "The two methods disagree." if cmp.disagreements else "The two methods disagree:"
     out.append(Para(text))
-    if cmp.differences:
+    if cmp.disagreements:
+        out += _disagreement_blocks(cmp, report.locus.method)
+    elif cmp.differences:
         out.append(Bullets(tuple(cmp.differences)))
     if not cmp.special_same:
         out.append(Para("Their components for special parameter values differ; those are side "
                         "results of where each method's branching meets a parameter factor, "
                         "not part of the model's locus."))
+    return out
+
+
+def _point_text(q) -> str:
+    return "(" + ", ".join(f"{x:+.3f}" for x in q) + ")"
+
+
+def disagreement_verdict(d) -> str:
+    """The SVD's verdict on a :class:`~rankloci.report.analysis.Disagreement`, in a sentence.
+
+    Examples
+    --------
+    >>> from rankloci.report.analysis import Disagreement
+    >>> d = Disagreement("subdeterminant", "svm", 2, ("q1 = 0",), 5, ((0.0, 1.0),), (0.3,))
+    >>> print(disagreement_verdict(d))  # doctest: +NORMALIZE_WHITESPACE
+    The subdeterminant component 2 contains regular points: sigma ratio 3.0e-01 at
+    q = (+0.000, +1.000); the svm locus is the right one there.
+    """
+    name = f"{d.method} component {d.index}"
+    out = []
+    if d.regular:
+        k = max(d.regular, key=lambda i: d.ratios[i])
+        many = "all" if len(d.regular) == len(d.points) else f"{len(d.regular)} of the"
+        more = (f" ({many} {len(d.points)} points are regular; the largest ratio is shown)"
+                if len(d.regular) > 1 else "")
+        out.append(f"The {name} contains regular points: sigma ratio {d.ratios[k]:.1e} at "
+                   f"q = {_point_text(d.points[k])}{more}; the {d.other} locus is the right "
+                   "one there.")
+    if d.singular:
+        k = max(d.singular, key=lambda i: d.ratios[i])
+        count = "it is" if len(d.singular) == 1 else f"all {len(d.singular)} are"
+        if d.regular:
+            count = f"{len(d.singular)} of them are"
+        out.append(f"The {d.other} locus misses points of the {name}: {count} singular (sigma "
+                   f"ratio at most {d.ratios[k]:.1e}, at q = {_point_text(d.points[k])}); the "
+                   f"{d.method} locus is the right one there.")
+    return " ".join(out)
+
+
+def _disagreement_blocks(cmp, method):
+    """Each disagreement with the SVD's verdict, and the equations of the other method's
+    components (the report's own have their sections)."""
+    out = [Para(f"At the points where the loci differ, the SVD of $J$ decides ({SIGMA} at "
+                f"most {RANK_RTOL:g} is singular, as in the cross-check): a component that "
+                "holds regular points is too large there, and a locus that misses singular "
+                "points is incomplete there.")]
+    for d in cmp.disagreements:
+        n = len(d.points)
+        head = (f"The {d.method} component {d.index}: {n} of its {d.tested} tested "
+                f"{plural('point', d.tested)} {'lies' if n == 1 else 'lie'} on no {d.other} "
+                "component.")
+        out.append(Para(head + " " + disagreement_verdict(d)))
+        if d.method != method:
+            out.append(Code("\n".join(d.equations)))
     return out
 
 

@@ -131,3 +131,14 @@ def test_every_display_of_an_excluded_component_states_its_side_condition(ssrms_
         assert displays and all(r"\neq 0" in d for d in displays), "a display without it"
         tsec = _component_section(tex, v.index, "section{")
         assert "!=" in tsec and r"\neq 0" in tsec
+
+
+@pytest.mark.slow
+def test_methods_agree_on_ssrms_once_the_side_condition_is_kept(ssrms):
+    """The subdeterminant method cuts component 1 out with a third equation where svm has a
+    side condition; points of svm's component 1 outside its excluded set are on it."""
+    locus, nm, params = ssrms
+    tm = task_matrix(load_model("ssrms"), frame="auto")
+    other = compute_locus(tm, "subdeterminant", rng=np.random.default_rng(SEED))
+    cmp = A.compare_loci(locus, other, nm, params, np.random.default_rng(SEED))
+    assert cmp.agree, cmp.differences
