@@ -576,7 +576,9 @@ def tree_summary(tree: nx.DiGraph, max_nodes: int = 45) -> TreeSummary:
             found = sum(1 for m in sub if tree.out_degree(m) == 0 and role(m) == "component")
             collapsed += len(sub)
             what = "\n".join(f"{v} x {k}" for k, v in sorted(leaves.items()))
-            head = f"{len(sub)} more branches" + (f", {found} component leaves" if found else "")
+            head = f"{len(sub)} more {'branch' if len(sub) == 1 else 'branches'}"
+            if found:
+                head += f", {found} component {'leaf' if found == 1 else 'leaves'}"
             sid = f"s{n}"
             G.add_node(sid, label=f"{head}\n{what}", role="summary")
             G.add_edge(n, sid)

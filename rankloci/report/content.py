@@ -13,7 +13,8 @@ from __future__ import annotations
 
 import sympy as sp
 
-from .blocks import Bullets, Code, Heading, Marker, Math, Para, Table, block_label, variables_text
+from .blocks import (Bullets, Code, Heading, Marker, Math, Para, Table, block_label, counted,
+                     plural, variables_text)
 from .escape import literal
 from .findings import findings_blocks
 from .mathfmt import LINE_WIDTH, broken_lines, latex, math_width, trig_latex
@@ -62,10 +63,11 @@ def _summary(report):
         return blocks
     comps = [v for v in report.components if not v.special]
     special = [v for v in report.components if v.special]
-    bits = [f"The {report.locus.method} method finds {len(comps)} component(s) for the model's "
-            "parameter values"]
+    bits = [f"The {report.locus.method} method finds {counted(len(comps), 'component')} for the "
+            "model's parameter values"]
     if special:
-        bits.append(f" and {len(special)} more that exist only for special parameter values")
+        bits.append(f" and {len(special)} more that {'exists' if len(special) == 1 else 'exist'} "
+                    "only for special parameter values")
     bits.append(".")
     if report.check is not None:
         ok = report.check.ok and (report.exact is None or report.exact.status != "disagree")
@@ -126,13 +128,24 @@ def _model_section(report):
         rows = tuple((_m(k), _num(v)) for k, v in sorted(m.parameters.items(),
                                                           key=lambda kv: kv[0].name))
         out.append(Table(("parameter", "value"), rows, "lr"))
-        out.append(Para("Lengths in metres (the planar arms have unit links). The parameters "
+        out.append(Para(_units_sentence(m) + " The parameters "
                         + ("are replaced by these values before the algebra."
                            if report.numeric else
                            "stay symbols in the algebra; the values are used for the sample "
                            "points, the checks and the figures.")))
     out += _task_section(report, m)
     return out
+
+
+def _units_sentence(m) -> str:
+    """How to read the parameter values: unit links, or lengths in metres."""
+    from ..model import RobotModel
+
+    if not isinstance(m, RobotModel):
+        return "The values are in the units of the matrix entries."
+    if all(sp.sympify(v) == 1 for v in m.parameters.values()):
+        return "Every link length is 1 (unit links), so the values carry no unit."
+    return "Lengths in metres."
 
 
 def _joint_table(report, m):
@@ -176,9 +189,9 @@ def _task_section(report, m):
     labels = ", ".join(literal(r, code=True) for r in tm.row_labels)
     items = [f"Rows of $J$: {labels}."]
     if isinstance(m, RobotModel):
-        items.append(f"Rows `vx vy vz` are the linear velocity of the task point (the origin of "
-                     f"the tool frame), `wx wy wz` the angular velocity; the model expresses "
-                     f"them in the {m.frame} frame.")
+        rows = _velocity_rows(tm.row_labels)
+        if rows:
+            items.append(f"{rows}; the model expresses them in the {m.frame} frame.")
         for what, T in (("base", m.base), ("tool", m.tool)):
             T = sp.Matrix(T)
             if T != sp.eye(4):
@@ -192,6 +205,47 @@ def _task_section(report, m):
     items.append(f"Joint variables (columns): {variables_text(tm.variables)}.")
     out.append(Bullets(tuple(items)))
     return out
+
+
+_LINEAR, _ANGULAR = ("vx", "vy", "vz"), ("wx", "wy", "wz")
+
+
+def _velocity_rows(labels) -> str:
+    """What the task rows among ``labels`` are, as a sentence without its end.
+
+    Examples
+    --------
+    >>> print(_velocity_rows(["vx", "vy", "orientation"]))  # doctest: +NORMALIZE_WHITESPACE
+    Rows `vx`, `vy` are the x and y components of the linear velocity of the task point
+    (the origin of the tool frame)
+    >>> print(_velocity_rows(["vx", "vy", "vz", "wx", "wy", "wz"]))
+    ... # doctest: +NORMALIZE_WHITESPACE
+    Rows `vx`, `vy`, `vz` are the linear velocity of the task point (the origin of the tool
+    frame) and `wx`, `wy`, `wz` the angular velocity of the end-effector
+    """
+    def part(rows, what, verb):
+        names = ", ".join(f"`{r}`" for r in rows)
+        verb = (verb + " ") if verb else ""
+        if len(rows) == 3:
+            return f"{names} {verb}the {what}"
+        axes = [r[1] for r in rows]
+        comps = axes[0] if len(axes) == 1 else f"{axes[0]} and {axes[1]}"
+        return f"{names} {verb}the {comps} {plural('component', len(rows))} of the {what}"
+
+    lin = [r for r in labels if r in _LINEAR]
+    ang = [r for r in labels if r in _ANGULAR]
+    n = len(lin) + len(ang)
+    if not n:
+        return ""
+    verb = "is" if n == 1 else "are"
+    parts = []
+    if lin:
+        parts.append(part(lin, "linear velocity of the task point (the origin of the tool "
+                               "frame)", verb))
+    if ang:
+        parts.append(part(ang, "angular velocity of the end-effector",
+                          "" if parts else verb))
+    return f"{plural('Row', n)} " + " and ".join(parts)
 
 
 def _jacobian_section(report):

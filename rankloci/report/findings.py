@@ -14,7 +14,7 @@ import sympy as sp
 from ..methods import method_for
 from ..tolerances import RANK_RTOL
 from .blocks import (SIGMA, Bullets, Code, Figure, Heading, Math, Para, Table, block_label,
-                     plural, variables_text)
+                     counted, plural, variables_text)
 from .escape import literal
 from .mathfmt import LINE_WIDTH, broken_lines, latex, value_latex
 
@@ -197,7 +197,7 @@ def _tree_section(report):
     out = [Heading(2, "Branch tree", block_label(report, "tree"))]
     out.append(Para(f"The {report.locus.method} method grows a tree of branches; each leaf "
                     "stops for the reason shown. The tree has "
-                    f"{tree.total_nodes} node(s)."))
+                    f"{counted(tree.total_nodes, 'node')}."))
     rows = tuple((reason or "(none)", str(n)) for reason, n in sorted(tree.outcomes.items()))
     out.append(Table(("stop reason of the leaves", "leaves"), rows, "lr"))
     for f in figs:
@@ -240,17 +240,46 @@ def _check_section(report):
                      caption=f"seed {chk.seed}, {chk.samples} samples"))
     out.append(Para(f"Result: {'PASS' if chk.ok else 'FAIL'} (seed {chk.seed})."))
     if chk.findings:
-        out.append(Para(f"{len(chk.findings)} finding(s) where the FSP reducer or the largest "
-                        "maximal minor disagrees with the SVD (recorded, not failures; the SVD "
-                        "decides):"))
+        out.append(Para(f"{counted(len(chk.findings), 'finding')} where the FSP reducer or the "
+                        "largest maximal minor disagrees with the SVD (recorded, not failures; "
+                        "the SVD decides):"))
         items = list(chk.findings[:10])
         if len(chk.findings) > 10:
             items.append(f"... and {len(chk.findings) - 10} more")
         out.append(Bullets(tuple(items)))
+        out.append(Para(_findings_explained(chk.findings)))
     for p in chk.uncovered[:5]:
         out.append(Para("Uncovered singular point: (" + ", ".join(f"{x:+.6f}" for x in p.q)
                         + f"), sigma ratio {p.sigma_ratio:.1e}."))
     return out
+
+
+def _findings_explained(findings) -> str:
+    """What a disagreement of the FSP reducer or of the maximal minor with the SVD means."""
+    from ..tolerances import (FSP_N_BND_NUMERATOR, FSP_SMALL_FRACTION, FSP_SV_SMALL,
+                              MINOR_RTOL)
+
+    out = []
+    if any("FSP" in f for f in findings):
+        out.append(
+            "The FSP reducer is the row reduction of the Full Space Parameterization method "
+            "(K. A. Morgansen and F. G. Pin, ORNL/TM-12816, 1995), run at each point as a "
+            "second opinion. It keeps that method's own thresholds: an entry of $J$ at most "
+            f"{FSP_SMALL_FRACTION:g} times the largest counts as zero, a singular value below "
+            f"{FSP_SV_SMALL:g} (absolute, not relative to the largest) counts as zero, and a row "
+            "is named dependent only when a null vector's component there reaches "
+            f"{FSP_N_BND_NUMERATOR:g}/(N + 1), N the number of rows. The report's rank "
+            f"decisions use the SVD with the relative threshold {RANK_RTOL:g} instead, so at "
+            "a point that the SVD finds singular the reducer can still \"find no dependent "
+            "row\" (for example when zeroing small entries restricts the rows that carry the "
+            "dependency). This compares the two tests; it is not an error of the locus or of "
+            "the check.")
+    if any("maximal minor" in f for f in findings):
+        out.append(
+            "The largest maximal minor, divided by the product of the row norms, is a "
+            f"scale-free test of rank with its own threshold ({MINOR_RTOL:g}); it is "
+            "recorded beside the SVD in the same way.")
+    return " ".join(out)
 
 
 def _comparison_section(report):
@@ -369,8 +398,9 @@ def _augmented_section(report):
     if base is not None:
         comps = [c for c in base.components if c.exists_for_model]
         out.append(Para(f"The locus of $J$ without the constraint rows ({base.shape[0]}x"
-                        f"{base.shape[1]}, {base.method} method) has {len(comps)} "
-                        "component(s) for the model's values:"))
+                        f"{base.shape[1]}, {base.method} method) has "
+                        f"{counted(len(comps), 'component')} for the model's values"
+                        + (":" if comps else ".")))
         if comps:
             out.append(Bullets(tuple(
                 f"Component {i} of $J$: " + ", ".join(f"${latex(e)} = 0$" for e in c.equations)

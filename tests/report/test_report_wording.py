@@ -1,0 +1,83 @@
+"""The report's standard sentences say only what holds for the model at hand, in good English."""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+
+import networkx as nx
+import pytest
+
+from rankloci.io import load_model
+from rankloci.locus import Outcome
+from rankloci.report import build_report
+from rankloci.report.analysis import tree_summary
+from rankloci.report.markdown import render_markdown
+
+SEED = 2
+
+
+@pytest.fixture(scope="module")
+def reports():
+    """Model name -> Markdown of its report, for two small models."""
+    return {name: render_markdown(build_report(load_model(name), seed=SEED, samples=2,
+                                               exact=False))
+            for name in ("planar2r", "planar3r_orient")}
+
+
+def _section(md: str, heading: str) -> str:
+    start = md.index(heading)
+    end = md.find("\n#", start + len(heading))
+    return md[start:end if end > 0 else None]
+
+
+def test_unit_links_are_claimed_only_for_a_model_with_unit_links(reports):
+    from rankloci.report.content import _units_sentence
+
+    assert "(unit links)" in _section(reports["planar2r"], "### Parameters")
+    for name in ("puma560", "ssrms", "mobile10"):
+        model = load_model(name)
+        assert any(float(v) != 1.0 for v in model.parameters.values())
+        assert "unit" not in _units_sentence(model), name
+
+
+def test_rows_of_an_augmented_planar_task_are_named_as_they_are(reports):
+    section = _section(reports["planar3r_orient"], "### Task, frame and constraint rows")
+    assert "`vx`, `vy` are the x and y components of the linear velocity" in section
+    for row in ("vz", "wx", "wy", "wz"):
+        assert f"`{row}`" not in section, row
+    assert "Constraint row `orientation`" in section
+
+
+@pytest.mark.parametrize("name", ["planar2r", "planar3r_orient"])
+def test_no_plural_placeholders(reports, name):
+    md = reports[name]
+    notes = md.find("### Notes of the analysis")   # notes of the locus methods, quoted as given
+    text = md if notes < 0 else md[:notes] + md[md.find("\n#", notes + 5):]
+    assert not re.search(r"\w\((s|es)\)", text), re.search(r".{40}\w\((s|es)\).{10}", text)
+    assert not re.search(r"\b1 (components|nodes|findings|more branches)\b", text)
+
+
+def test_tree_summary_counts_one_branch_and_one_leaf_in_the_singular():
+    tree = nx.DiGraph()
+    tree.add_node(0, condition="(all configurations)", outcome=Outcome.REFINED)
+    tree.add_node(1, condition="f1", outcome=Outcome.ALL_MINORS_VANISH)
+    tree.add_node(2, condition="f2", outcome=Outcome.REFINED)
+    tree.add_node(3, condition="f3", outcome=Outcome.REFINED)
+    tree.add_node(4, condition="f4", outcome=Outcome.ALL_MINORS_VANISH)
+    tree.add_node(5, condition="f5", outcome=Outcome.EMPTY)
+    tree.add_edges_from([(0, 1), (0, 2), (2, 3), (3, 4), (0, 5)])
+    labels = [d["label"] for _, d in tree_summary(tree, max_nodes=5).graph.nodes(data=True)
+              if d["role"] == "summary"]
+    heads = sorted(label.splitlines()[0] for label in labels)
+    assert heads == ["1 more branch", "2 more branches, 1 component leaf"]
+
+
+def test_fsp_finding_is_explained(reports):
+    report = build_report(load_model("planar2r"), seed=SEED, samples=2, exact=False)
+    finding = "component 1: SVD rank deficient (ratio 1.0e-16) but FSP finds no dependent row"
+    check = dataclasses.replace(report.check, findings=(finding,))
+    md = render_markdown(dataclasses.replace(report, check=check))
+    section = _section(md, "Numeric cross-check")
+    assert "1 finding where the FSP reducer" in section
+    assert "Full Space Parameterization" in section and "it is not an error" in section
