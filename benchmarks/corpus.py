@@ -752,6 +752,14 @@ def render_markdown(rows, skipped, outside, meta) -> str:
         "joint's column when the joint is revolute, since the link's origin lies on its axis. "
         "These check that rankloci and Pinocchio agree on it, no more.",
         "",
+    ]
+    others = [r for r in rows if r["status"] != "pass"]
+    if others:
+        lines += ["Chains that do not pass:", ""]
+        lines += [f"- {r['status']}: `{r['file']}` {_cell(r['base'])} -> {_cell(r['tip'])} "
+                  f"({r['n']} joints): {_cell(_short(r['reason'], 200))}" for r in others]
+        lines += [""]
+    lines += [
         "| robot | file | chain | joints | task | time (s) | components | result | reason |",
         "| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
     ]
@@ -783,10 +791,17 @@ def main(argv=None) -> int:
                     help="at most this many chains per robot, the shortest first (0: all)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--output", default=str(HERE / "corpus"))
+    ap.add_argument("--render", action="store_true",
+                    help="only write OUTPUT.md again from OUTPUT.json (no computation)")
     ap.add_argument("--case", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.case:
         return _child_main(args.case)
+    if args.render:
+        data = json.loads(Path(args.output + ".json").read_text())
+        Path(args.output + ".md").write_text(render_markdown(
+            data["chains"], data["skipped_files"], data["paths_outside_joint_range"], data["meta"]))
+        return 0
 
     from importlib.metadata import version
 
