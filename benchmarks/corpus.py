@@ -8,7 +8,8 @@ file).  The task is the tip position for chains of up to 3 joints and the full
 6-row task otherwise.
 
 For each chain, in its own process with a time limit, the locus is computed as
-``rankloci locus FILE --base-link ROOT --tip TIP --numeric-parameters`` does
+``rankloci locus FILE --base-link ROOT --tip TIP --task TASK --numeric-parameters``
+does
 (``task_matrix(model, frame="auto", numeric=True)``, the method of
 ``method_for``, seed 0) and graded against an independent Jacobian: Pinocchio's
 ``getFrameJacobian`` of the tip link, ``LOCAL_WORLD_ALIGNED`` (the linear rows
@@ -27,7 +28,7 @@ A chain passes when all three hold.  The results go to ``benchmarks/corpus.md``
 and ``benchmarks/corpus.json``.  Usage::
 
     python benchmarks/corpus.py [--timeout SECONDS] [--jobs N] [--robots a,b,...]
-                                [--max-per-robot N] [--seed N] [--output PATH]
+                                [--max-per-robot N] [--seed N] [--output PATH] [--render]
 
 ``tests/io/test_corpus.py`` imports this module and grades a subset with the
 same functions.
@@ -81,8 +82,9 @@ COVER_RESIDUAL = 1e-6
 #: at a point where Pinocchio's J is singular.  Where the singular set meets a surface through the
 #: point tangentially, sigma_min/sigma_max grows only as c * d**2 with the distance d, so the
 #: minimiser, whose ratio bottoms out at ~1e-15 (double-precision SVD), stalls at d ~ sqrt(1e-15/c):
-#: 1e-6 for c ~ 1e-3 (seen on romeo_laas_small's head), 1e-4 for c down to 1e-7.  A component missing
-#: from the locus would have to pass within 1e-4 of a found one at a random singular minimum.
+#: 1e-6 for c ~ 1e-3 (seen on romeo_laas_small's head), 1e-4 for c down to 1e-7.  A component
+#: missing from the locus would have to pass within 1e-4 of a found one at a random singular
+#: minimum.
 COVER_DISTANCE = 1e-4
 
 #: rankloci's J (base frame, tip point) and Pinocchio's J agree entry by entry to this, relative to
@@ -210,8 +212,8 @@ def corpus(root: Path) -> tuple[list[Chain], list[dict], int]:
     for path in sorted(p for p in root.rglob("*") if ".urdf" in p.name and p.is_file()):
         rel = path.relative_to(root)
         if path.suffix != ".urdf":
-            skipped.append({"file": str(rel), "reason": f"not a URDF file ({''.join(path.suffixes)}:"
-                                                        " xacro source)"})
+            kind = "".join(path.suffixes)
+            skipped.append({"file": str(rel), "reason": f"not a URDF file ({kind}: xacro source)"})
             continue
         try:
             found, out = chains_of_urdf(path.read_bytes(), robot=robot_name(rel), file=str(rel))
@@ -430,8 +432,9 @@ def _short(text: str, limit: int = 160) -> str:
 
 
 def _normalised(e):
-    """``e`` divided by its largest coefficient, exactly: the same zero set and scaled values, but
-    numbers a float can hold (a rational rotation of a URDF angle can give coefficients of 1e400)."""
+    """``e`` divided by its largest coefficient, exactly: the same zero set and scaled values,
+    but numbers a float can hold (a rational rotation of a URDF angle can give coefficients
+    of 1e400)."""
     import sympy as sp
 
     e = sp.expand(sp.sympify(e))
