@@ -78,6 +78,8 @@ def choose_block(ctx: "Context", A, r, points, candidates: int = 24):
     """
     n, m = len(A), len(A[0])
     N = ctx.probe.values(A, points[0])
+    big = np.max(np.abs(N), axis=1, keepdims=True)      # first: huge rows would overflow norms
+    N = N / np.where(big > 0, big, 1.0)
     norms = np.linalg.norm(N, axis=1)
     N = N / np.where(norms > 0, norms, 1.0)[:, None]
     cols = sorted(_pivots(N, r))

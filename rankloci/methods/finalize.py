@@ -20,6 +20,7 @@ import sympy as sp
 
 from ..algebra import transpose
 from ..locus import Component, Outcome
+from ..numeric.equations import normalised
 from ..numeric.gauss_newton import gauss_newton
 from ..tolerances import (CONTAINED_EXCLUSION_RTOL, CONTAINED_RTOL, DIMENSION_RTOL,
                           DIMENSION_STEP, NEAR_ADMITTED_EXCLUSION_RTOL, NEAR_ADMITTED_RADIUS,
@@ -35,9 +36,10 @@ __all__ = ["finalize"]
 
 
 def _equation_functions(ring, equations, tm):
-    """Numeric functions of (q, params) for sympy equations."""
+    """Numeric functions of (q, params) for sympy equations (each divided by its largest
+    coefficient, so that none overflows a float)."""
     syms = list(tm.variables) + list(ring.params)
-    return sp.lambdify(syms, list(equations), modules="numpy"), syms
+    return sp.lambdify(syms, [normalised(e) for e in equations], modules="numpy"), syms
 
 
 @dataclass(frozen=True, eq=False)
@@ -310,10 +312,11 @@ def _near_admitted(f, g, gscale, x, nvars, rng, tries: int = 6) -> bool:
     return False
 
 
-def _coefficient_size(e) -> float:
-    """Sum of the absolute values of the coefficients of ``e`` (1 for a zero sum)."""
-    total = sum(abs(float(t.as_coeff_Mul()[0])) for t in sp.Add.make_args(e))
-    return total if total > 0 else 1.0
+def _coefficient_size(e):
+    """Sum of the absolute values of the coefficients of ``e`` (1 for a zero sum), as a sympy
+    number: it may be beyond the range of a float."""
+    total = sp.Add(*[abs(t.as_coeff_Mul()[0]) for t in sp.Add.make_args(e)])
+    return total if total != 0 else sp.Integer(1)
 
 
 def _remove_contained(ctx: Context, cands: list[_Candidate]) -> list[_Candidate]:
@@ -352,16 +355,19 @@ def _remove_contained(ctx: Context, cands: list[_Candidate]) -> list[_Candidate]
     def functions(k):
         if k not in compiled:
             c = k.comp
-            raw = sp.lambdify(syms, list(c.equations), modules="numpy")
-            fscale = np.array([_coefficient_size(sp.expand(e.subs(pvals))) for e in c.equations])
+            # each equation over the size of its coefficients at the model's values, as an
+            # exact (or high-exponent) number: the coefficients may be beyond a float's range
+            scaled = [sp.expand(e / _coefficient_size(sp.expand(e.subs(pvals))))
+                      for e in c.equations]
+            raw = sp.lambdify(syms, scaled, modules="numpy")
 
-            def f(*x, raw=raw, fscale=fscale):
-                return np.array(raw(*x), dtype=float).ravel() / fscale
+            def f(*x, raw=raw):
+                return np.array(raw(*x), dtype=float).ravel()
 
-            g = sp.lambdify(syms, list(c.excluding), modules="numpy") if c.excluding else None
-            excl = [sp.expand(e.subs(pvals)) for e in c.excluding]
-            gscale = np.array([sum(abs(float(t.as_coeff_Mul()[0])) for t in sp.Add.make_args(e))
-                               for e in excl]) if excl else None
+            excl = [sp.expand(e / _coefficient_size(sp.expand(e.subs(pvals))))
+                    for e in c.excluding]
+            g = sp.lambdify(syms, excl, modules="numpy") if excl else None
+            gscale = np.ones(len(excl)) if excl else None
             compiled[k] = (f, g, gscale)
         return compiled[k]
 

@@ -13,7 +13,7 @@ import sympy as sp
 
 from ..tolerances import EXCLUSION_RTOL, ON_COMPONENT_RESIDUAL
 
-__all__ = ["NumericMatrix", "Equations", "coefficient_norm", "points_on", "minimise_ratio",
+__all__ = ["NumericMatrix", "Equations", "normalised", "coefficient_norm", "points_on", "minimise_ratio",
            "MAX_TRIES"]
 
 #: Random starts per requested point (root finding, off-locus draws).
@@ -59,10 +59,10 @@ class Equations:
     """A component's equations as a scaled numpy function of the joint variables."""
 
     def __init__(self, equations, variables, parameters, excluding=()):
-        exprs = [sp.expand(sp.sympify(e).subs(parameters)) for e in equations]
+        exprs = [normalised(sp.expand(sp.sympify(e).subs(parameters))) for e in equations]
         self.scales = np.array([coefficient_norm(e) for e in exprs], dtype=float)
         self._f = sp.lambdify(tuple(variables), exprs, modules="numpy") if exprs else None
-        excl = [sp.expand(sp.sympify(e).subs(parameters)) for e in excluding]
+        excl = [normalised(sp.expand(sp.sympify(e).subs(parameters))) for e in excluding]
         self.excl_scales = np.array([coefficient_norm(e) for e in excl], dtype=float)
         self._g = sp.lambdify(tuple(variables), excl, modules="numpy") if excl else None
 
@@ -104,6 +104,26 @@ class Equations:
         """The largest scaled equation at ``q`` in absolute value."""
         v = self(q)
         return float(np.max(np.abs(v))) if v.size else 0.0
+
+
+def normalised(e):
+    """``e`` divided by its largest coefficient in absolute value (exactly, when rational).
+
+    Equations of URDF chains with rotations that do not snap carry integer
+    coefficients of hundreds of digits, beyond the range of a float; divided by
+    the largest, every coefficient is at most 1.
+
+    Examples
+    --------
+    >>> x = sp.Symbol("x")
+    >>> normalised(10**400 * x - 3 * 10**399)
+    x - 3/10
+    """
+    coeffs = [t.as_coeff_Mul()[0] for t in sp.Add.make_args(e)]
+    if not coeffs or not all(c.is_Rational for c in coeffs):
+        return e
+    big = max(abs(c) for c in coeffs)
+    return sp.expand(e / big) if big not in (0, 1) else e
 
 
 def coefficient_norm(e) -> float:

@@ -36,6 +36,10 @@ def numeric_rank(A, sizes) -> int:
     >>> numeric_rank(np.array([[1.0, 2.0], [2.0, 4.0]]), np.ones((2, 2)))
     1
     """
+    # rows scaled by their largest term size first: entries of 1e156 would overflow the norms
+    big = np.max(np.abs(sizes), axis=1, keepdims=True)
+    big[~(big > 0)] = 1.0
+    A, sizes = A / big, sizes / big
     norms = np.linalg.norm(A, axis=1)
     nz = norms > ZERO_RTOL * np.linalg.norm(sizes, axis=1)
     if not np.any(nz):

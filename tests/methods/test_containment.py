@@ -37,3 +37,19 @@ def test_ur5_position_components_are_not_inside_each_other(task):
             on = H.ComponentEquations(outer, tm, {})
             inside = all(on.residual(q) <= ON_RTOL for q in pts)
             assert not inside, f"component {H.describe(inner)} lies inside {H.describe(outer)}"
+
+
+def test_equations_with_coefficients_beyond_a_float():
+    """det = 1 - (1e156 cos x + sin y)(1e156 sin x + cos y) has coefficients of 1e312, past the
+    largest float: the component is formed (its dimension, its containment) all the same."""
+    from rankloci.methods import compute_locus
+
+    big = "*".join(["1" + "0" * 39] * 4)          # 1e156, from literals of 40 digits
+    tm = H.raw_tm(f'name = "raw"\nvariables = ["x", "y"]\n'
+                  f'matrix = [["1", "{big}*cos(x) + sin(y)"], ["{big}*sin(x) + cos(y)", "1"]]\n')
+    locus = compute_locus(tm, "determinant", rng=np.random.default_rng(0))
+    assert locus.components, "the locus of det = 0 is a curve"
+    for comp in locus.components:
+        assert comp.dimension == 1
+        q = H.sample_point(comp, tm)
+        assert H.sigma_ratio(H.numeric_j(tm)(q)) <= 1e-8
