@@ -12,8 +12,6 @@ at the flange frame ``tool0``), which the test measures rather than assumes.
 from __future__ import annotations
 
 import math
-import site
-import sysconfig
 from pathlib import Path
 
 import defusedxml.ElementTree as SafeET
@@ -42,24 +40,6 @@ FD_ATOL = 1e-8
 
 
 # --- example-robot-data -----------------------------------------------------
-
-def _robots_dir() -> Path | None:
-    roots = list(site.getsitepackages()) + [site.getusersitepackages(),
-                                            sysconfig.get_paths()["purelib"]]
-    for root in roots:
-        d = Path(root) / "cmeel.prefix" / "share" / "example-robot-data" / "robots"
-        if d.is_dir():
-            return d
-    return None
-
-
-@pytest.fixture(scope="module")
-def robots() -> Path:
-    d = _robots_dir()
-    if d is None:
-        pytest.fail("example-robot-data is not installed; it is a declared test dependency "
-                    "(its URDFs are the test data)")
-    return d
 
 
 # name, file, base link, tip link, expected DOF, expected title

@@ -13,9 +13,6 @@ from __future__ import annotations
 
 import math
 import re
-import site
-import sysconfig
-from pathlib import Path
 
 import defusedxml.ElementTree as SafeET
 import numpy as np
@@ -367,24 +364,6 @@ def test_refused_mimics_raise_one_line_model_errors(case):
 
 
 # --- a real gripper: the PR2's -------------------------------------------------------
-
-def _robots_dir() -> Path | None:
-    roots = list(site.getsitepackages()) + [site.getusersitepackages(),
-                                            sysconfig.get_paths()["purelib"]]
-    for root in roots:
-        d = Path(root) / "cmeel.prefix" / "share" / "example-robot-data" / "robots"
-        if d.is_dir():
-            return d
-    return None
-
-
-@pytest.fixture(scope="module")
-def robots() -> Path:
-    d = _robots_dir()
-    if d is None:
-        pytest.fail("example-robot-data is not installed; it is a declared test dependency "
-                    "(its URDFs are the test data)")
-    return d
 
 
 PR2 = "pr2_description/urdf/pr2.urdf"
