@@ -52,6 +52,8 @@ class Table:
     rows: tuple
     align: str = ""       # one of l, r, c per column
     caption: str = ""
+    widths: tuple = ()    # LaTeX: a fraction of the line width per column (0: as ``align``)
+    small: bool = False   # LaTeX: set in a smaller font
 
 
 @dataclass(frozen=True)

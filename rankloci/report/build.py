@@ -37,6 +37,8 @@ class ComponentView:
     folded_excluding: tuple = ()  # compact forms of the side conditions (or ())
     kind: str | None = None
     summary: str = ""         # a short reading for tables: geometry first, "" if none is short
+    geometry: tuple = ()      # the geometric readings (also the first of ``readings``)
+    motions: tuple = ()       # the lost motion along each lost direction, in a few words
 
 
 @dataclass(frozen=True)
@@ -250,7 +252,7 @@ def _component_views(model, model_tm, locus, nm, params, rng, jac):
     """A :class:`ComponentView` of each component, and the notation the views use."""
     from .analysis import component_points
     from .mathfmt import abbreviations, angle_sums, compact, latex, math_width
-    from .reading import direction_readings
+    from .reading import direction_readings, lost_motion
 
     variables = list(model_tm.variables)
     taken = {str(s) for e in model_tm.matrix for s in e.free_symbols}
@@ -279,7 +281,7 @@ def _component_views(model, model_tm, locus, nm, params, rng, jac):
         special = not c.exists_for_model
         folded = fold(c.equations)
         folded_excluding = fold(c.excluding) if folded else ()
-        geometry, directions = [], []
+        geometry, directions, motions = [], [], []
         if not special:
             geometry = _named_readings(model, c, nm, params, rng, component_points)
             q = np.array([c.sample[v.name] for v in nm.variables], dtype=float)
@@ -287,10 +289,15 @@ def _component_views(model, model_tm, locus, nm, params, rng, jac):
             for vec in c.direction_at_sample:
                 directions += direction_readings(J, vec, model_tm.row_labels, tall=tall,
                                                  frame=frame, variables=variables)
+                motion = lost_motion(J, vec, model_tm.row_labels, tall=tall,
+                                     variables=variables)
+                if motion:
+                    motions.append(motion)
         short = [r for r in directions if len(r) <= SUMMARY_CHARS]
         summary = geometry[0] if geometry else (short[0] if short else "")
         views.append(ComponentView(i, c, special, tuple(geometry + directions), folded,
-                                   folded_excluding, getattr(c, "kind", None), summary))
+                                   folded_excluding, getattr(c, "kind", None), summary,
+                                   tuple(geometry), tuple(motions)))
     items = sorted(notation.values(), key=lambda p: _notation_key(p[1], variables))
     return tuple(views), tuple(items)
 

@@ -15,11 +15,12 @@ import sympy as sp
 
 from .blocks import (Bullets, Code, Heading, Marker, Math, Para, Table, block_label, counted,
                      plural, variables_text)
-from .escape import literal
+from .escape import literal, ref
 from .findings import findings_blocks
 from .mathfmt import LINE_WIDTH, broken_lines, latex, math_width, trig_latex
 
-__all__ = ["report_blocks", "matrix_blocks", "comparison_headline"]
+__all__ = ["report_blocks", "matrix_blocks", "comparison_headline", "summary_table",
+           "SUMMARY_EQUATION_WIDTH"]
 
 
 def _m(expr) -> str:
@@ -77,10 +78,45 @@ def _summary(report):
     if report.locus.degenerate:
         bits.append(" The matrix is rank deficient at every configuration (degenerate design).")
     blocks.append(Para("".join(bits)))
-    named = [(v.index, v.summary) for v in comps if v.summary]
-    if named:
-        blocks.append(Bullets(tuple(f"Component {i}: {r}." for i, r in named)))
+    if comps:
+        blocks.append(summary_table(report, comps))
     return blocks
+
+
+#: An equation wider than this (in :func:`~rankloci.report.mathfmt.math_width` units) is not
+#: written out in the summary table, which points to the component's subsection instead:
+#: about two lines of its equations column.
+SUMMARY_EQUATION_WIDTH = 40.0
+
+
+def summary_table(report, views) -> Table:
+    """One row per component: its equations with their side conditions, its geometric reading,
+    the motion it loses and the figures that show it; each number links to its subsection."""
+    from .findings import component_figures
+
+    rows = []
+    for v in views:
+        c = v.component
+        label = block_label(report, "component", v.index)
+        eqs = list(v.folded) or [e for e in c.equations if e not in c.parameter_conditions]
+        cells = [(e, "= 0") for e in eqs]
+        cells += [(x, "\\neq 0") for x in (v.folded_excluding or c.excluding)]
+        parts = []
+        for e, rel in cells:
+            text = f"{latex(e)} {rel}"
+            if math_width(text) <= SUMMARY_EQUATION_WIDTH:
+                parts.append(f"${text}$")
+            else:
+                terms = len(sp.Add.make_args(sp.expand(e)))
+                what = "equation" if rel == "= 0" else "side condition"
+                where = ref(label, f"component {v.index}")
+                parts.append(f"an {what} of {terms} terms (see {where})")
+        figs = component_figures(report, v.index)
+        rows.append((ref(label, str(v.index)), ", ".join(parts),
+                     "; ".join(v.geometry) or "-", "; ".join(v.motions) or "-",
+                     ", ".join(ref(lab, "Figure", figure=True) for lab, _ in figs) or "-"))
+    return Table(("no.", "equations", "reading", "lost motion", "figures"), tuple(rows),
+                 "rllll", widths=(0, 0.22, 0.25, 0.27, 0.1), small=True)
 
 
 def comparison_headline(cmp) -> str:

@@ -15,8 +15,8 @@ from __future__ import annotations
 
 import re
 
-__all__ = ["tex_escape", "md_escape", "rich_tex", "rich_md", "literal", "file_stem",
-           "MAX_STEM"]
+__all__ = ["tex_escape", "md_escape", "rich_tex", "rich_md", "literal", "file_stem", "ref",
+           "md_refs", "heading_anchor", "MAX_STEM"]
 
 #: The longest file stem :func:`file_stem` returns.
 MAX_STEM = 64
@@ -44,7 +44,12 @@ def file_stem(name: str) -> str:
 # A literal segment: _OPEN, "t" (text) or "c" (code), the text, _CLOSE.  The
 # marks are control characters, which literal() removes from the text it wraps.
 _OPEN, _CLOSE = "\x0e", "\x0f"
-_LITERAL = re.compile("\x0e([tc])([^\x0e\x0f]*)\x0f")
+_LITERAL = re.compile("\x0e([tcfs])([^\x0e\x0f]*)\x0f")
+# A cross-reference (kind "f" a figure, "s" a section) is a literal segment too, its label
+# and text apart by _SEP.  In Markdown it stays a placeholder, _REF_OPEN kind label _SEP text
+# _REF_CLOSE, until the whole document is known (see :func:`md_refs`).
+_SEP, _REF_OPEN, _REF_CLOSE = "\x1f", "\x10", "\x11"
+_MD_REF = re.compile("\x10([fs])([^\x1f]*)\x1f([^\x11]*)\x11")
 _CONTROL = re.compile(r"[\x00-\x1f\x7f]+")
 
 
@@ -65,6 +70,56 @@ def literal(text: str, *, code: bool = False) -> str:
     """
     flat = " ".join(_CONTROL.sub(" ", text).split())
     return _OPEN + ("c" if code else "t") + flat + _CLOSE
+
+
+def ref(label: str, text: str, *, figure: bool = False) -> str:
+    """A cross-reference in rich text: to the figure or the section (heading) labelled ``label``.
+
+    A figure reference reads ``text`` and the figure's number (``text`` is
+    the word before it, such as ``Figure``); a section reference reads
+    ``text``.  LaTeX resolves them itself (``\\ref``, ``\\hyperref``);
+    Markdown numbers its figures and links to the PNG or to the heading's
+    anchor (:func:`md_refs`).
+
+    Examples
+    --------
+    >>> print(rich_tex("see " + ref("m:fig:1", "Figure", figure=True)))
+    see Figure~\\ref{m:fig:1}
+    >>> print(rich_tex(ref("m:component:2", "component 2")))
+    \\hyperref[m:component:2]{component 2}
+    """
+    flat = " ".join(_CONTROL.sub(" ", text).split())
+    return _OPEN + ("f" if figure else "s") + label + _SEP + flat + _CLOSE
+
+
+def heading_anchor(text: str) -> str:
+    """The anchor GitHub, GitLab and VS Code give a Markdown heading (without the ``#``).
+
+    Examples
+    --------
+    >>> heading_anchor("3. The singularity locus"), heading_anchor("Component 12")
+    ('3-the-singularity-locus', 'component-12')
+    """
+    return re.sub(r"[^\w\- ]", "", text.strip().lower()).replace(" ", "-")
+
+
+def md_refs(text: str, figures: dict, headings: dict) -> str:
+    """``text`` (Markdown) with its cross-reference placeholders as links.
+
+    ``figures`` maps a figure's label to (its number, its file name),
+    ``headings`` a heading's label to its anchor.  A reference to an unknown
+    label is left as its plain text.
+    """
+    def link(m):
+        kind, label, words = m[1], m[2], md_escape(m[3])
+        if kind == "f":
+            if label not in figures:
+                return words
+            number, file = figures[label]
+            return f"[{words} {number}]({file})"
+        return f"[{words}](#{headings[label]})" if label in headings else words
+
+    return _MD_REF.sub(link, text)
 
 
 _TEX_SPECIAL = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#",
@@ -123,14 +178,21 @@ def md_escape(text: str) -> str:
 
 
 def _literal_md(kind: str, text: str) -> str:
-    """A :func:`literal` segment as Markdown."""
+    """A :func:`literal` segment as Markdown (a :func:`ref` as its placeholder)."""
+    if kind in "fs":
+        return _REF_OPEN + kind + text + _REF_CLOSE
     if kind == "c" and text and _MD_CODE_SAFE.fullmatch(text):
         return f"`{text}`"
     return _MD_LITERAL.sub(lambda m: "\\" + m[1] if m[1] else f"&#{ord(m[2])};", text)
 
 
 def _literal_tex(kind: str, text: str) -> str:
-    """A :func:`literal` segment as LaTeX."""
+    """A :func:`literal` segment (or a :func:`ref`) as LaTeX."""
+    if kind in "fs":
+        label, words = text.split(_SEP, 1)
+        if kind == "f":
+            return f"{tex_escape(words)}~\\ref{{{label}}}"
+        return f"\\hyperref[{label}]{{{tex_escape(words)}}}"
     return r"\texttt{" + tex_escape(text) + "}" if kind == "c" else tex_escape(text)
 
 

@@ -33,6 +33,8 @@ class FigureFile:
     caption: str
     kind: str
     title: str = ""
+    components: tuple = ()    # the 1-based numbers of the components it shows
+    through: int | None = None  # a heat map's slice passes through this component's sample
 
 
 def _units(model, model_tm) -> str:
@@ -139,7 +141,7 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot) -> tuple:
                    + (f"; the other joints are fixed at {fixed}" if fixed else "") + drawn)
         out.append(FigureFile(f"{stem}-sigma-{k}.png",
                               heatmap_png(data, names, prismatic, title=title), caption, "sigma",
-                              title))
+                              title, tuple(shown), data.through))
     slices = [data for data, _ in slices]
     # manipulability along paths
     if comps:
@@ -154,7 +156,8 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot) -> tuple:
         title = f"{stem}: manipulability across the locus"
         out.append(FigureFile(f"{stem}-manipulability.png",
                               manipulability_png(paths, units=units, title=title),
-                              caption, "manipulability", title))
+                              caption, "manipulability", title,
+                              tuple(p.component for p in paths)))
     # the branch tree
     if locus is not None and locus.tree is not None and locus.tree.number_of_nodes():
         summary = A.tree_summary(locus.tree)

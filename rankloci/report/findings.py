@@ -15,10 +15,11 @@ from ..methods import method_for
 from ..tolerances import RANK_RTOL
 from .blocks import (SIGMA, Bullets, Code, Figure, Heading, Math, Para, Table, block_label,
                      counted, plural, variables_text)
-from .escape import literal
+from .escape import literal, ref
 from .mathfmt import LINE_WIDTH, broken_lines, latex, value_latex
 
-__all__ = ["findings_blocks", "plain_equations", "disagreement_verdict"]
+__all__ = ["findings_blocks", "plain_equations", "disagreement_verdict", "figure_labels",
+           "component_figures"]
 
 
 def findings_blocks(report) -> list:
@@ -65,10 +66,14 @@ def _component_blocks(report, view):
     c = view.component
     out = [Heading(3, f"Component {view.index}", block_label(report, "component", view.index))]
     eqs = [e for e in c.equations if e not in c.parameter_conditions] or list(c.equations)
-    out.append(_equation_math(eqs, c.excluding))
     if view.folded and list(view.folded) != eqs:
-        out.append(Para("Equivalently, in the notation of the Jacobian section:"))
+        # one display, in the notation of J; the plain text at the end spells it out
+        jac = ref(block_label(report, "jacobian"), "the Jacobian section")
+        out.append(Para(f"In the notation of {jac} (the plain text at the end of this "
+                        "subsection writes the sines and cosines out):"))
         out.append(_equation_math(view.folded, view.folded_excluding or c.excluding))
+    else:
+        out.append(_equation_math(eqs, c.excluding))
     items = []
     if c.solved:
         items.append(f"Solved: {_solved(c)}.")
@@ -99,11 +104,44 @@ def _component_blocks(report, view):
         items.append("Lost direction: $(" + ", ".join(latex(x) for x in c.direction[0]) + ")$.")
     sample = ", ".join(f"{k} = {v:+.4f}" for k, v in c.sample.items())
     items.append(f"Sample point: {sample}.")
+    figs = component_figures(report, view.index)
+    if figs:
+        items.append(f"{plural('Figure', len(figs))}: "
+                     + ", ".join(f"{ref(label, 'Figure', figure=True)} ({what})"
+                                 for label, what in figs) + ".")
     out.append(Bullets(tuple(items)))
     if view.readings:
         out.append(Para("At the sample point (verified numerically):", lead="Reading."))
         out.append(Bullets(tuple(r[0].upper() + r[1:] + "." for r in view.readings)))
+    out.append(Para("The equations as plain text:"))
     out.append(Code(plain_equations(c)))
+    return out
+
+
+def figure_labels(report) -> dict:
+    """The label of each figure of ``report``, by file name."""
+    out = {}
+    for k, f in enumerate(report.figure("sigma"), start=1):
+        out[f.name] = block_label(report, "fig", f"sigma{k}")
+    for kind in ("manipulability", "tree", "augmented"):
+        for f in report.figure(kind):
+            out[f.name] = block_label(report, "fig", kind)
+    return out
+
+
+def component_figures(report, index: int) -> list:
+    """(label, what it shows) of each figure that shows component ``index``."""
+    labels = figure_labels(report)
+    out = []
+    for f in report.figure("sigma"):
+        if index in f.components:
+            what = ("heat map through its sample point" if f.through == index
+                    else "heat map")
+            out.append((labels[f.name], what))
+    out.sort(key=lambda item: item[1] != "heat map through its sample point")
+    for f in report.figure("manipulability"):
+        if index in f.components:
+            out.append((labels[f.name], "manipulability along a path through it"))
     return out
 
 
@@ -142,11 +180,9 @@ def _locus_section(report):
         rows = []
         for v in main:
             c = v.component
-            first = v.summary or "-"
-            rows.append((str(v.index), str(c.dimension), str(c.rank_drop),
-                         variables_text(c.free), first))
-        out.append(Table(("no.", "dim.", "rank drop", "free joints", "reading"),
-                         tuple(rows), "rrrll"))
+            rows.append((ref(block_label(report, "component", v.index), str(v.index)),
+                         str(c.dimension), str(c.rank_drop), variables_text(c.free)))
+        out.append(Table(("no.", "dim.", "rank drop", "free joints"), tuple(rows), "rrrl"))
     else:
         out.append(Para("No component exists for the model's parameter values: $J$ has full "
                         "rank everywhere."))
@@ -181,11 +217,9 @@ def _figure_section(report):
                     "task point, parameters at the model's values) over two-joint slices of "
                     f"joint space {how}. It is zero exactly on the locus. Its values depend on "
                     "the length unit when $J$ mixes linear and angular rows."))
-    for k, f in enumerate(sig, start=1):
-        out.append(Figure(f.name, f.caption, block_label(report, "fig", f"sigma{k}"), alt=f.title))
-    for f in man:
-        out.append(Figure(f.name, f.caption, block_label(report, "fig", "manipulability"),
-                          alt=f.title))
+    labels = figure_labels(report)
+    for f in sig + man:
+        out.append(Figure(f.name, f.caption, labels[f.name], alt=f.title))
     return out
 
 
@@ -385,15 +419,15 @@ def _augmented_section(report):
     rows = []
     for v in report.augmented:
         c = v.component
-        eqs = ", ".join(f"${latex(e)} = 0$" for e in c.equations)
         kind = v.kind or ("special parameter values" if v.special else "not classified")
         meets = sorted({m.get("base_component") for m in getattr(c, "meets", ())
                         if isinstance(m, dict)} - {None})
         if meets:
             kind += f" (meets component{'s' if len(meets) > 1 else ''} " \
                     f"{', '.join(map(str, meets))} of the locus of $J$)"
-        rows.append((str(v.index), eqs, kind))
-    out.append(Table(("no.", "equations", "kind"), tuple(rows), "rll"))
+        rows.append((ref(block_label(report, "component", v.index), f"component {v.index}"),
+                     kind))
+    out.append(Table(("component", "kind"), tuple(rows), "ll"))
     base = getattr(report.locus, "base", None)
     if base is not None:
         comps = [c for c in base.components if c.exists_for_model]

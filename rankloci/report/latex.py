@@ -28,6 +28,7 @@ _PREAMBLE = r"""\documentclass[11pt,a4paper]{article}
 \usepackage{amsmath,amssymb}
 \usepackage{graphicx}
 \usepackage{booktabs}
+\usepackage[hidelinks]{hyperref}
 \ifdefined\pdftrailerid \pdftrailerid{}\fi
 \ifdefined\pdfinfoomitdate \pdfinfoomitdate=1\fi
 \setlength{\parindent}{0pt}
@@ -48,7 +49,9 @@ def render_latex(report, *, fragment: bool = False, timings: bool = True) -> str
         body = blocks_latex(blocks, wide_matrix=wide)
         head = (f"% rankloci report on {report.name}: a fragment for \\input.\n"
                 f"% Needs \\usepackage{{{','.join(PACKAGES)}}} and, when input from another\n"
-                f"% directory, \\graphicspath{{{{path/to/reports/{report.name}/}}}}.\n")
+                f"% directory, \\graphicspath{{{{path/to/reports/{report.name}/}}}}.\n"
+                "% With hyperref its references are links; without it they are plain text.\n"
+                "\\providecommand{\\hyperref}[2][]{#2}\n")
         return head + body
     body = blocks_latex([b for b in blocks if not (isinstance(b, Heading) and b.level == 1)],
                         wide_matrix=wide, top=2)
@@ -139,6 +142,8 @@ def _cell_width(text: str) -> float:
 
 
 def _table(t: Table) -> str:
+    if t.widths:
+        return _fixed_table(t)
     spec = t.align or "l" * len(t.header)
     widths = [max([_cell_width(h) for h in [t.header[k]]] + [_cell_width(r[k]) for r in t.rows])
               for k in range(len(t.header))]
@@ -157,5 +162,27 @@ def _table(t: Table) -> str:
                + "\n".join(rows) + "\n\\bottomrule\n\\end{tabular}")
     if total > TABLE_WIDTH and wrap_col is None:
         tabular = "\\resizebox{\\linewidth}{!}{%\n" + tabular + "}"
+    cap = f"\\\\[0.5ex]\n{{\\small {rich_tex(t.caption)}}}" if t.caption else ""
+    return "\\begin{center}\n" + tabular + cap + "\n\\end{center}"
+
+
+def _fixed_table(t: Table) -> str:
+    """A table with the column widths it asks for: text wraps, ragged, inside its columns.
+
+    Only the kernel's tabular is used (no ``array`` package): each cell of a
+    wrapping column starts with ``\\raggedright`` and rows end with
+    ``\\tabularnewline``, which ``\\raggedright`` does not redefine.
+    """
+    align = t.align or "l" * len(t.header)
+    spec = "".join(f"p{{{w:.2f}\\linewidth}}" if w else a for a, w in zip(align, t.widths))
+
+    def row(cells):
+        return " & ".join(("\\raggedright " if w else "") + rich_tex(c)
+                          for c, w in zip(cells, t.widths)) + " \\tabularnewline"
+
+    size = "\\small\n" if t.small else ""
+    tabular = (size + "\\begin{tabular}{" + spec + "}\n\\toprule\n" + row(t.header)
+               + "\n\\midrule\n" + "\n".join(row(r) for r in t.rows)
+               + "\n\\bottomrule\n\\end{tabular}")
     cap = f"\\\\[0.5ex]\n{{\\small {rich_tex(t.caption)}}}" if t.caption else ""
     return "\\begin{center}\n" + tabular + cap + "\n\\end{center}"

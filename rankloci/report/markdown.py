@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from .blocks import Bullets, Code, Figure, Heading, Marker, Math, Para, Table
 from .content import report_blocks
-from .escape import md_escape, rich_md
+from .escape import heading_anchor, md_escape, md_refs, rich_md
 
 __all__ = ["render_markdown", "blocks_markdown"]
 
@@ -37,6 +37,7 @@ def blocks_markdown(blocks) -> str:
     """
     out = []
     section = 0
+    figures, headings = {}, {}
     for b in blocks:
         if isinstance(b, Heading):
             text = rich_md(b.text)
@@ -45,6 +46,8 @@ def blocks_markdown(blocks) -> str:
                 text = f"{section}. {text}" if not text.startswith(("Timings", "Reproducing")) \
                     else text
             out.append("#" * b.level + " " + text)
+            if b.label:
+                headings[b.label] = heading_anchor(text)
         elif isinstance(b, Para):
             lead = f"**{rich_md(b.lead)}** " if b.lead else ""
             out.append(lead + rich_md(b.text))
@@ -59,13 +62,14 @@ def blocks_markdown(blocks) -> str:
         elif isinstance(b, Bullets):
             out.append("\n".join("- " + rich_md(item) for item in b.items))
         elif isinstance(b, Figure):
+            figures[b.label] = (len(figures) + 1, b.file)
             alt = md_escape((b.alt or b.file).replace("[", "(").replace("]", ")"))
-            out.append(f"![{alt}]({b.file})\n\n*{rich_md(b.caption)}*")
+            out.append(f"![{alt}]({b.file})\n\n*Figure {len(figures)}: {rich_md(b.caption)}*")
         elif isinstance(b, Code):
             out.append(f"```{b.language or 'text'}\n{b.text}\n```")
         elif isinstance(b, Marker):
             out.append(f"<!-- {b.text} -->")
-    return "\n\n".join(out) + "\n"
+    return md_refs("\n\n".join(out) + "\n", figures, headings)
 
 
 def _table(t: Table) -> str:

@@ -27,7 +27,7 @@ import sympy as sp
 
 from ..model import RobotModel
 
-__all__ = ["AxisLine", "axis_lines", "geometry_readings", "direction_readings",
+__all__ = ["AxisLine", "axis_lines", "geometry_readings", "direction_readings", "lost_motion",
            "GEOMETRY_RTOL", "DIRECTION_RTOL"]
 
 #: Two unit axis directions count as parallel, and distances as zero relative to the size of
@@ -340,3 +340,63 @@ def _rows_note(present, missing, frame) -> str:
         axes = ", ".join(r[1] for r in present)
         return f" over ({axes}) in the {frame} frame"
     return f" (x, y, z of the {frame} frame)"
+
+
+def lost_motion(J, u, row_labels, *, tall: bool = False, variables=()) -> str:
+    """The motion lost along the null vector ``u`` of ``J``, in a few words for a table.
+
+    The same classification as :func:`direction_readings` (and the same
+    check: ``""`` when ``u`` is not a null vector of ``J``), without the
+    explanation: a translation, a rotation, a translation combined with a
+    rotation, or a combination of task and constraint rates.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> J = np.array([[0.0, 0.0], [2.0, 1.0]])
+    >>> lost_motion(J, [1.0, 0.0], ["vx", "vy"])
+    'translation along [+1.000, +0.000] (x, y)'
+    >>> J = np.array([[1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])
+    >>> print(lost_motion(J, [1.0, 1.0, -1.0], ["vx", "vy", "wz"]))
+    ... # doctest: +NORMALIZE_WHITESPACE
+    translation a combined with rotation b: a = [+0.577, +0.577, +0.000],
+    b = [+0.000, +0.000, -0.577]
+    """
+    J = np.asarray(J, dtype=float)
+    u = np.asarray(u, dtype=float)
+    smax = float(np.linalg.svd(J, compute_uv=False)[0]) if J.size else 0.0
+    if smax == 0.0 or np.linalg.norm(u) == 0.0:
+        return ""
+    u = u / np.linalg.norm(u)
+    if np.linalg.norm((J @ u) if tall else (u @ J)) > DIRECTION_RTOL * smax:
+        return ""
+    if tall:
+        names = ", ".join(str(v) for v in variables) if variables else "the joints"
+        return f"none: the joint motion {_vec(u)} over ({names}) moves nothing"
+    labels = list(row_labels)
+    small = 1e-3
+    lin = [(r, u[labels.index(r)]) for r in _LINEAR if r in labels]
+    ang = [(r, u[labels.index(r)]) for r in _ANGULAR if r in labels]
+    others = [(lab, x) for lab, x in zip(labels, u) if lab not in _LINEAR + _ANGULAR]
+    n_lin = float(np.sqrt(sum(x * x for _, x in lin)))
+    n_ang = float(np.sqrt(sum(x * x for _, x in ang)))
+    n_other = float(np.sqrt(sum(x * x for _, x in others)))
+
+    def along(rows, norm):
+        axes = ", ".join(r[1] for r, _ in rows)
+        return f"{_vec([x / norm for _, x in rows])} ({axes})"
+
+    if n_other <= small and n_ang <= small:
+        return f"translation along {along(lin, n_lin)}"
+    if n_other <= small and n_lin <= small:
+        return f"rotation about {along(ang, n_ang)}"
+    if n_other <= small:
+        a = np.array([u[labels.index(r)] if r in labels else 0.0 for r in _LINEAR])
+        b = np.array([u[labels.index(r)] if r in labels else 0.0 for r in _ANGULAR])
+        return f"translation a combined with rotation b: a = {_vec(a)}, b = {_vec(b)}"
+
+    def rate(lab):
+        return lab if lab in _LINEAR + _ANGULAR else f"d({lab})/dt"
+
+    terms = " ".join(f"{x:+.3f} {rate(lab)}" for lab, x in zip(labels, u) if abs(x) > small)
+    return f"task and constraint rates together: {terms}"

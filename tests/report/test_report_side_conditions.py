@@ -131,6 +131,10 @@ def test_every_display_of_an_excluded_component_states_its_side_condition(ssrms_
         assert displays and all(r"\neq 0" in d for d in displays), "a display without it"
         tsec = _component_section(tex, v.index, "section{")
         assert "!=" in tsec and r"\neq 0" in tsec
+        row = next(ln for ln in md.split("\n## ", 1)[0].splitlines()
+                   if ln.startswith(f"| [{v.index}](#component-{v.index}) |"))
+        for f in v.folded_excluding or c.excluding:
+            assert sp.latex(f) + r" \neq 0" in row, "summary table"
 
 
 @pytest.mark.slow

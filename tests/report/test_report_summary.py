@@ -1,0 +1,95 @@
+"""The summary table up front, cross-references to sections and figures, and each equation printed
+once in the body."""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from rankloci.io import load_model
+from rankloci.report import build_report
+from rankloci.report.escape import heading_anchor
+from rankloci.report.latex import render_latex
+from rankloci.report.markdown import render_markdown
+
+SEED = 4
+HEADER = "| no. | equations | reading | lost motion | figures |"
+
+
+@pytest.fixture(scope="module")
+def puma():
+    return build_report(load_model("puma560"), seed=SEED, samples=2, exact=False)
+
+
+def _summary_rows(md: str) -> list[list[str]]:
+    head = md.split("\n## ", 1)[0]
+    assert HEADER in head, "no summary table before the first section"
+    lines = head.split(HEADER, 1)[1].strip().splitlines()[1:]
+    return [[c.strip() for c in ln.strip("|").split(" | ")] for ln in lines if ln.startswith("|")]
+
+
+def test_summary_table_has_a_row_per_component_up_front(puma):
+    md = render_markdown(puma)
+    rows = _summary_rows(md)
+    main = [v for v in puma.components if not v.special]
+    assert [r[0] for r in rows] == [f"[{v.index}](#component-{v.index})" for v in main]
+    for row, v in zip(rows, main):
+        assert row[1].count("= 0$") >= 1, row
+        assert row[2] == ("; ".join(v.geometry) or "-")
+        assert row[3] != "-" and ("translation" in row[3] or "rotation" in row[3]), row
+        assert row[4] != "-", f"component {v.index} has no figure"
+
+
+def test_links_go_to_headings_and_figures_that_exist(puma):
+    md = render_markdown(puma)
+    anchors = {heading_anchor(h) for h in re.findall(r"^#+ (.*)$", md, flags=re.M)}
+    files = {f.name for f in puma.figures}
+    links = re.findall(r"(?<!!)\[([^\]]*)\]\(([^)]*)\)", md)
+    assert links
+    for text, target in links:
+        if target.startswith("#"):
+            assert target[1:] in anchors, target
+        else:
+            assert target in files and re.fullmatch(r"Figure \d+", text), (text, target)
+    numbers = [int(n) for n in re.findall(r"^\*Figure (\d+):", md, flags=re.M)]
+    assert numbers == list(range(1, len(puma.figures) + 1))
+
+
+def test_latex_refers_with_ref_and_hyperref(puma):
+    tex = render_latex(puma)
+    labels = set(re.findall(r"\\label\{([^}]+)\}", tex))
+    refs = re.findall(r"\\(?:ref|hyperref)[\[{]([^\]}]+)[\]}]", tex)
+    assert refs and set(refs) <= labels
+    assert "\\usepackage[hidelinks]{hyperref}" in tex
+    fragment = render_latex(puma, fragment=True)
+    assert "\\providecommand{\\hyperref}[2][]{#2}" in fragment
+
+
+def test_each_component_has_one_display_in_the_notation_of_j(puma):
+    """The display is the compact form when there is one, and it equals the equations."""
+    notation = {s: f for s, f in puma.notation}
+    params = {p: float(v) for p, v in puma.model.parameters.items()}
+    rng = np.random.default_rng(SEED)
+    for v in puma.components:
+        if not v.folded:
+            continue
+        c = v.component
+        eqs = [e for e in c.equations if e not in c.parameter_conditions]
+        assert len(v.folded) == len(eqs)
+        for f, e in zip(v.folded, eqs):
+            back = sp.sympify(f).xreplace(notation)
+            for _ in range(3):
+                q = {s: rng.uniform(-3, 3) for s in e.free_symbols | back.free_symbols
+                     if s not in params}
+                got = float(back.subs(params).subs(q))
+                want = float(sp.sympify(e).subs(params).subs(q))
+                assert abs(got - want) <= 1e-9 * (1 + abs(want)), (f, e)
+    md = render_markdown(puma)
+    for v in puma.components:
+        section = md.split(f"### Component {v.index}\n", 1)[1].split("\n#", 1)[0]
+        assert section.count("$$") == 2, f"component {v.index}: not one display"
+        if v.folded:
+            assert "notation of [the Jacobian section](#2-the-symbolic-jacobian)" in section
