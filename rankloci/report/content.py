@@ -84,9 +84,10 @@ def _summary(report):
 
 
 #: An equation wider than this (in :func:`~rankloci.report.mathfmt.math_width` units) is not
-#: written out in the summary table, which points to the component's subsection instead:
-#: about two lines of its equations column.
-SUMMARY_EQUATION_WIDTH = 40.0
+#: written out in the summary table, which points to the component's subsection instead: one
+#: line of its equations column (0.3 of the line width in small type).  Each equation is kept
+#: on one line, so that a reader never has to join "... =" and "0".
+SUMMARY_EQUATION_WIDTH = 21.0
 
 
 def summary_table(report, views) -> Table:
@@ -105,7 +106,7 @@ def summary_table(report, views) -> Table:
         for e, rel in cells:
             text = f"{latex(e)} {rel}"
             if math_width(text) <= SUMMARY_EQUATION_WIDTH:
-                parts.append(f"${text}$")
+                parts.append(f"${{{text}}}$")   # braced: LaTeX does not break it
             else:
                 terms = len(sp.Add.make_args(sp.expand(e)))
                 what = "equation" if rel == "= 0" else "side condition"
@@ -114,9 +115,9 @@ def summary_table(report, views) -> Table:
         figs = component_figures(report, v.index)
         rows.append((ref(label, str(v.index)), ", ".join(parts),
                      "; ".join(v.geometry) or "-", "; ".join(v.motions) or "-",
-                     ", ".join(ref(lab, "Figure", figure=True) for lab, _ in figs) or "-"))
+                     ", ".join(ref(lab, "Fig.", figure=True) for lab, _ in figs) or "-"))
     return Table(("no.", "equations", "reading", "lost motion", "figures"), tuple(rows),
-                 "rllll", widths=(0, 0.22, 0.25, 0.27, 0.1), small=True)
+                 "rllll", widths=(0, 0.30, 0.24, 0.21, 0.08), small=True)
 
 
 def comparison_headline(cmp) -> str:

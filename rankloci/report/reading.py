@@ -348,19 +348,19 @@ def lost_motion(J, u, row_labels, *, tall: bool = False, variables=()) -> str:
     The same classification as :func:`direction_readings` (and the same
     check: ``""`` when ``u`` is not a null vector of ``J``), without the
     explanation: a translation, a rotation, a translation combined with a
-    rotation, or a combination of task and constraint rates.
+    rotation, or a combination of task and constraint rates.  Numbers have two
+    decimals (the component's subsection gives the direction to three).
 
     Examples
     --------
     >>> import numpy as np
     >>> J = np.array([[0.0, 0.0], [2.0, 1.0]])
     >>> lost_motion(J, [1.0, 0.0], ["vx", "vy"])
-    'translation along [+1.000, +0.000] (x, y)'
+    'translation along [+1.00, +0.00] (x, y)'
     >>> J = np.array([[1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])
     >>> print(lost_motion(J, [1.0, 1.0, -1.0], ["vx", "vy", "wz"]))
     ... # doctest: +NORMALIZE_WHITESPACE
-    translation a combined with rotation b: a = [+0.577, +0.577, +0.000],
-    b = [+0.000, +0.000, -0.577]
+    translation a with rotation b: a = [+0.58, +0.58, +0.00], b = [+0.00, +0.00, -0.58]
     """
     J = np.asarray(J, dtype=float)
     u = np.asarray(u, dtype=float)
@@ -372,7 +372,7 @@ def lost_motion(J, u, row_labels, *, tall: bool = False, variables=()) -> str:
         return ""
     if tall:
         names = ", ".join(str(v) for v in variables) if variables else "the joints"
-        return f"none: the joint motion {_vec(u)} over ({names}) moves nothing"
+        return f"none: the joint motion {_vec(u, 2)} over ({names}) moves nothing"
     labels = list(row_labels)
     small = 1e-3
     lin = [(r, u[labels.index(r)]) for r in _LINEAR if r in labels]
@@ -384,7 +384,7 @@ def lost_motion(J, u, row_labels, *, tall: bool = False, variables=()) -> str:
 
     def along(rows, norm):
         axes = ", ".join(r[1] for r, _ in rows)
-        return f"{_vec([x / norm for _, x in rows])} ({axes})"
+        return f"{_vec([x / norm for _, x in rows], 2)} ({axes})"
 
     if n_other <= small and n_ang <= small:
         return f"translation along {along(lin, n_lin)}"
@@ -393,10 +393,10 @@ def lost_motion(J, u, row_labels, *, tall: bool = False, variables=()) -> str:
     if n_other <= small:
         a = np.array([u[labels.index(r)] if r in labels else 0.0 for r in _LINEAR])
         b = np.array([u[labels.index(r)] if r in labels else 0.0 for r in _ANGULAR])
-        return f"translation a combined with rotation b: a = {_vec(a)}, b = {_vec(b)}"
+        return f"translation a with rotation b: a = {_vec(a, 2)}, b = {_vec(b, 2)}"
 
     def rate(lab):
         return lab if lab in _LINEAR + _ANGULAR else f"d({lab})/dt"
 
-    terms = " ".join(f"{x:+.3f} {rate(lab)}" for lab, x in zip(labels, u) if abs(x) > small)
+    terms = " ".join(f"{x:+.2f} {rate(lab)}" for lab, x in zip(labels, u) if abs(x) > small)
     return f"task and constraint rates together: {terms}"
