@@ -38,7 +38,8 @@ def locus_text(locus, *, row_labels=()) -> str:
         lines.append("the matrix is rank deficient at every configuration (degenerate design)")
     main = list(locus.components)
     special = list(locus.special)
-    lines.append(f"{len(main)} component(s) of the rank-deficiency locus:")
+    lines.append(f"{len(main)} component{'' if len(main) == 1 else 's'} of the "
+                 "rank-deficiency locus:")
     for i, c in enumerate(main, 1):
         lines.extend(_component_lines(i, c, row_labels))
         if c.kind:

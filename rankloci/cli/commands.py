@@ -280,7 +280,8 @@ def cmd_check(args) -> int:
                                     progress=report_progress,
                                     should_stop=_deadline(args.timeout))
         J = task_matrix(model)  # the model's own frame; parameters substituted by cross_check
-        tell(f"{model.name}: checking {len(checked.components)} component(s), "
+        n = len(checked.components)
+        tell(f"{model.name}: checking {n} component{'' if n == 1 else 's'}, "
              f"{args.samples} samples, seed {args.seed}")
         numeric = cross_check(checked, J.matrix, J.variables, angles=J.angles,
                               parameters=J.parameters, samples=args.samples,

@@ -119,7 +119,8 @@ def singular_cross_check(tm, locus, *, rng, parameters=None) -> SingularResult:
                                      else parameters).items()}
     findings = _compare(primes, gens, cs, tm, _with_values(locus, values), rng)
     return SingularResult("agree" if not findings else "disagree",
-                          f"{len(primes)} minimal associated prime(s)",
+                          f"{len(primes)} minimal associated "
+                          f"prime{'' if len(primes) == 1 else 's'}",
                           tuple(tuple(p) for p in primes), tuple(findings))
 
 

@@ -93,7 +93,8 @@ def compute_locus(tm, method: str = "svm", *, rng=None, progress=None,
     reduced, pivots = pivot_constant_columns(tm)
     notes = []
     if pivots:
-        notes.append(f"{len(pivots)} constant column(s) pivoted out first (rows "
+        notes.append(f"{len(pivots)} constant column{'' if len(pivots) == 1 else 's'} pivoted "
+                     f"out first (rows "
                      f"{', '.join(str(r + 1) for r, _ in pivots)} with columns "
                      f"{', '.join(str(c + 1) for _, c in pivots)}): rank J = {len(pivots)} + the "
                      f"rank of the remaining {reduced.shape[0]}x{reduced.shape[1]} matrix")

@@ -78,7 +78,8 @@ def finalize(ctx: Context) -> list[Component]:
                 eqs.append(e)
         raw.append((eqs, branch, pts, node))
     if ctx.sampler.fell_back:
-        ctx.notes.append(f"{len(ctx.sampler.fell_back)} branch(es) have real points for the "
+        k = len(ctx.sampler.fell_back)
+        ctx.notes.append(f"{k} {'branch has' if k == 1 else 'branches have'} real points for the "
                          "model's parameter values but none were found for random nearby values: "
                          "the components found there may exist only in a range of parameters")
     cands = [_component(ctx, eqs, branch, pts) for eqs, branch, pts, _ in raw]

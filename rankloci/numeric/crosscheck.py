@@ -278,7 +278,8 @@ def render_check_text(report: CheckReport) -> str:
         lines.append("  uncovered: (" + ", ".join(f"{x:+.6f}" for x in p.q)
                      + f"), sigma ratio {p.sigma_ratio:.1e}")
     if report.findings:
-        lines.append(f"{len(report.findings)} finding(s) (FSP / minors vs SVD; the SVD decides):")
+        n = len(report.findings)
+        lines.append(f"{n} finding{'' if n == 1 else 's'} (FSP / minors vs SVD; the SVD decides):")
         lines += [f"  {f}" for f in report.findings[:20]]
         if len(report.findings) > 20:
             lines.append(f"  ... {len(report.findings) - 20} more")
