@@ -142,7 +142,8 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
     from ..methods import compute_locus, method_for
     from ..numeric.crosscheck import cross_check
     from ..numeric.equations import NumericMatrix
-    from . import analysis as A
+    from .comparison import compare_loci
+    from .tree_summary import tree_summary
     from .figure_files import report_figures
     from .matrixfmt import jacobian_display
 
@@ -194,7 +195,7 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
         try:
             second = timed("locus (subdeterminant)", lambda: compute_locus(
                 tm, "subdeterminant", rng=rng(seed), should_stop=stopper(), clock=clock))
-            comparison = timed("method comparison", lambda: A.compare_loci(
+            comparison = timed("method comparison", lambda: compare_loci(
                 locus, second, nm, params, rng(seed)))
         except LocusTimeout:
             timings.append(("locus (subdeterminant)", float(timeout or 0.0)))
@@ -230,7 +231,7 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
     say(f"{model.name}: figures")
     figures = timed("figures", lambda: report_figures(model, model_tm, locus, nm, params,
                                                       seed, dot))
-    tree = A.tree_summary(locus.tree) if locus is not None and locus.tree is not None else None
+    tree = tree_summary(locus.tree) if locus is not None and locus.tree is not None else None
     notes = ()
     if locus is not None and tm.frame is not None and (tm.frame, tm.point) != (
             getattr(model, "frame", None), "tool"):

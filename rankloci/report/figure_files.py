@@ -87,6 +87,7 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot) -> tuple:
     from ..jacobian import task_matrix
     from ..numeric.equations import NumericMatrix
     from . import analysis as A
+    from .tree_summary import tree_summary
     from .escape import file_stem
     from .figures import augmented_png, heatmap_png, manipulability_png, tree_png
 
@@ -160,7 +161,7 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot) -> tuple:
                               tuple(p.component for p in paths)))
     # the branch tree
     if locus is not None and locus.tree is not None and locus.tree.number_of_nodes():
-        summary = A.tree_summary(locus.tree)
+        summary = tree_summary(locus.tree)
         cut = (f" It has {summary.total_nodes} nodes; only the paths to components are drawn, "
                f"the other {summary.collapsed} branches are counted in dashed boxes."
                if summary.collapsed else "")

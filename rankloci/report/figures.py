@@ -203,7 +203,7 @@ _ROLE_STYLE = {
 
 
 def tree_dot_source(summary) -> str:
-    """Graphviz source of a :class:`~rankloci.report.analysis.TreeSummary`."""
+    """Graphviz source of a :class:`~rankloci.report.tree_summary.TreeSummary`."""
     def esc(s):
         return str(s).replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n")
 

@@ -359,11 +359,11 @@ def _point_text(q) -> str:
 
 
 def disagreement_verdict(d) -> str:
-    """The SVD's verdict on a :class:`~rankloci.report.analysis.Disagreement`, in a sentence.
+    """The SVD's verdict on a :class:`~rankloci.report.comparison.Disagreement`, in a sentence.
 
     Examples
     --------
-    >>> from rankloci.report.analysis import Disagreement
+    >>> from rankloci.report.comparison import Disagreement
     >>> d = Disagreement("subdeterminant", "svm", 2, ("q1 = 0",), 5, ((0.0, 1.0),), (0.3,))
     >>> print(disagreement_verdict(d))  # doctest: +NORMALIZE_WHITESPACE
     The subdeterminant component 2 contains regular points: sigma ratio 3.0e-01 at

@@ -13,7 +13,8 @@ from rankloci.jacobian import task_matrix
 from rankloci.methods import compute_locus
 from rankloci.numeric.equations import NumericMatrix
 from rankloci.report import build_report
-from rankloci.report.analysis import compare_loci, sigma_ratios
+from rankloci.report.analysis import sigma_ratios
+from rankloci.report.comparison import compare_loci
 from rankloci.report.markdown import render_markdown
 from rankloci.tolerances import RANK_RTOL
 

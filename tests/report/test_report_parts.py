@@ -15,7 +15,8 @@ import report_helpers as RH
 from rankloci.io import load_model
 from rankloci.locus import Outcome
 from rankloci.report import ReportError, build_report, write_report
-from rankloci.report.analysis import compare_loci, tree_summary
+from rankloci.report.comparison import compare_loci
+from rankloci.report.tree_summary import tree_summary
 from rankloci.report.markdown import render_markdown
 from rankloci.report.mathfmt import LINE_WIDTH, broken_lines, latex, math_width
 from rankloci.report.matrixfmt import jacobian_display

@@ -18,6 +18,7 @@ from rankloci.methods import compute_locus
 from rankloci.numeric.equations import NumericMatrix
 from rankloci.render_text import locus_latex, locus_text
 from rankloci.report import analysis as A
+from rankloci.report.comparison import compare_loci
 from rankloci.tolerances import ON_LOCUS_RTOL
 
 SEED = 0
@@ -144,5 +145,5 @@ def test_methods_agree_on_ssrms_once_the_side_condition_is_kept(ssrms):
     locus, nm, params = ssrms
     tm = task_matrix(load_model("ssrms"), frame="auto")
     other = compute_locus(tm, "subdeterminant", rng=np.random.default_rng(SEED))
-    cmp = A.compare_loci(locus, other, nm, params, np.random.default_rng(SEED))
+    cmp = compare_loci(locus, other, nm, params, np.random.default_rng(SEED))
     assert cmp.agree, cmp.differences

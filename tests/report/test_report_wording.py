@@ -11,7 +11,7 @@ import pytest
 from rankloci.io import load_model
 from rankloci.locus import Outcome
 from rankloci.report import build_report
-from rankloci.report.analysis import tree_summary
+from rankloci.report.tree_summary import tree_summary
 from rankloci.report.markdown import render_markdown
 
 SEED = 2
