@@ -396,24 +396,6 @@ def _numeric_rank(J) -> int:
     return int(np.sum(s > RANK_RTOL * s[0])) if s[0] > 0 else 0
 
 
-def minimise_ratio(ref: PinocchioJacobian, q0):
-    """A local minimum of (sigma_min/sigma_max)^2 of Pinocchio's J from q0 (BFGS)."""
-    import numpy as np
-    from scipy.optimize import minimize
-
-    def f(q):
-        U, s, Vt = np.linalg.svd(ref(q), full_matrices=False)
-        if s[0] == 0:
-            return 0.0, np.zeros_like(q)
-        r = s[-1] / s[0]
-        dJ = ref.derivatives(q)
-        ds_min = np.einsum("i,kij,j->k", U[:, -1], dJ, Vt[-1])
-        ds_max = np.einsum("i,kij,j->k", U[:, 0], dJ, Vt[0])
-        return r * r, 2 * r * (ds_min * s[0] - s[-1] * ds_max) / s[0] ** 2
-
-    return minimize(f, q0, jac=True, method="BFGS", options={"gtol": 1e-20, "maxiter": 400}).x
-
-
 def random_configurations(kinds, rng, n: int):
     """n random configurations: revolute joints uniform in [-pi, pi), prismatic in [-1, 1)."""
     import numpy as np
@@ -429,17 +411,6 @@ def _q_text(q) -> str:
 
 def _short(text: str, limit: int = 160) -> str:
     return text if len(text) <= limit else text[: limit - 3] + "..."
-
-
-def _normalised(e):
-    """``e`` divided by its largest coefficient, exactly: the same zero set and scaled values,
-    but numbers a float can hold (a rational rotation of a URDF angle can give coefficients
-    of 1e400)."""
-    import sympy as sp
-
-    e = sp.expand(sp.sympify(e))
-    big = max((abs(t.as_coeff_Mul()[0]) for t in sp.Add.make_args(e)), default=0)
-    return sp.expand(e / big) if big not in (0, 1) and big.is_Rational else e
 
 
 def _projects_onto(eqs, q, ref) -> bool:
@@ -465,7 +436,7 @@ def grade(model, tm, locus, ref: PinocchioJacobian, rng) -> dict:
     import sympy as sp
 
     from rankloci.jacobian import task_matrix
-    from rankloci.numeric.equations import Equations, NumericMatrix, points_on
+    from rankloci.numeric.equations import Equations, NumericMatrix, minimise_ratio, points_on
 
     kinds = ref.kinds
     problems = []
@@ -495,8 +466,7 @@ def grade(model, tm, locus, ref: PinocchioJacobian, rng) -> dict:
     components = [c for c in locus.components if c.exists_for_model]
     sound = []
     for i, c in enumerate(components, start=1):
-        eqs = Equations([_normalised(e) for e in c.equations], tm.variables, tm.parameters,
-                        [_normalised(e) for e in c.excluding])
+        eqs = Equations(c.equations, tm.variables, tm.parameters, c.excluding)
         pts = []
         if c.sample and all(n in c.sample for n in names):
             pts.append(np.array([float(c.sample[n]) for n in names]))
@@ -514,10 +484,11 @@ def grade(model, tm, locus, ref: PinocchioJacobian, rng) -> dict:
                             f"q={_q_text(q)} (ratio {r:.1e}; {len(bad)}/{len(pts)} points)")
 
     # completeness: singular minima of Pinocchio's ratio lie on some component
-    closures = [Equations([_normalised(e) for e in c.equations], tm.variables, tm.parameters)
+    closures = [Equations(c.equations, tm.variables, tm.parameters)
                 for c in components]
     singular, near, uncovered = 0, 0, []
     for q0 in random_configurations(kinds, rng, PROBE_STARTS):
+        # rankloci's minimiser only walks; what it walks on is Pinocchio's J
         q = minimise_ratio(ref, q0)
         r = sigma_ratio(ref(q))
         if r > PROBE_SINGULAR_RTOL:

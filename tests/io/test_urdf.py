@@ -26,6 +26,7 @@ from rankloci.io.toml_model import read_model
 from rankloci.io.urdf import parse_urdf, read_urdf
 from rankloci.kinematics import forward_kinematics, geometric_jacobian
 from rankloci.tolerances import RANK_RTOL, URDF_ANGLE_SNAP_ATOL
+from urdf_reference import rot, snapped
 
 SEED = 20240611
 REPO = Path(__file__).resolve().parents[2]
@@ -67,17 +68,6 @@ def load(robots: Path, key: str):
 
 # --- an independent numeric reading of a URDF -------------------------------
 
-def _snapped(t: float) -> float:
-    """The documented idealisation: angles near a multiple of pi/12 are that multiple."""
-    k = round(t / (math.pi / 12))
-    return k * math.pi / 12 if abs(t - k * math.pi / 12) <= URDF_ANGLE_SNAP_ATOL else t
-
-
-def _rot(axis, t: float) -> np.ndarray:
-    k = np.asarray(axis, float) / np.linalg.norm(axis)
-    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
-    return np.eye(3) + math.sin(t) * K + (1 - math.cos(t)) * K @ K
-
 
 class NumericChain:
     """The chain base -> tip of a URDF file, composed in float64 with numpy."""
@@ -106,11 +96,11 @@ class NumericChain:
             xyz = [float(v) for v in (o.get("xyz", "0 0 0") if o is not None else "0 0 0").split()]
             rpy = [float(v) for v in (o.get("rpy", "0 0 0") if o is not None else "0 0 0").split()]
             if snap:
-                self.angle_error += sum(abs(_snapped(t) - t) for t in rpy)
-                rpy = [_snapped(t) for t in rpy]
+                self.angle_error += sum(abs(snapped(t) - t) for t in rpy)
+                rpy = [snapped(t) for t in rpy]
             self.length += float(np.linalg.norm(xyz))
             T = np.eye(4)
-            T[:3, :3] = _rot((0, 0, 1), rpy[2]) @ _rot((0, 1, 0), rpy[1]) @ _rot((1, 0, 0), rpy[0])
+            T[:3, :3] = rot((0, 0, 1), rpy[2]) @ rot((0, 1, 0), rpy[1]) @ rot((1, 0, 0), rpy[0])
             T[:3, 3] = xyz
             a = j.find("axis")
             axis = [float(v) for v in (a.get("xyz") if a is not None else "1 0 0").split()]
@@ -127,7 +117,7 @@ class NumericChain:
             T = T @ origin
             if jtype in ("revolute", "continuous"):
                 M = np.eye(4)
-                M[:3, :3] = _rot(axis, next(q))
+                M[:3, :3] = rot(axis, next(q))
                 T = T @ M
             elif jtype == "prismatic":
                 M = np.eye(4)
@@ -377,12 +367,12 @@ def test_origin_rotation_is_exact_orthogonal_and_close(rpy):
     R = sp.Matrix(parse_urdf(doc, name="x").joints[0].pre)[:3, :3]
     assert _no_floats(R)
     assert (R.T * R).applyfunc(sp.expand) == sp.eye(3)
-    Rn = _rot((0, 0, 1), rpy[2]) @ _rot((0, 1, 0), rpy[1]) @ _rot((1, 0, 0), rpy[0])
+    Rn = rot((0, 0, 1), rpy[2]) @ rot((0, 1, 0), rpy[1]) @ rot((1, 0, 0), rpy[0])
     # each angle moves by at most the snap tolerance, and the rotation with it
     np.testing.assert_allclose(np.array(R.evalf(), float), Rn, rtol=0,
                                atol=3 * URDF_ANGLE_SNAP_ATOL + FK_ATOL)
-    snapped = [_snapped(t) for t in rpy]
-    Rs = _rot((0, 0, 1), snapped[2]) @ _rot((0, 1, 0), snapped[1]) @ _rot((1, 0, 0), snapped[0])
+    ideal = [snapped(t) for t in rpy]
+    Rs = rot((0, 0, 1), ideal[2]) @ rot((0, 1, 0), ideal[1]) @ rot((1, 0, 0), ideal[0])
     np.testing.assert_allclose(np.array(R.evalf(), float), Rs, rtol=0, atol=FK_ATOL)
 
 

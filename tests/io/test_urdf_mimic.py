@@ -23,7 +23,7 @@ from rankloci.errors import ModelError
 from rankloci.io.urdf import parse_urdf, read_urdf
 from rankloci.kinematics import forward_kinematics, geometric_jacobian
 from rankloci.model import Mimic
-from rankloci.tolerances import URDF_ANGLE_SNAP_ATOL
+from urdf_reference import rot, snapped
 
 SEED = 20240612
 
@@ -113,17 +113,6 @@ def _without_mimic(text: str) -> str:
 
 # --- an independent numeric reading, coupling applied by hand --------------------
 
-def _snapped(t: float) -> float:
-    """The documented idealisation of an rpy angle: a multiple of pi/12 when within tolerance."""
-    k = round(t / (math.pi / 12))
-    return k * math.pi / 12 if abs(t - k * math.pi / 12) <= URDF_ANGLE_SNAP_ATOL else t
-
-
-def _rot(axis, t: float) -> np.ndarray:
-    k = np.asarray(axis, float) / np.linalg.norm(axis)
-    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
-    return np.eye(3) + math.sin(t) * K + (1 - math.cos(t)) * K @ K
-
 
 def _floats(el, attr, default):
     return [float(v) for v in (el.get(attr, default) if el is not None else default).split()]
@@ -159,9 +148,9 @@ class CoupledChain:
         T = np.eye(4)
         for j in self.chain:
             o = j.find("origin")
-            xyz, rpy = _floats(o, "xyz", "0 0 0"), [_snapped(t) for t in _floats(o, "rpy", "0 0 0")]
+            xyz, rpy = _floats(o, "xyz", "0 0 0"), [snapped(t) for t in _floats(o, "rpy", "0 0 0")]
             O = np.eye(4)
-            O[:3, :3] = _rot((0, 0, 1), rpy[2]) @ _rot((0, 1, 0), rpy[1]) @ _rot((1, 0, 0), rpy[0])
+            O[:3, :3] = rot((0, 0, 1), rpy[2]) @ rot((0, 1, 0), rpy[1]) @ rot((1, 0, 0), rpy[0])
             O[:3, 3] = xyz
             T = T @ O
             if j.get("type") == "fixed":
@@ -172,7 +161,7 @@ class CoupledChain:
             if j.get("type") == "prismatic":
                 M[:3, 3] = np.asarray(axis) / np.linalg.norm(axis) * v
             else:
-                M[:3, :3] = _rot(axis, v)
+                M[:3, :3] = rot(axis, v)
             T = T @ M
         return T
 
