@@ -159,49 +159,13 @@ def robot_name(rel: Path) -> str:
 def chains_of_urdf(text, *, robot: str, file: str) -> tuple[list[Chain], int]:
     """The chains of a URDF document and how many leaf paths were outside 2..9 movable joints.
 
+    :func:`rankloci.io.urdf_chains.urdf_chains` finds them; this names their robot and file.
     Raises :class:`rankloci.errors.ModelError` when the document does not parse as a link tree.
     """
-    from rankloci.io.urdf_xml import (JOINT_KINDS, joints_by_name, link_names, parent_joints,
-                                      parse_document)
+    from rankloci.io.urdf_chains import urdf_chains
 
-    root = parse_document(text, file)
-    links = link_names(root, file)
-    joints = joints_by_name(root, links, file)
-    parent_of = parent_joints(links, joints, file)
-    base = next(link for link in links if link not in parent_of)
-    children: dict[str, list] = {}
-    for j in joints.values():
-        children.setdefault(j.parent, []).append(j)
-
-    def geometry(j):
-        origin, axis = j.element.find("origin"), j.element.find("axis")
-        return (j.type, None if origin is None else (origin.get("xyz"), origin.get("rpy")),
-                None if axis is None else axis.get("xyz"))
-
-    found: dict[tuple, tuple[Chain, list]] = {}
-    outside = 0
-    stack = [(base, ())]
-    while stack:
-        link, path = stack.pop()
-        if link in children:
-            stack.extend((j.child, path + (j,)) for j in reversed(children[link]))
-            continue
-        movable = [k for k, j in enumerate(path) if j.type in JOINT_KINDS]
-        if not MIN_JOINTS <= len(movable) <= MAX_JOINTS:
-            outside += 1
-            continue
-        head = path[: movable[-1] + 1]
-        key = tuple(geometry(j) for j in head)
-        if key in found:
-            found[key][1].append(link)
-            continue
-        chain = Chain(robot, file, base, head[-1].child, tuple(path[k].name for k in movable))
-        found[key] = (chain, [link])
-    out = []
-    for chain, leaves in found.values():
-        others = tuple(leaf for leaf in leaves if leaf != chain.tip)
-        out.append(Chain(chain.robot, chain.file, chain.base, chain.tip, chain.joints, others))
-    return out, outside
+    found, outside = urdf_chains(text, file=file, min_joints=MIN_JOINTS, max_joints=MAX_JOINTS)
+    return [Chain(robot, file, c.base, c.tip, c.joints, c.also) for c in found], outside
 
 
 def corpus(root: Path) -> tuple[list[Chain], list[dict], int]:
