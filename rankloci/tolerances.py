@@ -174,3 +174,30 @@ COVER_RESIDUAL = 1e-6
 #: it is about (sigma_min/sigma_max) * sigma_max^n / prod(row norms); row norms within a factor
 #: ~100 of sigma_max over the rows leave it within 1e2 of RANK_RTOL.
 MINOR_RTOL = 1e2 * RANK_RTOL
+
+# ---------------------------------------------------------------------------
+# Minimum infinity-norm solutions and manipulability (rankloci.near)
+# ---------------------------------------------------------------------------
+
+#: Ha and Lee's (and Cadzow's) optimality test ||x_1||_inf <= y'u accepts x when
+#: ||x_1||_inf <= (1 + INF_NORM_RTOL) y'u.  Both sides carry a relative rounding error
+#: of about cond(A) * eps (the null-space solve of step 8); for the Jacobians of a
+#: path, kept at sigma_min/sigma_max >= 1e-6 by the path's own stop, that is <= 1e-10,
+#: and 1e-9 leaves an order of margin.  An x that passes is optimal to that accuracy:
+#: y'u is a lower bound of every solution's norm (weak duality).
+INF_NORM_RTOL = 1e-9
+
+#: An entry of A_2'u (u normalised so that ||A_2'u||_1 = 1) counts as zero when its
+#: absolute value is at most INF_NORM_ZERO_RTOL.  u comes from an SVD of A_1 and is
+#: accurate to cond(A_1) * eps; exactly degenerate entries (a column of A_2 in the
+#: span of A_1, as when the Haar condition fails) come out near 1e-16, genuine ones
+#: are of order 1/n and up for the systems solved here.
+INF_NORM_ZERO_RTOL = 1e-10
+
+#: A manipulability polytope counts as flat when its half-width along the left
+#: singular vector of sigma_min, over its half-width along that of sigma_max, is at
+#: most FLAT_RTOL.  The half-width of the zonotope along a unit vector d is
+#: ||J'd||_1, between ||J'd||_2 and sqrt(n) ||J'd||_2, so the ratio is at most
+#: sqrt(n) sigma_min / sigma_max: on the locus (sigma_min/sigma_max <= RANK_RTOL)
+#: at most 10 RANK_RTOL for up to 100 joints.
+FLAT_RTOL = 10 * RANK_RTOL
