@@ -1,0 +1,342 @@
+"""Minimum infinity-norm solutions of underdetermined linear systems A x = y.
+
+Three interchangeable methods share one contract, :func:`min_inf_norm`:
+
+- ``"ha_lee"`` (the default): the algorithm of I. Ha and J. Lee, *Analysis on
+  a Minimum Infinity-norm Solution for Kinematically Redundant Manipulators*,
+  section III.2, steps 1 to 13.  It starts from the minimum two-norm solution
+  x2 = A^+ y and a null-space basis N, and finds z in x = x2 + N z from the
+  n - m + 1 saturated components (their theorem 3), exchanging columns with
+  Cadzow's rule.  It needs no Haar condition.
+- ``"cadzow"``: J. A. Cadzow's column-exchange algorithm (SIAM J. Numer. Anal.
+  10(4), 1973), C-steps 1 to 11 as Ha and Lee summarise them, kept as the
+  baseline.  It needs the Haar condition (every m columns of A independent);
+  where that fails it can cycle, which :func:`~rankloci.near.cadzow.cadzow`
+  records.
+- ``"lp"``: the linear program min t subject to A x = y, -t <= x_i <= t,
+  solved by scipy's HiGHS: the independent check.
+
+Every method returns an :class:`InfNormSolution`; a method that does not
+reach a certified optimum says so in ``converged`` and ``reason``.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..tolerances import INF_NORM_RTOL, INF_NORM_ZERO_RTOL, RANK_RTOL
+
+__all__ = ["METHODS", "InfNormSolution", "min_inf_norm", "ha_lee", "linear_program",
+           "haar_condition", "sign_choices", "MAX_SIGN_CHOICES"]
+
+#: The methods of :func:`min_inf_norm`.
+METHODS = ("ha_lee", "cadzow", "lp")
+
+#: Where A_2'u has k zero entries (a degenerate dual solution), Ha and Lee choose
+#: sgn(0) at random; here the 2**k choices are tried in a fixed order, for k up to
+#: this (beyond it only the first, the signs of x2).
+MAX_SIGN_CHOICES = 4
+
+
+@dataclass(frozen=True)
+class InfNormSolution:
+    """A solution x of A x = y of (or on the way to) least infinity norm.
+
+    Attributes
+    ----------
+    x : numpy.ndarray
+        The solution (NaN when none was formed).
+    norm : float
+        ``max |x_i|``.
+    bound : float
+        y'u for the last dual-feasible u (||A'u||_1 = 1): no solution has a
+        smaller infinity norm (weak duality).  For ``"lp"``, the LP optimum.
+    converged : bool
+        Whether x is certified optimal: ``norm <= (1 + INF_NORM_RTOL) bound``.
+    method : str
+    iterations : int
+        Column exchanges (HiGHS's simplex iterations for ``"lp"``).
+    saturated : tuple of int
+        Indices of the columns of A_2: the components of x at +-norm.
+    free : tuple of int
+        Indices of the columns of A_1 (m - 1 of them).
+    reason : str
+        Why the method stopped without a certified optimum ("" when converged).
+    history : tuple of dict
+        One entry per iteration: ``free``, ``bound`` (y'u), ``x1_norm``
+        (max |x_i| over the free columns) and ``zeros`` (columns of A_2 with
+        A_2'u = 0), to show how an algorithm proceeds or fails.
+    """
+
+    x: np.ndarray
+    norm: float
+    bound: float
+    converged: bool
+    method: str
+    iterations: int = 0
+    saturated: tuple = ()
+    free: tuple = ()
+    reason: str = ""
+    history: tuple = field(default=(), repr=False)
+
+
+def _checked(A, y):
+    A = np.array(A, dtype=float, copy=True)
+    y = np.array(y, dtype=float, copy=True).reshape(-1)
+    if A.ndim != 2 or A.shape[0] == 0 or A.shape[1] < A.shape[0]:
+        raise ValueError(f"A must be an m x n matrix with 1 <= m <= n, got shape {A.shape}")
+    if y.shape != (A.shape[0],):
+        raise ValueError(f"y must have {A.shape[0]} entries (the rows of A), got {y.shape[0]}")
+    if not (np.all(np.isfinite(A)) and np.all(np.isfinite(y))):
+        raise ValueError("A and y must be finite")
+    return A, y
+
+
+def haar_condition(A) -> bool:
+    """Whether every set of m columns of the m x n matrix A is linearly independent.
+
+    Examples
+    --------
+    >>> haar_condition([[0.7, 0.1, -1.6], [2.0, -0.2, 0.6]])
+    True
+    >>> haar_condition([[1, 2, 3, 4], [1, 2, 3, 5]])
+    False
+    """
+    A = np.asarray(A, dtype=float)
+    m, n = A.shape
+    scale = np.linalg.norm(A, 2)
+    for cols in itertools.combinations(range(n), m):
+        s = np.linalg.svd(A[:, cols], compute_uv=False)
+        if s[-1] <= RANK_RTOL * scale:
+            return False
+    return True
+
+
+def _trivial(A, y, method):
+    m, n = A.shape
+    s = np.linalg.svd(A, compute_uv=False)
+    if s[0] == 0 or s[-1] <= RANK_RTOL * s[0]:
+        ratio = 0.0 if s[0] == 0 else s[-1] / s[0]
+        return InfNormSolution(np.full(n, np.nan), np.nan, np.nan, False, method,
+                               reason=f"A is rank deficient (sigma_min/sigma_max = {ratio:.1e})")
+    if not np.any(y):
+        return InfNormSolution(np.zeros(n), 0.0, 0.0, True, method)
+    return None
+
+
+def _dual_vector(A1, y, m):
+    """Steps 4-5: the unit vector orthogonal to the columns of A_1, oriented so y'nu >= 0."""
+    if A1.shape[1] == 0:
+        nu = np.ones(m)
+    else:
+        U = np.linalg.svd(A1, full_matrices=True)[0]
+        nu = U[:, -1]
+    return nu if y @ nu >= 0 else -nu
+
+
+def sign_choices(g, fallback, limit: int = MAX_SIGN_CHOICES):
+    """Sign vectors of ``g`` in which each zero entry (|g_i| <= INF_NORM_ZERO_RTOL) takes +-1.
+
+    The first choice gives each zero entry the sign of ``fallback`` (+1 where that is 0
+    too); with k <= ``limit`` zero entries all 2**k choices follow.
+
+    Examples
+    --------
+    >>> [list(map(int, s)) for s in sign_choices(np.array([0.0, 0.0, -1.0]), np.array([1.0, -1.0, 0.0]))]
+    [[1, -1, -1], [1, 1, -1], [-1, -1, -1], [-1, 1, -1]]
+    """
+    zero = np.abs(g) <= INF_NORM_ZERO_RTOL
+    base = np.where(zero, np.where(fallback < 0, -1.0, 1.0), np.sign(g))
+    yield base
+    idx = np.flatnonzero(zero)
+    if 0 < len(idx) <= limit:
+        for flips in itertools.product((False, True), repeat=len(idx)):
+            if any(flips):
+                s = base.copy()
+                s[idx[list(flips)]] *= -1
+                yield s
+
+
+def _saturated_solution(S, N, x2, sat):
+    """Steps 6-8: x = x2 + N z with S_i x_i equal over the saturated columns (None if singular)."""
+    B = S[:, None] * N[sat]
+    chi = S * x2[sat]
+    Bf = B[:-1] - B[-1]
+    chif = chi[-1] - chi[:-1]
+    if Bf.shape[0] == 0:
+        return x2.copy()
+    try:
+        z = np.linalg.solve(Bf, chif)
+    except np.linalg.LinAlgError:
+        return None
+    if not np.all(np.isfinite(z)):
+        return None
+    return x2 + N @ z
+
+
+def ha_lee(A, y, *, max_iter: int | None = None) -> InfNormSolution:
+    """Ha and Lee's minimum infinity-norm solution of A x = y (A of full row rank).
+
+    Parameters
+    ----------
+    A : array_like, shape (m, n), m <= n
+    y : array_like, shape (m,)
+    max_iter : int, optional
+        Column exchanges allowed (default 50 n).
+
+    Returns
+    -------
+    InfNormSolution
+        ``converged`` False, with the reason, when A is rank deficient or the
+        exchanges do not reach a certified optimum.
+
+    Examples
+    --------
+    >>> s = ha_lee([[0.7, 0.1, -1.6], [2.0, -0.2, 0.6]], [-1.0, 0.2])
+    >>> np.round(s.x, 4), s.converged
+    (array([-0.1162, -0.5404,  0.5404]), True)
+    """
+    A, y = _checked(A, y)
+    done = _trivial(A, y, "ha_lee")
+    if done is not None:
+        return done
+    m, n = A.shape
+    max_iter = 50 * n if max_iter is None else max_iter
+    # step 1: minimum two-norm solution and an orthonormal null-space basis
+    U, s, Vt = np.linalg.svd(A, full_matrices=True)
+    x2 = Vt[:m].T @ ((U.T @ y) / s)
+    N = Vt[m:].T
+    # steps 2-3: A_1 from the m - 1 smallest |x2_i|
+    free = sorted(np.argsort(np.abs(x2), kind="stable")[: m - 1].tolist())
+    history, seen = [], set()
+    x, bound = x2, 0.0
+    for it in range(max_iter + 1):
+        sat = [j for j in range(n) if j not in free]
+        nu = _dual_vector(A[:, free], y, m)
+        g = A[:, sat].T @ nu
+        u = nu / np.abs(g).sum()                      # step 5: ||A_2'u||_1 = 1
+        g = A[:, sat].T @ u
+        bound = float(y @ u)
+        best = None
+        for S in sign_choices(g, x2[sat]):            # step 6, sgn(0) = +-1
+            cand = _saturated_solution(S, N, x2, sat)
+            if cand is None:
+                continue
+            x1n = float(np.max(np.abs(cand[free]))) if free else 0.0
+            if best is None or x1n < best[1]:
+                best = (cand, x1n)
+            if x1n <= (1 + INF_NORM_RTOL) * bound:    # step 9(a)
+                break
+        zeros = [sat[i] for i in np.flatnonzero(np.abs(g) <= INF_NORM_ZERO_RTOL)]
+        if best is None:
+            history.append(dict(free=tuple(free), bound=bound, x1_norm=np.inf, zeros=zeros))
+            return _result(np.full(n, np.nan), bound, False, "ha_lee", it, sat, free, history,
+                           "the saturated components give a singular system for every sign choice")
+        x, x1n = best
+        history.append(dict(free=tuple(free), bound=bound, x1_norm=x1n, zeros=zeros))
+        if x1n <= (1 + INF_NORM_RTOL) * bound:
+            return _result(x, bound, True, "ha_lee", it, sat, free, history)
+        if tuple(free) in seen:
+            return _result(x, bound, False, "ha_lee", it, sat, free, history,
+                           f"the column exchange returned to the basis {tuple(free)} (cycling)")
+        seen.add(tuple(free))
+        free = _exchange(A, u, x, free, sat)
+    return _result(x, bound, False, "ha_lee", max_iter, sat, free, history,
+                   f"no certified optimum after {max_iter} column exchanges")
+
+
+def _exchange(A, u, x, free, sat):
+    """Steps 10-13 (Cadzow's rule): the new free columns after one exchange."""
+    m = A.shape[0]
+    p = int(np.argmax(np.abs(x[free])))                       # step 10
+    rhs = np.zeros(m)
+    rhs[p] = np.sign(x[free[p]])
+    M = np.vstack([A[:, free].T, u])                          # step 11, b = u
+    gamma = np.linalg.lstsq(M, rhs, rcond=None)[0]
+    num = -(A[:, sat].T @ gamma)
+    den = A[:, sat].T @ u
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(np.abs(den) > INF_NORM_ZERO_RTOL, num / den,
+                         np.where(num > 0, np.inf, -np.inf))  # step 12
+    q = int(np.argmax(ratio))
+    new = list(free)
+    new[p] = sat[q]                                           # step 13
+    return sorted(new)
+
+
+def _result(x, bound, converged, method, it, sat, free, history, reason=""):
+    return InfNormSolution(x=x, norm=float(np.max(np.abs(x))), bound=float(bound),
+                           converged=converged, method=method, iterations=it,
+                           saturated=tuple(int(j) for j in sat), free=tuple(int(j) for j in free),
+                           reason=reason, history=tuple(history))
+
+
+def linear_program(A, y) -> InfNormSolution:
+    """The minimum infinity-norm solution as a linear program (scipy HiGHS).
+
+    min t subject to A x = y and -t <= x_i <= t.
+
+    Examples
+    --------
+    >>> s = linear_program([[1, 2, 3, 4], [1, 2, 3, 5]], [1, 0])
+    >>> round(s.norm, 6), s.converged
+    (1.0, True)
+    """
+    from scipy.optimize import linprog
+
+    A, y = _checked(A, y)
+    done = _trivial(A, y, "lp")
+    if done is not None:
+        return done
+    m, n = A.shape
+    c = np.zeros(n + 1)
+    c[-1] = 1.0
+    eye = np.eye(n)
+    A_ub = np.block([[eye, -np.ones((n, 1))], [-eye, -np.ones((n, 1))]])
+    A_eq = np.hstack([A, np.zeros((m, 1))])
+    res = linprog(c, A_ub=A_ub, b_ub=np.zeros(2 * n), A_eq=A_eq, b_eq=y,
+                  bounds=[(None, None)] * n + [(0, None)], method="highs")
+    if res.status != 0:
+        return InfNormSolution(np.full(n, np.nan), np.nan, np.nan, False, "lp",
+                               reason=f"HiGHS: {res.message}")
+    x = res.x[:n]
+    t = float(res.x[-1])
+    sat = tuple(int(j) for j in np.flatnonzero(np.abs(np.abs(x) - t) <= INF_NORM_RTOL * max(t, 1e-300)))
+    return InfNormSolution(x=x, norm=float(np.max(np.abs(x))), bound=t, converged=True, method="lp",
+                           iterations=int(getattr(res, "nit", 0)), saturated=sat,
+                           free=tuple(j for j in range(n) if j not in sat))
+
+
+def min_inf_norm(A, y, *, method: str = "ha_lee") -> InfNormSolution:
+    """The solution of A x = y of least ``max |x_i|``, by ``method``.
+
+    Parameters
+    ----------
+    A : array_like, shape (m, n), m <= n, full row rank
+    y : array_like, shape (m,)
+    method : {"ha_lee", "cadzow", "lp"}
+
+    Returns
+    -------
+    InfNormSolution
+
+    Examples
+    --------
+    >>> A, y = [[1, 2, 3, 4], [1, 2, 3, 5]], [1, 0]
+    >>> min_inf_norm(A, y).x.round(6).tolist()
+    [0.0, 1.0, 1.0, -1.0]
+    >>> min_inf_norm(A, y, method="cadzow").converged
+    False
+    """
+    if method == "ha_lee":
+        return ha_lee(A, y)
+    if method == "lp":
+        return linear_program(A, y)
+    if method == "cadzow":
+        from .cadzow import cadzow
+
+        return cadzow(A, y)
+    raise ValueError(f"method={method!r}: choose one of {', '.join(METHODS)}")
