@@ -201,3 +201,9 @@ INF_NORM_ZERO_RTOL = 1e-10
 #: sqrt(n) sigma_min / sigma_max: on the locus (sigma_min/sigma_max <= RANK_RTOL)
 #: at most 10 RANK_RTOL for up to 100 joints.
 FLAT_RTOL = 10 * RANK_RTOL
+
+#: ``rankloci ik``: the tool point of the start configuration must lie within
+#: IK_START_RTOL * (1 + |x0|) of the path's first point.  Coordinates typed on a
+#: command line carry 6 or more significant digits; a start solved by least squares
+#: reaches ~1e-12.
+IK_START_RTOL = 1e-6
