@@ -15,6 +15,7 @@ import sys
 import time
 
 from .output import progress_printer, write_atomic
+from .near import cmd_ik, cmd_manipulability
 from .parser import UsageError
 
 __all__ = ["COMMANDS", "EXIT_OK", "EXIT_FAILED", "EXIT_USAGE", "deadline_clock"]
@@ -414,4 +415,6 @@ COMMANDS = {
     "locus": cmd_locus,
     "check": cmd_check,
     "report": cmd_report,
+    "ik": cmd_ik,
+    "manipulability": cmd_manipulability,
 }

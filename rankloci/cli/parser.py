@@ -301,4 +301,8 @@ def build_parser() -> ArgumentParser:
     p.add_argument("--base-link", dest="base_link", help="URDF only: first link of the chain")
     p.add_argument("--tip", dest="tip_link", help="URDF only: last link of the chain")
     p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
+
+    from .near import add_parsers as add_near_parsers
+
+    add_near_parsers(sub, raw)
     return parser
