@@ -10,7 +10,6 @@ the time limit) and the path of graphviz's ``dot`` (or None for each).
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 
 import numpy as np
@@ -19,10 +18,17 @@ import sympy as sp
 __all__ = ["Report", "ComponentView", "build_report", "READING_POINTS", "SUMMARY_CHARS"]
 
 #: Extra points per component on which geometric readings are confirmed.
-READING_POINTS = 2
+READING_POINTS = 3
 
 #: A direction reading longer than this is left out of the summary tables.
 SUMMARY_CHARS = 110
+
+#: A geometric reading longer than this is shortened to its name in the summary table.
+SUMMARY_READING_CHARS = 240
+
+#: An equation a reading names is written out when its width (in
+#: :func:`~rankloci.report.mathfmt.math_width` units) is at most this, else named by its order.
+READING_EQUATION_WIDTH = 16.0
 
 
 @dataclass(frozen=True)
@@ -251,7 +257,6 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
 
 def _component_views(model, model_tm, locus, nm, params, rng, jac):
     """A :class:`ComponentView` of each component, and the notation the views use."""
-    from .analysis import component_points
     from .mathfmt import abbreviations, angle_sums, compact, latex, math_width
     from .reading import direction_readings, lost_motion
 
@@ -283,8 +288,20 @@ def _component_views(model, model_tm, locus, nm, params, rng, jac):
         folded = fold(c.equations)
         folded_excluding = fold(c.excluding) if folded else ()
         geometry, directions, motions = [], [], []
+        summary = ""
         if not special:
-            geometry = _named_readings(model, c, nm, params, rng, component_points)
+            eqs = [e for e in c.equations if e not in c.parameter_conditions] or list(c.equations)
+            shown = list(folded) if len(folded) == len(c.equations) else []
+            labels = [_equation_label(k, (shown[c.equations.index(e)] if shown else e))
+                      for k, e in enumerate(eqs)]
+            reading = _reading(model, c, eqs, labels, nm, params, rng)
+            if reading is not None:
+                geometry = [reading.text] + ([reading.lost_rotation]
+                                             if reading.lost_rotation else [])
+                first = reading.text.split(". ")[0]
+                summary = first if len(first) <= SUMMARY_READING_CHARS else (
+                    (reading.name[0].upper() + reading.name[1:] + "; " if reading.name else "")
+                    + "see the component's subsection")
             q = np.array([c.sample[v.name] for v in nm.variables], dtype=float)
             J = nm(q)
             for vec in c.direction_at_sample:
@@ -295,10 +312,10 @@ def _component_views(model, model_tm, locus, nm, params, rng, jac):
                 if motion:
                     motions.append(motion)
         short = [r for r in directions if len(r) <= SUMMARY_CHARS]
-        summary = geometry[0] if geometry else (short[0] if short else "")
+        summary = summary or (short[0] if short else "")
         views.append(ComponentView(i, c, special, tuple(geometry + directions), folded,
                                    folded_excluding, getattr(c, "kind", None), summary,
-                                   tuple(geometry), tuple(motions)))
+                                   (summary,) if geometry else (), tuple(motions)))
     items = sorted(notation.values(), key=lambda p: _notation_key(p[1], variables))
     return tuple(views), tuple(items)
 
@@ -310,40 +327,47 @@ def _notation_key(f, variables):
             isinstance(f, sp.sin))
 
 
-def _named_readings(model, comp, nm, params, rng, component_points):
-    """Geometric readings, with the conventional name of the singularity where it is clear."""
+_ORDINALS = ("first", "second", "third", "fourth", "fifth", "sixth", "seventh", "eighth")
+
+
+def _equation_label(k: int, e) -> str:
+    """How a reading names equation ``k`` (0-based): inline math when short, else its ordinal."""
+    from .mathfmt import latex, math_width
+
+    text = f"{latex(e)} = 0"
+    if math_width(text) <= READING_EQUATION_WIDTH:
+        return f"${text}$"
+    word = _ORDINALS[k] if k < len(_ORDINALS) else f"number {k + 1}"
+    return f"the {word} equation"
+
+
+def _reading(model, comp, eqs, labels, nm, params, rng):
+    """The :class:`~rankloci.report.interpret.Reading` of one component (or None)."""
     from ..model import RobotModel
-    from .reading import geometry_readings
+    from ..numeric.equations import points_on
+    from .analysis import component_equations, component_points
+    from .interpret import FACTOR_POINTS, component_reading
 
     if not isinstance(model, RobotModel):
-        return []
+        return None
+    names = [v.name for v in nm.variables]
+
+    def as_dict(q):
+        return {n: float(x) for n, x in zip(names, q)}
+
     pts = component_points(comp, nm, params, rng, READING_POINTS)
-    qs = [{v.name: float(x) for v, x in zip(nm.variables, q)} for q in pts]
-    facts = geometry_readings(model, qs, rng)
-    if not facts:
-        return []
-    revolute = [k + 1 for k, j in enumerate(model.joints) if j.kind == "revolute"]
-    wrist = set(revolute[-3:]) if len(revolute) >= 6 else set()
-    shoulder = set(revolute[:3]) if len(revolute) >= 6 else set()
-    first = revolute[0] if revolute else None
-    named = []
-    for f in facts:
-        axes = [int(x) for x in re.findall(r"\d+", f)]
-        if f.startswith("axes") and f.endswith("collinear") and set(axes) <= wrist:
-            f = "wrist singularity: " + f
-        elif f.startswith("axes") and f.endswith("collinear") and set(axes) <= shoulder:
-            f = "shoulder singularity: " + f
-        elif (f.startswith("axes") and f.endswith("collinear") and len(revolute) >= 7
-              and axes[0] in shoulder and axes[1] in wrist):
-            f = "elbow singularity (arm stretched out or folded back): " + f
-        elif f.startswith("axis") and "parallel to" in f and axes[0] in wrist \
-                and set(axes[1:]) & wrist:
-            f = "wrist singularity: " + f
-        elif (f == f"the task point lies on axis {first}"
-              or f.startswith(f"the task point lies in the plane through axis {first} ")):
-            f = "shoulder singularity: " + f
-        elif (f.endswith("the plane they span") or f.endswith("lie in one plane")) \
-                and axes == list(range(axes[0], axes[0] + len(axes))):
-            f = "elbow singularity (arm stretched out or folded back): " + f
-        named.append(f)
-    return named
+    factor_points = []
+    if len(eqs) > 1:
+        for e in eqs:
+            single = component_equations(_OneEquation((e,)), nm, params)
+            factor_points.append([as_dict(q) for q in points_on(single, nm, rng, FACTOR_POINTS)])
+    return component_reading(model, eqs, labels, [as_dict(q) for q in pts], factor_points, rng,
+                             params, matrix=lambda d: nm(np.array([d[n] for n in names])))
+
+
+@dataclass(frozen=True)
+class _OneEquation:
+    """A stand-in component with only some of the equations (points on a factor alone)."""
+
+    equations: tuple
+    excluding: tuple = ()

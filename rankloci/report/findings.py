@@ -111,7 +111,9 @@ def _component_blocks(report, view):
                                  for label, what in figs) + ".")
     out.append(Bullets(tuple(items)))
     if view.readings:
-        out.append(Para("At the sample point (verified numerically):", lead="Reading."))
+        out.append(Para("Geometric facts hold at the sample point and at other points of the "
+                        "component, and at no random configuration; directions are checked "
+                        "at the sample point (all numerically):", lead="Reading."))
         out.append(Bullets(tuple(r[0].upper() + r[1:] + "." for r in view.readings)))
     out.append(Para("The equations as plain text:"))
     out.append(Code(plain_equations(c)))

@@ -1,0 +1,525 @@
+"""One complete reading of each component: what every one of its equations does to the arm.
+
+A component of a robot's locus is cut out by one or more equations (its
+factors).  :func:`component_reading` says, for each factor, which geometric
+facts hold wherever that factor alone vanishes (sampled points of its
+hypersurface, not of the component) and at no random configuration; then
+which facts hold on the component but on no single factor's hypersurface
+(they need the factors together).  From these it names the classical case
+when the geometry makes one clear (shoulder, elbow, wrist, all links
+aligned), and for collinear axes it names the rotation the joints between
+them lose.  Every statement is checked at several points; nothing is read
+from the model's name.
+
+The facts are about joint axes (collinear, parallel, perpendicular,
+intersecting) and about points that the design fixes on the axes: the task
+point and the meeting points of consecutive axes that meet at every
+configuration (the centre of a spherical wrist, the shoulder point of an arm
+whose first two axes meet).
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..model import RobotModel
+from .blocks import plural
+from .reading import GEOMETRY_RTOL, axis_lines
+
+__all__ = ["Reading", "component_reading", "facts_at", "dependent_joints", "FACTOR_POINTS", "RANDOM_POINTS"]
+
+#: Points sampled on each factor's hypersurface, and on the component besides its sample.
+FACTOR_POINTS = 3
+
+#: Random configurations whose facts are design facts (they are never a reading).
+RANDOM_POINTS = 5
+
+
+@dataclass(frozen=True)
+class Reading:
+    """The reading of one component.
+
+    Attributes
+    ----------
+    name : str
+        The classical case ("shoulder singularity", ...) or "" when none is clear.
+    text : str
+        One sentence covering every factor (with its name in front when there is one).
+    factors : tuple of (int, str)
+        For each factor (0-based index into the component's equations) what it does alone.
+    joint : str
+        What the factors do only together ("" if nothing beyond the factors).
+    lost_rotation : str
+        For collinear axes: the rotation the joints between them cannot produce.
+    points : int
+        How many points of the component the facts were checked on.
+    """
+
+    name: str
+    text: str
+    factors: tuple = ()
+    joint: str = ""
+    lost_rotation: str = ""
+    points: int = 0
+
+
+# --- facts at one configuration ----------------------------------------------------------------
+
+def _parallel(u, v) -> bool:
+    return float(np.linalg.norm(np.cross(u, v))) <= GEOMETRY_RTOL
+
+
+def _dist_line(p, line) -> float:
+    r = p - line.point
+    return float(np.linalg.norm(r - (r @ line.direction) * line.direction))
+
+
+def _meeting_point(a, b):
+    """The point where two non-parallel lines meet, or None when they miss each other."""
+    n = np.cross(a.direction, b.direction)
+    nn = float(np.linalg.norm(n))
+    if nn <= GEOMETRY_RTOL:
+        return None
+    w = b.point - a.point
+    # closest points: a.point + s a.d, b.point + t b.d
+    s = np.dot(np.cross(w, b.direction), n) / nn ** 2
+    t = np.dot(np.cross(w, a.direction), n) / nn ** 2
+    pa, pb = a.point + s * a.direction, b.point + t * b.direction
+    return pa, pb
+
+
+def _scale(lines, tool) -> float:
+    pts = [ln.point for ln in lines] + [tool]
+    return max(max(float(np.linalg.norm(p - q)) for p in pts for q in pts), 1e-9)
+
+
+def _design_points(model, params, rng):
+    """Points where consecutive revolute axes meet at every configuration (checked at random).
+
+    Returns a tuple of joint tuples: the axes through each such point, the first
+    two of which define it (pairs that meet at the same point are merged).
+    """
+    rev = [k + 1 for k, j in enumerate(model.joints) if j.kind == "revolute"]
+    pairs = [(a, b) for a, b in zip(rev, rev[1:]) if b == a + 1]
+    keep = set(pairs)
+    same = {(p, r) for p, r in itertools.combinations(pairs, 2)}
+    for _ in range(RANDOM_POINTS):
+        lines, tool = axis_lines(model, _random_q(model, rng), params)
+        tol = GEOMETRY_RTOL * _scale(lines, tool)
+        where = {}
+        for a, b in list(keep):
+            m = _meeting_point(lines[a - 1], lines[b - 1])
+            if m is None or float(np.linalg.norm(m[0] - m[1])) > tol:
+                keep.discard((a, b))
+            else:
+                where[(a, b)] = m[0]
+        same = {(p, r) for p, r in same if p in where and r in where
+                and float(np.linalg.norm(where[p] - where[r])) <= tol}
+    groups = []
+    for p in sorted(keep):
+        hit = [g for g in groups if any((min(p, r), max(p, r)) in same for r in g)]
+        groups = [g for g in groups if g not in hit] + [sorted(set().union([p], *hit))]
+    return tuple(tuple(sorted({j for pr in g for j in pr})) for g in sorted(groups))
+
+
+def _random_q(model, rng) -> dict:
+    return {str(v): (rng.uniform(-np.pi, np.pi) if j.kind == "revolute" else rng.normal())
+            for v, j in zip(model.variables, model.joints)}
+
+
+def facts_at(model, q: dict, params, meets=()) -> set:
+    """Every geometric fact at configuration ``q``, as hashable keys.
+
+    ``meets`` lists consecutive axes (a, b) that meet by design; their meeting
+    points are tested like the task point.  Keys: ``("collinear", a, b)``,
+    ``("parallel", a, b)``, ``("perpendicular", a, b)``, ``("intersect", a, b)``,
+    ``("on-axis", X, a)``, ``("in-plane", X, a, b)`` (X in the plane through
+    axis a parallel to axis b) and ``("coplanar", X, frozenset)`` (X and the
+    parallel axes in one plane; X may be None), where X is ``"P"`` (the task
+    point) or a pair (a, b) of ``meets``.
+    """
+    lines, tool = axis_lines(model, q, params)
+    tol = GEOMETRY_RTOL * _scale(lines, tool)
+    rev = [ln for ln in lines if ln.kind == "revolute"]
+    points = {"P": tool}
+    for axes in meets:
+        m = _meeting_point(lines[axes[0] - 1], lines[axes[1] - 1])
+        if m is not None and float(np.linalg.norm(m[0] - m[1])) <= tol:
+            if float(np.linalg.norm(m[0] - tool)) > tol:
+                points[axes] = 0.5 * (m[0] + m[1])
+    facts = set()
+    for a, b in itertools.combinations(rev, 2):
+        if _parallel(a.direction, b.direction):
+            if _dist_line(b.point, a) <= tol:
+                facts.add(("collinear", a.joint, b.joint))
+            else:
+                facts.add(("parallel", a.joint, b.joint))
+            continue
+        if abs(float(a.direction @ b.direction)) <= GEOMETRY_RTOL:
+            facts.add(("perpendicular", a.joint, b.joint))
+        n = np.cross(a.direction, b.direction)
+        if abs(float((b.point - a.point) @ n)) / float(np.linalg.norm(n)) <= tol:
+            facts.add(("intersect", a.joint, b.joint))
+    for name, p in points.items():
+        own = set(name) if isinstance(name, tuple) else set()
+        on = {a.joint for a in rev if a.joint not in own and _dist_line(p, a) <= tol}
+        facts |= {("on-axis", name, j) for j in on}
+        for a, b in itertools.permutations(rev, 2):
+            if a.joint in on or a.joint in own or _parallel(a.direction, b.direction):
+                continue
+            n = np.cross(a.direction, b.direction)
+            n /= np.linalg.norm(n)
+            if abs(float((p - a.point) @ n)) <= tol:
+                facts.add(("in-plane", name, a.joint, b.joint))
+    # planes of parallel axes, with or without a point
+    for a, b in itertools.combinations(rev, 2):
+        if not _parallel(a.direction, b.direction) or _dist_line(b.point, a) <= tol:
+            continue
+        n = np.cross(a.direction, b.point - a.point)
+        n /= np.linalg.norm(n)
+        members = frozenset(c.joint for c in rev if _parallel(a.direction, c.direction)
+                            and abs(float((c.point - a.point) @ n)) <= tol)
+        if len(members) >= 3:
+            facts.add(("coplanar", None, members))
+        for name, p in points.items():
+            own = set(name) if isinstance(name, tuple) else set()
+            if not own & members and abs(float((p - a.point) @ n)) <= tol:
+                facts.add(("coplanar", name, members))
+    return facts
+
+
+# --- reading the facts -------------------------------------------------------------------------
+
+def _and(items) -> str:
+    items = [str(x) for x in items]
+    return items[0] if len(items) == 1 else ", ".join(items[:-1]) + " and " + items[-1]
+
+
+def _point_name(x, meets_all) -> str:
+    if x == "P":
+        return "the task point"
+    return f"the point where axes {_and(x)} meet"
+
+
+def _groups(pairs):
+    """Connected groups of joints from pairs (collinear axes form lines)."""
+    groups = []
+    for a, b in sorted(pairs):
+        hit = [g for g in groups if a in g or b in g]
+        merged = set().union({a, b}, *hit)
+        groups = [g for g in groups if g not in hit] + [merged]
+    return sorted((sorted(g) for g in groups), key=lambda g: g[0])
+
+
+def _sentences(facts, meets, context=None) -> list:
+    """The most telling facts in words, most telling first (each with its kind).
+
+    ``context`` (default ``facts``) is the whole set the facts come from: a plane of
+    axes is not read where those axes are parallel only here (the parallelism is).
+    """
+    context = facts if context is None else context
+    out = []
+    for g in _groups(f[1:] for f in facts if f[0] == "collinear"):
+        out.append(("collinear", tuple(g), f"axes {_and(g)} are collinear"))
+    for f in sorted((f for f in facts if f[0] == "on-axis"), key=str):
+        out.append(("on-axis", (f[1], f[2]), f"{_point_name(f[1], meets)} lies on axis {f[2]}"))
+    new_parallel = {frozenset(f[1:]) for f in context if f[0] in ("parallel", "collinear")}
+    # a plane of axes that are parallel only here follows from that parallelism: not read
+    planes = [f for f in facts if f[0] == "coplanar"
+              and not any(frozenset(p) in new_parallel for p in itertools.combinations(f[2], 2))]
+    biggest = [f for f in planes if not any(f[2] < g[2] and f[1] == g[1] for g in planes)]
+    for f in sorted(biggest, key=lambda f: (f[1] is None, str(f))):
+        axes = sorted(f[2])
+        if f[1] is None:
+            if any(g[1] is not None and g[2] >= f[2] for g in biggest):
+                continue
+            out.append(("coplanar", (None, tuple(axes)),
+                        f"axes {_and(axes)} are parallel and lie in one plane"))
+        else:
+            out.append(("coplanar", (f[1], tuple(axes)),
+                        f"axes {_and(axes)} are parallel and {_point_name(f[1], meets)} lies in "
+                        "their plane"))
+    if out:
+        return out
+    pairs = sorted(f[1:] for f in facts if f[0] == "parallel")
+    for g in _groups(pairs):
+        out.append(("parallel", tuple(g), f"axes {_and(g)} are parallel"))
+    through: dict = {}
+    for f in sorted((f for f in facts if f[0] == "in-plane"), key=str):
+        through.setdefault((f[1], f[2]), []).append(f[3])
+    through = {k: sorted(v) for k, v in through.items()}
+    for (x, a), bs in sorted(through.items(), key=lambda kv: (kv[0][0] != "P", str(kv[0]))):
+        word = "axis" if len(bs) == 1 else "axes"
+        out.append(("in-plane", (x, a, tuple(bs)),
+                    f"{_point_name(x, meets)} lies in the plane through axis {a} parallel to "
+                    f"{word} {_and(bs)}"))
+        break
+    if out:
+        return out
+    for kind, verb in (("perpendicular", "are perpendicular"), ("intersect", "meet")):
+        for a, b in sorted(f[1:] for f in facts if f[0] == kind):
+            out.append((kind, (a, b), f"axes {a} and {b} {verb}"))
+    return out
+
+
+def _common(model, qs, params, meets, random_facts):
+    common = None
+    for q in qs:
+        f = facts_at(model, q, params, meets)
+        common = f if common is None else common & f
+    return (common or set()) - random_facts
+
+
+def _arm_position(model, joint) -> tuple[int, int]:
+    """Position of ``joint`` among the last (at most seven) revolute joints, and their count."""
+    rev = [k + 1 for k, j in enumerate(model.joints) if j.kind == "revolute"]
+    arm = rev[-7:]
+    return (arm.index(joint) + 1 if joint in arm else 0), len(arm)
+
+
+def _name(model, kind, what, meets) -> str:
+    """The classical case a sentence describes, decided from the joints it involves."""
+    rev = [k + 1 for k, j in enumerate(model.joints) if j.kind == "revolute"]
+    if not rev:
+        return ""
+    if kind == "coplanar" and what[0] is not None and set(what[1]) == set(rev):
+        return "all links aligned"
+    if kind == "collinear" and len(rev) >= 6:
+        pos = [_arm_position(model, j) for j in what]
+        n = pos[0][1]
+        mids = [p for p, _ in pos]
+        if min(mids) >= n - 2 and len(what) == 2:
+            return "wrist singularity"
+        if max(mids) <= 3 and len(what) == 2 and min(mids) >= 1:
+            return "shoulder singularity"
+        if len(what) == 2 and 2 <= min(mids) and max(mids) <= n - 1:
+            return "elbow singularity"
+        return ""
+    if kind in ("on-axis", "in-plane") and what[1] == rev[0] and (
+            what[0] == "P" or rev[0] not in what[0]):
+        return "shoulder singularity"
+    if kind == "coplanar" and (what[0] is not None or list(what[1]) == list(
+            range(what[1][0], what[1][0] + len(what[1])))):
+        return "elbow singularity"
+    if kind == "parallel" and len(rev) >= 6 and rev[-1] in what and len(what) >= 3:
+        return "wrist singularity"
+    return ""
+
+
+_GLOSS = {
+    "all links aligned": "the arm is stretched out or folded back",
+    "elbow singularity": "the arm is stretched out or folded back",
+}
+
+
+def _lost_rotation(model, q, params, group) -> str:
+    """The rotation that the joints from the first to the last of collinear ``group`` lose."""
+    lines, _ = axis_lines(model, q, params)
+    span = [lines[j - 1].direction for j in range(group[0], group[-1] + 1)
+            if lines[j - 1].kind == "revolute"]
+    if len(span) < 3:
+        return ""
+    _, s, vt = np.linalg.svd(np.array(span))
+    if s[-1] > GEOMETRY_RTOL * s[0]:
+        return ""
+    n = vt[-1] * (1 if vt[-1][np.argmax(np.abs(vt[-1]))] > 0 else -1)
+    joints = f"joints {group[0]} to {group[-1]}"
+    return (f"{joints} together cannot rotate the end-effector about the common normal "
+            f"[{', '.join(f'{x:+.3f}' for x in n)}] (base frame) of their axes at the sample "
+            "point; the other joints give that rotation only together with a translation")
+
+
+def dependent_joints(matrices, labels, columns=None) -> tuple:
+    """The smallest set of columns that is rank deficient in every one of ``matrices``.
+
+    A set counts as rank deficient when its smallest singular value is at most
+    RANK_RTOL times the largest singular value of the whole matrix.  Returns the
+    labels of the columns, or ``()`` when only the whole matrix is.  ``columns``
+    (indices) limits the search to those columns.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> J = np.array([[1.0, 2.0, 0.0], [0.0, 0.0, 1.0]])
+    >>> dependent_joints([J], ["1", "2", "3"])
+    ('1', '2')
+    """
+    from ..tolerances import RANK_RTOL
+
+    Js = [np.asarray(J, dtype=float) for J in matrices]
+    m, n = Js[0].shape
+    pool = list(range(n)) if columns is None else list(columns)
+    tops = [float(np.linalg.svd(J, compute_uv=False)[0]) for J in Js]
+    for size in range(1, min(m, n - 1, len(pool)) + 1):
+        for cols in itertools.combinations(pool, size):
+            if all(float(np.linalg.svd(J[:, cols], compute_uv=False)[-1]) <= RANK_RTOL * top
+                   for J, top in zip(Js, tops)):
+                return tuple(labels[c] for c in cols)
+    return ()
+
+
+def _offset_remark(model, points, params, x, axis) -> str:
+    """Why a point in a plane through ``axis`` is the general form of the point on ``axis``."""
+    dists = []
+    for q in points:
+        lines, tool = axis_lines(model, q, params)
+        p = tool if x == "P" else None
+        if p is None:
+            m = _meeting_point(lines[x[0] - 1], lines[x[1] - 1])
+            p = 0.5 * (m[0] + m[1])
+        dists.append(_dist_line(p, lines[axis - 1]))
+    scale = max(dists)
+    if scale <= 0 or max(dists) - min(dists) > 1e-6 * max(scale, 1.0):
+        return ""
+    return (f"{_point_name(x, ())} keeps a distance of {dists[0]:.4g} length units from axis {axis} at every "
+            "point of the component (a lateral offset of the design), so it can never lie on "
+            f"axis {axis}; the plane through axis {axis} is the general form of the "
+            f"classical condition '{_point_name(x, ())} on axis {axis}', to which it reduces "
+            "when that offset is zero")
+
+
+def component_reading(model, equations, labels, points, factor_points, rng, params=None,
+                      matrix=None):
+    """The reading of one component.
+
+    Parameters
+    ----------
+    model : RobotModel
+        Any other model gives ``None``.
+    equations : sequence of sympy.Expr
+        The component's equations (its factors).
+    labels : sequence of str
+        How the text names each equation (inline math, e.g. ``"$s_{5} = 0$"``).
+    points : sequence of dict
+        Points of the component (variable name -> value); the first is its sample.
+    factor_points : sequence of sequence of dict
+        For each equation, points where it alone vanishes (the other joints free).
+    rng : numpy.random.Generator
+        Draws the random configurations whose facts are design facts.
+    params : dict, optional
+        Parameter values (default: the model's).
+    matrix : callable, optional
+        J at a point (dict -> array, columns in joint order); with it, a component
+        or factor that no geometric fact explains is read by the smallest set of
+        joints whose columns are dependent at every point.
+
+    Returns
+    -------
+    Reading or None
+        ``None`` when no geometric fact holds at all the points.
+
+    Examples
+    --------
+    >>> import numpy as np, sympy as sp
+    >>> from rankloci.io import load_model
+    >>> puma = load_model("puma560")
+    >>> q = {"q1": 0.3, "q2": 0.2, "q3": -0.4, "q4": 0.5, "q5": 0.0, "q6": 0.1}
+    >>> r = component_reading(puma, [sp.sin(sp.Symbol("q5"))], ["$s_5 = 0$"],
+    ...                       [q, dict(q, q1=1.0, q4=-1.2)], [[]], np.random.default_rng(0))
+    >>> r.name, r.text
+    ('wrist singularity', 'Wrist singularity: axes 4 and 6 are collinear')
+    """
+    if not isinstance(model, RobotModel) or not points:
+        return None
+    meets = _design_points(model, params, rng)
+    random_facts = set()
+    for _ in range(RANDOM_POINTS):
+        random_facts |= facts_at(model, _random_q(model, rng), params, meets)
+    whole = _common(model, points, params, meets, random_facts)
+    dependent = ""
+    if matrix is not None:
+        cols = dependent_joints([matrix(q) for q in points],
+                                [str(k + 1) for k in range(len(model.joints))])
+        if cols:
+            dependent = (f"the columns of joints {_and(cols)} of J are linearly dependent "
+                         f"(checked at {len(points)} points)")
+    if not whole:
+        if not dependent:
+            return None
+        return Reading("", dependent[0].upper() + dependent[1:], (), dependent, "", len(points))
+    per = []
+    if len(equations) > 1:
+        per = [(k, _common(model, qs, params, meets, random_facts) if qs else set())
+               for k, qs in enumerate(factor_points)]
+    said = set()
+    for _, f in per:
+        said |= {t for _, _, t in _sentences(f, meets)}
+    whole_s = _sentences(whole, meets)
+    together = [x for x in _sentences(whole - set().union(*(f for _, f in per)), meets, whole)
+                if x[2] not in said] if per else []
+    factors, names, used = [], [], []
+    for k, f in per:
+        s = _sentences(f, meets)[:2]
+        if s:
+            factors.append((k, "; ".join(t for _, _, t in s)))
+            names.append(_name(model, s[0][0], s[0][1], meets))
+            used += s
+    joint = together[:2] if per else whole_s[:2]
+    used += joint
+    if joint:
+        first = _name(model, joint[0][0], joint[0][1], meets)
+        names = [first] if first or not per else names
+    unexplained = [k for k, f in per if not _sentences(f, meets)]
+    if unexplained and not joint:
+        names = []  # a factor nothing explains: the classical name of the others would mislead
+    names = [n for n in names if n]
+    name = ""
+    if names:
+        uniq = list(dict.fromkeys(n.replace(" singularity", "") for n in names))
+        name = names[0] if len(uniq) == 1 else f"{_and(uniq)} singularities at once"
+    joint_text = "; ".join(t for _, _, t in joint)
+    if per:
+        parts = [f"where {labels[k]}, {text}" for k, text in factors]
+        missing = [labels[k] for k, f in per if not _sentences(f, meets)]
+        if joint_text:
+            parts.append(("together, " if parts else "") + joint_text)
+        if missing:
+            why = ""
+            if matrix is not None:
+                names = [str(k + 1) for k in range(len(model.joints))]
+                keep = set(range(len(names)))
+                for k, f in per:
+                    if _sentences(f, meets) and factor_points[k]:
+                        d = dependent_joints([matrix(q) for q in factor_points[k]], names)
+                        keep -= {int(d[-1]) - 1} if d else set()
+                rest = dependent_joints([matrix(q) for q in points], names, sorted(keep))
+                if rest and len(keep) < len(names):
+                    dropped = _and(sorted(set(range(1, len(names) + 1)) - {c + 1 for c in keep}))
+                    told = _and([labels[k] for k, f in per if k not in unexplained])
+                    why = (f"; {told} already {'makes' if len(per) - len(missing) == 1 else 'make'}"
+                           f" the column of joint {dropped} depend on the others, and "
+                           f"{_and(missing)} is where the columns of "
+                           f"joints {_and(rest)} become dependent too (checked at "
+                           f"{len(points)} points)")
+                elif dependent:
+                    why = f"; at the points of the component, {dependent}"
+            parts.append(f"{_and(missing)} alone gives no fact about the axes: it acts only "
+                         f"together with the other {plural('equation', len(equations) - 1)}"
+                         + why)
+        body = "; ".join(parts)
+    else:
+        body = joint_text
+    extra = []
+    for kind, what, _ in used:
+        if kind == "in-plane" and _name(model, kind, what, meets) == "shoulder singularity":
+            remark = _offset_remark(model, points, params, what[0], what[1])
+            if remark:
+                extra.append(remark)
+                break
+    lost = ""
+    rev = [k + 1 for k, j in enumerate(model.joints) if j.kind == "revolute"]
+    for kind, what, _ in used:
+        if kind == "collinear":
+            lost = _lost_rotation(model, points[0], params, list(what))
+        elif kind == "parallel" and "wrist" in name and len(rev) >= 3:
+            lost = _lost_rotation(model, points[0], params, rev[-3:])
+        if lost:
+            break
+    gloss = _GLOSS.get(name, "")
+    head = (name[0].upper() + name[1:] + (f" ({gloss})" if gloss else "") + ": ") if name else ""
+    text = head + (body if head else body[0].upper() + body[1:])
+    text = ". ".join([text] + [e[0].upper() + e[1:] for e in extra])
+    return Reading(name, text, tuple(factors), joint_text, lost, len(points))
