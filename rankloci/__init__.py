@@ -1,8 +1,87 @@
-"""rankloci: closed-form rank-deficiency loci of robot Jacobians.
+"""rankloci: closed-form rank-deficiency loci of robot Jacobians and symbolic matrices.
 
-The package is imported lazily: importing it costs nothing until a
-submodule is used, so the command line starts fast.
+The package is imported lazily: ``import rankloci`` loads nothing heavy, and
+each name below is imported the first time it is used, so the command line
+starts fast.
+
+- :func:`load_model`, :func:`jacobian`, :func:`locus`, :func:`check`,
+  :func:`report`, :func:`is_singular`: the command line's subcommands as
+  functions (:mod:`rankloci.api`);
+- :func:`from_rtb`, :func:`from_pinocchio`: models from Robotics Toolbox for
+  Python and Pinocchio (:mod:`rankloci.adapters`);
+- :class:`Locus`, :class:`Component`, :class:`Outcome`: the result types;
+  :class:`LocusTimeout` and the other errors (:mod:`rankloci.errors`);
+- the submodules (``rankloci.io``, ``rankloci.methods``, ...) are attributes too,
+  except that ``rankloci.locus``, ``rankloci.jacobian`` and ``rankloci.report``
+  are the functions: import those modules by name (``from rankloci.locus import
+  Locus``, ``importlib.import_module("rankloci.report")``).
+
+Examples
+--------
+>>> import rankloci
+>>> L = rankloci.locus("puma560", numeric=True)
+>>> len(L.components), L.complete
+(3, True)
 """
 
+import importlib
+import sys
+import types
+
 __version__ = "0.1.0"
-__all__ = ["__version__"]
+
+#: Public name -> the module that defines it.
+_EXPORTS = {
+    "load_model": "rankloci.api", "jacobian": "rankloci.api", "locus": "rankloci.api",
+    "check": "rankloci.api", "report": "rankloci.api", "is_singular": "rankloci.api",
+    "Check": "rankloci.api", "from_rtb": "rankloci.adapters",
+    "from_pinocchio": "rankloci.adapters",
+    "Locus": "rankloci.locus", "Component": "rankloci.locus", "Outcome": "rankloci.locus",
+    "RobotModel": "rankloci.model", "MatrixModel": "rankloci.model",
+    "TaskMatrix": "rankloci.jacobian",
+    "RanklociError": "rankloci.errors", "ModelError": "rankloci.errors",
+    "ExpressionError": "rankloci.errors", "ShapeError": "rankloci.errors",
+    "LocusError": "rankloci.errors", "LocusTimeout": "rankloci.errors",
+}
+
+#: Submodules reachable as attributes without importing them first.
+_SUBMODULES = ("adapters", "algebra", "api", "augmented", "cli", "directions", "errors", "exact",
+               "expr", "io", "jacobian", "kinematics", "locus", "methods", "model", "numeric",
+               "render_text", "report", "tolerances", "tree", "verify")
+
+__all__ = ["__version__", *_EXPORTS]
+
+
+#: Functions named like a submodule: the attribute stays the function.
+_FUNCTIONS_OVER_MODULES = frozenset({"locus", "jacobian", "report"})
+
+
+class _Package(types.ModuleType):
+    """The package module, whose function attributes are not replaced by submodules.
+
+    Importing ``rankloci.locus`` for the first time sets the package's
+    attribute ``locus`` to that module; that one assignment is dropped, so
+    ``rankloci.locus`` stays the function (the module is in ``sys.modules``).
+    """
+
+    def __setattr__(self, name, value):
+        if name in _FUNCTIONS_OVER_MODULES and isinstance(value, types.ModuleType):
+            return
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Package
+
+
+def __getattr__(name):
+    if name in _EXPORTS:
+        value = getattr(importlib.import_module(_EXPORTS[name]), name)
+        globals()[name] = value   # later look-ups do not come here
+        return value
+    if name in _SUBMODULES:
+        return importlib.import_module(f"{__name__}.{name}")
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_EXPORTS) | set(_SUBMODULES))

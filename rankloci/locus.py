@@ -10,11 +10,14 @@ lost there.
 from __future__ import annotations
 
 import enum
+import re
 from dataclasses import dataclass, field
 
 import sympy as sp
 
-__all__ = ["Component", "Locus", "Outcome", "SCHEMA"]
+from .tolerances import LOCUS_CONTAINS_RTOL
+
+__all__ = ["Component", "Locus", "Outcome", "SCHEMA", "READABLE_SCHEMAS"]
 
 SCHEMA = "rankloci.locus/2"
 
@@ -129,6 +132,51 @@ class Component:
         """
         return self.for_model
 
+    def __repr__(self) -> str:
+        kind = f", {self.kind}" if self.kind else ""
+        return (f"<Component {_equations_text(self)}: dimension {self.dimension}, rank drop "
+                f"{self.rank_drop}{kind}>")
+
+    def _repr_latex_(self) -> str:
+        return f"$\\displaystyle {_equations_latex(self)}$"
+
+    def _repr_html_(self) -> str:
+        return _table_html([self], None)
+
+    def __getstate__(self):
+        return {k: v for k, v in self.__dict__.items() if k != "_numeric"}
+
+    def lambdify(self, variables=None, parameters=None):
+        """The equations as one numpy function of the variables.
+
+        Parameters
+        ----------
+        variables : sequence of sympy.Symbol, optional
+            The arguments, in order; default: the symbols of the equations
+            that are not parameters, in natural name order (``q2`` before ``q10``).
+        parameters : mapping, optional
+            Parameter symbol -> value, substituted first (``Locus.parameters``).
+
+        Returns
+        -------
+        callable
+            ``f(*values)`` returns the list of the equations' values; it
+            broadcasts over numpy arrays.
+
+        Examples
+        --------
+        >>> q1, q2 = sp.symbols("q1 q2", real=True)
+        >>> f = Component(equations=(sp.sin(q2),)).lambdify([q1, q2])
+        >>> [round(float(v), 6) for v in f(0.0, 1.5707963267948966)]
+        [1.0]
+        """
+        subs = dict(parameters or {})
+        eqs = [sp.sympify(e).subs(subs) for e in self.equations]
+        if variables is None:
+            symbols = set().union(*(e.free_symbols for e in eqs)) if eqs else set()
+            variables = sorted(symbols, key=_natural_key)
+        return sp.lambdify(tuple(variables), eqs, modules="numpy")
+
     def to_dict(self) -> dict:
         return {
             "equations": [sp.sstr(e) for e in self.equations],
@@ -170,6 +218,108 @@ class Locus:
     special: tuple = ()           # components for other parameter values only
     complete: bool | None = None  # the self-check passed (None: not checked)
 
+    def __repr__(self) -> str:
+        special = f" (+{len(self.special)} special)" if self.special else ""
+        done = {True: "", False: ", INCOMPLETE", None: ""}[self.complete]
+        return (f"<Locus {self.model!r}: {self.shape[0]}x{self.shape[1]}, {self.method}, "
+                f"{_count(len(self.components), 'component')}{special}, "
+                f"{self.seconds:.2f} s{done}>")
+
+    def _repr_latex_(self) -> str:
+        rows = " \\\\ ".join(f"{k}.\\; & {_equations_latex(c)}"
+                             for k, c in enumerate(self.components, 1))
+        return (f"$\\displaystyle \\begin{{array}}{{rl}} {rows} \\end{{array}}$" if rows
+                else "$\\emptyset$")
+
+    def _repr_html_(self) -> str:
+        return _table_html(self.components, self)
+
+    def __getstate__(self):
+        return {k: v for k, v in self.__dict__.items() if k != "_numeric"}
+
+    def contains(self, q, *, rtol: float = LOCUS_CONTAINS_RTOL) -> bool:
+        """Is the configuration ``q`` on the locus (of the model's own components)?
+
+        ``q`` is on a component when every equation, divided by the sum of the
+        absolute values of its coefficients (parameters substituted), is at
+        most ``rtol`` there, and it is not in the component's ``excluding``
+        sets, or lies in their closure (points of the component with every
+        exclusion nonzero come arbitrarily close).
+
+        Parameters
+        ----------
+        q : sequence of float or mapping
+            Values of :attr:`variables`, in order, or by name (str or symbol).
+        rtol : float
+            See :data:`rankloci.tolerances.LOCUS_CONTAINS_RTOL`.
+
+        Examples
+        --------
+        >>> q1, q2 = sp.symbols("q1 q2", real=True)
+        >>> L = Locus("m", (q1, q2), {}, (2, 2), "determinant", (Component((sp.sin(q2),)),))
+        >>> L.contains([0.4, 0.0]), L.contains({"q1": 0.4, "q2": 3.0})
+        (True, False)
+        """
+        import numpy as np
+
+        from .numeric.equations import Equations
+
+        x = self._point(q)
+        numeric = self.__dict__.setdefault("_numeric", {})
+        for k, comp in enumerate(self.components):
+            if k not in numeric:
+                numeric[k] = Equations(comp.equations, self.variables, self.parameters,
+                                       comp.excluding)
+            eqs = numeric[k]
+            if eqs.residual(x) <= rtol and (eqs.admits(x) or _near_admitted(
+                    eqs, x, np.random.default_rng(k))):
+                return True
+        return False
+
+    def _point(self, q):
+        import numpy as np
+
+        names = [str(v) for v in self.variables]
+        if isinstance(q, dict):
+            given = {str(k): v for k, v in q.items()}
+            missing = [n for n in names if n not in given]
+            if missing:
+                raise ValueError(f"q has no value for {missing[0]!r}; the variables are {names}")
+            q = [given[n] for n in names]
+        x = np.asarray(q, dtype=float).reshape(-1)
+        if x.size != len(names):
+            raise ValueError(f"q has {x.size} values; the variables are {names}")
+        return x
+
+    @classmethod
+    def from_dict(cls, data, model=None) -> "Locus":
+        """The locus of a ``rankloci.locus/2`` (or ``/1``) document, as :meth:`to_dict` wrote it.
+
+        Parameters
+        ----------
+        data : dict
+            The parsed JSON.
+        model : RobotModel or MatrixModel, optional
+            The model the locus belongs to: its symbols are used, and the
+            document's variables must be the model's.  Without it the symbols
+            are made from the document's names (real symbols, as in model files).
+
+        Raises
+        ------
+        rankloci.errors.ModelError
+            Naming the field of the first problem.
+
+        Examples
+        --------
+        >>> q1, q2 = sp.symbols("q1 q2", real=True)
+        >>> L = Locus("m", (q1, q2), {}, (2, 2), "determinant", (Component((sp.sin(q2),)),))
+        >>> Locus.from_dict(L.to_dict()).to_dict() == L.to_dict()
+        True
+        """
+        from .locus_dict import parse_locus_dict
+
+        return parse_locus_dict(data, model)
+
     def to_dict(self) -> dict:
         return {
             "schema": SCHEMA,
@@ -189,3 +339,64 @@ class Locus:
     def _component_dict(self, c) -> dict:
         extra = {"kind": c.kind, "meets": list(c.meets)} if self.base is not None else {}
         return c.to_dict() | extra
+
+
+def _natural_key(symbol):
+    """Sort ``q2`` before ``q10``."""
+    return [int(t) if t.isdigit() else t for t in re.split(r"(\d+)", str(symbol))]
+
+
+def _count(n: int, word: str) -> str:
+    return f"{n} {word}{'' if n == 1 else 's'}"
+
+
+def _equations_text(c) -> str:
+    text = ", ".join(f"{sp.sstr(e)} = 0" for e in c.equations) or "everywhere"
+    if c.excluding:
+        text += " where " + ", ".join(f"{sp.sstr(e)} != 0" for e in c.excluding)
+    return text
+
+
+def _equations_latex(c) -> str:
+    parts = [f"{sp.latex(e)} = 0" for e in c.equations] or [r"\text{everywhere}"]
+    parts += [f"{sp.latex(e)} \\neq 0" for e in c.excluding]
+    return r",\quad ".join(parts)
+
+
+def _table_html(components, locus) -> str:
+    """An HTML table of components, headed by what the locus is of."""
+    from html import escape
+
+    head = ""
+    if locus is not None:
+        head = (f"<p><b>{escape(locus.model)}</b>: {locus.shape[0]}x{locus.shape[1]} matrix, "
+                f"method {escape(locus.method)}, {_count(len(locus.components), 'component')}"
+                + (f" (+{len(locus.special)} for special parameter values)" if locus.special
+                   else "") + f", {locus.seconds:.2f} s"
+                + {True: ", self-check passed", False: ", <b>INCOMPLETE</b>",
+                   None: ""}[locus.complete] + "</p>")
+    rows = []
+    for k, c in enumerate(components, 1):
+        solved = "; ".join(f"{v} &isin; {{{', '.join(escape(sp.sstr(x)) for x in vals)}}}"
+                           for v, vals in c.solved.items())
+        cells = [str(k), escape(_equations_text(c)), solved, str(c.dimension), str(c.rank_drop),
+                 escape(" ".join(str(v) for v in c.free)), escape(c.kind or "")]
+        rows.append("<tr>" + "".join(f"<td>{x}</td>" for x in cells) + "</tr>")
+    header = "".join(f"<th>{h}</th>" for h in ("#", "equations", "solved", "dimension",
+                                                 "rank drop", "free", "kind"))
+    return f"{head}<table><tr>{header}</tr>{''.join(rows)}</table>"
+
+
+def _near_admitted(eqs, x, rng, tries: int = 6) -> bool:
+    """Do points of the component with every exclusion nonzero lie near ``x``?"""
+    import numpy as np
+
+    from .numeric.gauss_newton import gauss_newton
+    from .tolerances import NEAR_ADMITTED_RADIUS, NEAR_ADMITTED_STEP
+
+    for _ in range(tries):
+        y = gauss_newton(lambda Y: eqs.batch(Y).T, x + NEAR_ADMITTED_STEP * rng.standard_normal(x.size))
+        if y is not None and eqs.residual(y) <= LOCUS_CONTAINS_RTOL \
+                and np.max(np.abs(y - x)) <= NEAR_ADMITTED_RADIUS and eqs.admits(y):
+            return True
+    return False

@@ -180,6 +180,16 @@ class RobotModel(_ContentIdentity):
     path: str = ""
     points: tuple[tuple[str, int], ...] = ()
 
+    def __repr__(self) -> str:
+        kinds = [j.kind for j in self.joints]
+        counts = ", ".join(f"{kinds.count(k)} {k}" for k in ("revolute", "prismatic")
+                           if k in kinds)
+        convention = {"dh": "standard DH", "mdh": "modified DH"}.get(self.convention,
+                                                                     self.convention)
+        params = ", ".join(sorted(p.name for p in self.parameters))
+        return (f"<RobotModel {self.name!r}: {counts or 'no'} joint{'s' * (len(kinds) != 1)}, "
+                f"{convention}" + (f", parameters {params}" if params else "") + ">")
+
     @property
     def dof(self) -> int:
         """Number of joints (mimic joints included: the link frames are 0..dof)."""
@@ -233,6 +243,12 @@ class MatrixModel(_ContentIdentity):
     source: str = ""
     augment: tuple[tuple[str, sp.Expr], ...] = ()
     path: str = ""
+
+    def __repr__(self) -> str:
+        params = ", ".join(sorted(p.name for p in self.parameters))
+        return (f"<MatrixModel {self.name!r}: {self.matrix.rows}x{self.matrix.cols} in "
+                f"{', '.join(v.name for v in self.variables)}"
+                + (f", parameters {params}" if params else "") + ">")
 
     def content_key(self) -> str:
         """A string that changes whenever the matrix or its parameters change."""

@@ -17,6 +17,7 @@ import time
 from .output import progress_printer, write_atomic
 from .near import cmd_ik, cmd_manipulability
 from .parser import UsageError
+from .sweep import cmd_sweep
 
 __all__ = ["COMMANDS", "EXIT_OK", "EXIT_FAILED", "EXIT_USAGE", "deadline_clock"]
 
@@ -164,7 +165,6 @@ def _deadline(seconds):
 def cmd_locus(args) -> int:
     from pathlib import Path
 
-    from ..augmented import augmented_locus
     from ..errors import LocusError
     from ..methods import method_for
     from ..render_text import locus_json, locus_latex, locus_text, tree_dot, tree_json, tree_text
@@ -189,35 +189,17 @@ def cmd_locus(args) -> int:
         if tell:
             tell(f"{tm.name}: {tm.shape[0]}x{tm.shape[1]} matrix, method {method}, "
                  f"seed {args.seed}")
-        should_stop = _deadline(args.timeout)
+        from ..api.calls import model_locus
 
-        def compute(t, seed):
-            return augmented_locus(model, t, method, seed=seed, progress=tell,
-                                   should_stop=should_stop, clock=time.perf_counter)
-
-        where = (tm.row_labels, tm.frame, tm.point)
-        if not args.verify:
-            return compute(tm, args.seed), where
-        from ..jacobian import task_matrix
-        from ..verify import verified_locus
-
-        reference = task_matrix(model, task=args.task, augment=extra)
-        if tell:
-            tell("self-check: the locus is checked numerically before it is shown")
-        return verified_locus(compute, tm, reference, seed=args.seed, progress=tell)[0], where
+        locus = model_locus(model, tm, method, task=args.task, extra=extra, seed=args.seed,
+                            verify=args.verify, progress=tell,
+                            should_stop=_deadline(args.timeout))
+        return locus, tm.row_labels
 
     got = _limited(args, work, progress, "the locus computation")
     if got is None:
         return EXIT_FAILED
-    locus, (row_labels, frame, point) = got
-    if frame is not None and (frame, point) != (getattr(model, "frame", None), "tool"):
-        import dataclasses
-
-        where = f"link frame {frame}" if isinstance(frame, int) else f"the {frame} frame"
-        about = f", about the origin of link frame {point}" if isinstance(point, int) else ""
-        locus = dataclasses.replace(locus, notes=locus.notes + (
-            f"J was computed in {where}{about} (same rank); symbolic lost directions are "
-            f"expressed there, the directions at the sample points in the model's frame",))
+    locus, row_labels = got
     if args.tree:
         text = {".dot": tree_dot, ".json": tree_json, ".txt": tree_text}[Path(args.tree).suffix](locus.tree)
         write_atomic(args.tree, text + "\n")
@@ -238,12 +220,9 @@ def cmd_locus(args) -> int:
 
 
 def cmd_check(args) -> int:
-    import numpy as np
-
     from ..errors import LocusTimeout, ModelError
     from ..io import load_model
-    from ..jacobian import task_matrix
-    from ..numeric.crosscheck import cross_check, parse_locus, render_check_text
+    from ..locus import Locus
     from .limits import LimitExceeded, run_limited
 
     if args.samples < 1:
@@ -261,52 +240,30 @@ def cmd_check(args) -> int:
         except RecursionError:
             raise ModelError("not a locus: nested too deeply", file=args.locus) from None
         try:
-            locus = parse_locus(data, model)
+            locus = Locus.from_dict(data, model)
         except ModelError as e:
             raise e.located(file=args.locus) from None
     else:
         locus = None
 
     def work(report_progress):
-        from ..exact.singular import singular_cross_check
-        from ..methods import compute_locus, method_for
+        from ..api.calls import check_model
 
-        tell = report_progress
-        checked = locus
-        if checked is None:
-            tm = task_matrix(model, frame="auto", numeric=args.numeric)
-            method = method_for(tm.shape)
-            tell(f"{tm.name}: computing the locus ({method}, seed {args.seed})")
-            checked = compute_locus(tm, method, rng=np.random.default_rng(args.seed),
-                                    progress=report_progress,
-                                    should_stop=_deadline(args.timeout))
-        J = task_matrix(model)  # the model's own frame; parameters substituted by cross_check
-        n = len(checked.components)
-        tell(f"{model.name}: checking {n} component{'' if n == 1 else 's'}, "
-             f"{args.samples} samples, seed {args.seed}")
-        numeric = cross_check(checked, J.matrix, J.variables, angles=J.angles,
-                              parameters=J.parameters, samples=args.samples,
-                              rng=np.random.default_rng(args.seed), seed=args.seed)
-        exact = singular_cross_check(task_matrix(model, frame="auto", numeric=True), checked,
-                                     rng=np.random.default_rng(args.seed),
-                                     parameters=J.parameters)
-        return numeric, exact
+        return check_model(model, locus, samples=args.samples, seed=args.seed,
+                           numeric=args.numeric, should_stop=_deadline(args.timeout),
+                           progress=report_progress)
 
     try:
-        report, exact = run_limited(work, timeout=args.timeout, memory_mb=args.memory,
-                                    progress=progress)
+        result = run_limited(work, timeout=args.timeout, memory_mb=args.memory,
+                             progress=progress)
     except (LocusTimeout, LimitExceeded) as e:
         print(f"rankloci: error: the check {e}", file=sys.stderr)
         return EXIT_FAILED
-    ok = report.ok and exact.status != "disagree"
+    ok = result.ok
     if args.format == "json":
-        print(json.dumps({**report.to_dict(), "singular": exact.to_dict(), "ok": ok}, indent=2))
+        print(json.dumps(result.to_dict(), indent=2))
     else:
-        print(render_check_text(report))
-        line = f"Singular (minimal associated primes of the maximal minors): {exact.status}, {exact.reason}"
-        print(line)
-        for finding in exact.findings:
-            print(f"  {finding}")
+        print(result)
     return EXIT_OK if ok else EXIT_FAILED
 
 
@@ -415,6 +372,7 @@ COMMANDS = {
     "locus": cmd_locus,
     "check": cmd_check,
     "report": cmd_report,
+    "sweep": cmd_sweep,
     "ik": cmd_ik,
     "manipulability": cmd_manipulability,
 }

@@ -287,15 +287,10 @@ def render_check_text(report: CheckReport) -> str:
     return "\n".join(lines)
 
 
-#: The most components a locus file may hold (the built-in models have at most 12).
-MAX_LOCUS_COMPONENTS = 1000
-
-#: The largest rank drop a locus file may state (a 100 x 100 matrix losing all its rank).
-MAX_RANK_DROP = 100
-
-
 def parse_locus(data, model):
     """A :class:`~rankloci.locus.Locus` from its ``rankloci.locus/1`` or ``/2`` dict, in `model`'s symbols.
+
+    The same as :meth:`Locus.from_dict(data, model) <rankloci.locus.Locus.from_dict>`.
 
     Raises
     ------
@@ -303,58 +298,6 @@ def parse_locus(data, model):
         If the schema key is wrong, the variables are not the model's, or an
         equation does not parse over the model's variable and parameter names.
     """
-    from ..errors import ExpressionError, ModelError
-    from ..expr import parse_expression
-    from ..locus import READABLE_SCHEMAS, Component, Locus
+    from ..locus import Locus
 
-    if not isinstance(data, dict):
-        raise ModelError("a locus file must hold a JSON object", field="schema")
-    if data.get("schema") not in READABLE_SCHEMAS:
-        raise ModelError(f"schema is {str(data.get('schema'))[:40]!r}, expected one of "
-                         f"{', '.join(READABLE_SCHEMAS)}", field="schema")
-    names = [v.name for v in model.variables]
-    if data.get("variables") != names:
-        raise ModelError(f"variables {data.get('variables')!r} are not the model's {names}",
-                         field="variables")
-    symbols = {v.name: v for v in model.variables} | {p.name: p for p in model.parameters}
-    comps = data.get("components")
-    if not isinstance(comps, list):
-        raise ModelError("'components' must be a list", field="components")
-    special = data.get("special_components", [])
-    if not isinstance(special, list):
-        raise ModelError("'special_components' must be a list", field="special_components")
-    if len(comps) + len(special) > MAX_LOCUS_COMPONENTS:
-        raise ModelError(f"more than {MAX_LOCUS_COMPONENTS} components", field="components")
-
-    def parse_all(items, where):
-        if not isinstance(items, list):
-            raise ModelError(f"{where} must be a list of strings", field=where)
-        try:
-            return tuple(parse_expression(t, symbols) for t in items)
-        except ExpressionError as e:
-            raise ModelError(str(e), field=where) from None
-
-    out = []
-    for k, c in [(k, c) for k, c in enumerate(comps, start=1)] + \
-            [(-k, c) for k, c in enumerate(special, start=1)]:
-        where = f"components[{k}]" if k > 0 else f"special_components[{-k}]"
-        if not isinstance(c, dict) or "equations" not in c:
-            raise ModelError("each component must be an object with 'equations'", field=where)
-        rank_drop = c.get("rank_drop", 1)
-        if isinstance(rank_drop, bool) or not isinstance(rank_drop, int) \
-                or not 1 <= rank_drop <= MAX_RANK_DROP:
-            raise ModelError(f"rank_drop must be an integer from 1 to {MAX_RANK_DROP}, not "
-                             f"{str(rank_drop)[:20]}", field=f"{where}.rank_drop")
-        out.append(Component(
-            equations=parse_all(c["equations"], f"{where}.equations"),
-            rank_drop=rank_drop,
-            parameter_conditions=parse_all(c.get("parameter_conditions", []),
-                                           f"{where}.parameter_conditions"),
-            # schema /1 listed special-parameter components among the others
-            for_model=k > 0 and bool(c.get("for_model", True))
-            and not (data["schema"] == READABLE_SCHEMAS[0] and c.get("parameter_conditions")),
-            excluding=parse_all(c.get("excluding", []), f"{where}.excluding")))
-    return Locus(model=str(data.get("model", model.name)), variables=tuple(model.variables),
-                 parameters={}, shape=(0, 0), method=str(data.get("method", "file")),
-                 components=tuple(c for c in out if c.exists_for_model),
-                 special=tuple(c for c in out if not c.exists_for_model))
+    return Locus.from_dict(data, model)

@@ -1,0 +1,413 @@
+"""The library's public calls: what each subcommand of the command line does, as a function.
+
+The command line (:mod:`rankloci.cli.commands`) runs the same code through
+:func:`model_locus` and :func:`check_model`, inside a child process with its
+limits; here it runs in the caller's process, and progress goes to the
+``rankloci`` logger (:mod:`.progress`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from dataclasses import dataclass
+
+from .models import as_model
+from .progress import log_progress
+
+__all__ = ["load_model", "jacobian", "locus", "check", "report", "is_singular", "Check",
+           "model_locus", "check_model"]
+
+
+def load_model(model, *, tip=None, base_link=None, variables=None, parameters=None):
+    """Load a model: a built-in name, a file, a sympy matrix, an RTB or a Pinocchio robot.
+
+    Parameters
+    ----------
+    model : str, os.PathLike, sympy.Matrix, DHRobot, pinocchio.Model, RobotModel or MatrixModel
+        See :func:`rankloci.api.models.as_model`.
+    tip, base_link : str, optional
+        The chain of a URDF file or of a Pinocchio model (its last and first link or frame).
+    variables, parameters : optional
+        For a sympy matrix: its column variables and the values of its parameters.
+
+    Returns
+    -------
+    RobotModel or MatrixModel
+
+    Examples
+    --------
+    >>> import rankloci
+    >>> rankloci.load_model("puma560")
+    <RobotModel 'puma560': 6 revolute joints, standard DH, parameters a2, a3, d3, d4>
+    """
+    return as_model(model, variables=variables, parameters=parameters, tip=tip,
+                    base_link=base_link)
+
+
+def jacobian(model, *, task=None, frame=None, point="tool", augment=(), numeric=False,
+             variables=None, parameters=None, tip=None):
+    """The symbolic matrix whose rank is studied (the command ``rankloci jacobian``).
+
+    Parameters
+    ----------
+    model
+        Anything :func:`load_model` accepts.
+    task : str or sequence of int, optional
+        ``"full"``, ``"position"``, ``"orientation"``, ``"planar"`` or rows 0..5 of
+        (vx, vy, vz, wx, wy, wz); default: the model's own.
+    frame : {"base", "tool"} or int, optional
+        Frame the rows are expressed in (a link number 0..n); default: the model's.
+    point : "tool" or int
+        Reference point of the linear rows: the tool or the origin of a link frame.
+    augment : sequence of str
+        Constraint functions whose gradients are stacked under J, as ``--augment``
+        takes them (``"q1 + q2"``, ``"lock(q3)"``, ``"elbow(z)"``).
+    numeric : bool
+        Replace the parameters by their values.
+    variables, parameters, tip
+        See :func:`load_model`.
+
+    Returns
+    -------
+    TaskMatrix
+        ``.matrix`` is the sympy matrix, ``.row_labels`` names its rows and
+        ``.variables`` its columns.
+
+    Examples
+    --------
+    >>> import rankloci
+    >>> J = rankloci.jacobian("planar2r", numeric=True)
+    >>> J.matrix.shape, J.row_labels
+    ((2, 2), ('vx', 'vy'))
+    """
+    from ..augmented import parse_augment
+    from ..jacobian import task_matrix
+
+    m = load_model(model, tip=tip, variables=variables, parameters=parameters)
+    return task_matrix(m, task=task, frame=frame, point=point, augment=parse_augment(m, augment),
+                       numeric=numeric)
+
+
+def _deadline(seconds):
+    """A ``should_stop`` that is True once ``seconds`` have passed; None for no limit."""
+    if seconds is None or seconds <= 0:
+        return None
+    end = time.monotonic() + seconds
+    return lambda: time.monotonic() > end
+
+
+def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None, verify=True,
+                progress=None, clock=time.perf_counter, should_stop=None):
+    """The locus of a task matrix of ``model``, self-checked, with its frame noted.
+
+    What ``rankloci locus`` computes once it has the matrix: the loci of J_aug
+    and J with J_aug's components classified
+    (:func:`~rankloci.augmented.augmented_locus`), the self-check with its
+    recomputations (:func:`~rankloci.verify.verified_locus`) unless ``verify``
+    is false, and a note when the matrix is in another frame than the model's.
+
+    Parameters
+    ----------
+    model : RobotModel or MatrixModel
+    tm : TaskMatrix
+        The matrix, from :func:`~rankloci.jacobian.task_matrix` (any frame).
+    method : str
+        As :func:`~rankloci.methods.method_for` returned it for ``tm``.
+    task, extra
+        The task and the parsed constraint rows ``tm`` was built with: the
+        self-check evaluates the same matrix in the model's own frame.
+    seed : int
+    timeout : float, optional
+        Seconds; the computation raises :class:`~rankloci.errors.LocusTimeout` after them.
+    verify : bool
+    progress : callable, optional
+        Called with one-line progress messages.
+    clock : callable
+        Fills ``Locus.seconds``.
+    should_stop : callable, optional
+        Used instead of ``timeout`` when given.
+    """
+    from ..augmented import augmented_locus
+    from ..jacobian import task_matrix
+    from ..verify import verified_locus
+
+    stop = should_stop if should_stop is not None else _deadline(timeout)
+
+    def compute(t, s):
+        return augmented_locus(model, t, method, seed=s, progress=progress, should_stop=stop,
+                               clock=clock)
+
+    if verify:
+        reference = task_matrix(model, task=task, augment=extra)
+        if progress:
+            progress("self-check: the locus is checked numerically before it is shown")
+        result = verified_locus(compute, tm, reference, seed=seed, progress=progress)[0]
+    else:
+        result = compute(tm, seed)
+    if tm.frame is not None and (tm.frame, tm.point) != (getattr(model, "frame", None), "tool"):
+        where = f"link frame {tm.frame}" if isinstance(tm.frame, int) else f"the {tm.frame} frame"
+        about = f", about the origin of link frame {tm.point}" if isinstance(tm.point, int) else ""
+        result = dataclasses.replace(result, notes=result.notes + (
+            f"J was computed in {where}{about} (same rank); symbolic lost directions are "
+            f"expressed there, the directions at the sample points in the model's frame",))
+    return result
+
+
+def locus(model, *, variables=None, parameters=None, task=None, augment=(), method=None,
+          timeout=None, seed=0, numeric=False, verify=True, frame="auto", tip=None):
+    """The rank-deficiency locus of a model or a matrix (the command ``rankloci locus``).
+
+    Parameters
+    ----------
+    model
+        Anything :func:`load_model` accepts; a sympy matrix of any shape, with
+        ``variables`` and ``parameters`` when it has symbolic parameters.
+    variables : sequence of sympy.Symbol, optional
+        The matrix's column variables (default: every symbol that is not a parameter).
+    parameters : mapping, optional
+        Values of the matrix's parameters (they stay symbolic in the analysis).
+    task : str or sequence of int, optional
+        Rows of the Jacobian of a robot; see :func:`jacobian`.
+    augment : sequence of str
+        Constraint rows; the components are then classified kinematic,
+        algorithmic or mixed, and ``Locus.base`` holds the locus of J alone.
+    method : {"svm", "subdeterminant", "determinant"}, optional
+        Default: determinant for a square matrix, svm otherwise.
+    timeout : float, optional
+        Seconds; :class:`~rankloci.errors.LocusTimeout` is raised after them.
+        The computation polls its deadline between branches, so one long
+        factorisation can overrun it (the command line also kills its child).
+    seed : int
+        Seed of the numeric probes; the same seed gives the same locus.
+    numeric : bool
+        Substitute the parameter values before the algebra (faster; no special components).
+    verify : bool
+        Run the self-check (as the command line does) and recompute when it fails;
+        ``Locus.complete`` says whether it passed.
+    frame : str or int
+        The frame the algebra works in; ``"auto"`` picks one where the entries are
+        small (same rank).
+    tip : str, optional
+        For a URDF file or a Pinocchio model: the chain's last link or frame.
+
+    Returns
+    -------
+    Locus
+        With ``seconds`` measured.  Progress goes to the ``rankloci`` logger.
+
+    Examples
+    --------
+    >>> import sympy as sp, rankloci
+    >>> x, y, k = sp.symbols("x y k")
+    >>> L = rankloci.locus(sp.Matrix([[sp.cos(x), k * y], [sp.sin(x), 1]]), parameters={k: 2})
+    >>> [str(c.equations[0]) for c in L.components]
+    ['k*y*sin(x) - cos(x)']
+    >>> L.contains({"x": 0.0, "y": 0.5}), L.contains({"x": 0.0, "y": 0.0})
+    (True, False)
+    """
+    from ..augmented import parse_augment
+    from ..jacobian import task_matrix
+    from ..methods import method_for
+
+    m = load_model(model, tip=tip, variables=variables, parameters=parameters)
+    extra = parse_augment(m, augment)
+    from ..model import RobotModel
+
+    tm = task_matrix(m, task=task, frame=frame if isinstance(m, RobotModel) else None,
+                     augment=extra, numeric=numeric)
+    log_progress(f"{tm.name}: {tm.shape[0]}x{tm.shape[1]} matrix, method "
+                 f"{method_for(tm.shape, method)}, seed {seed}")
+    return model_locus(m, tm, method_for(tm.shape, method), task=task, extra=extra, seed=seed,
+                       timeout=timeout, verify=verify, progress=log_progress)
+
+
+@dataclass(frozen=True)
+class Check:
+    """What :func:`check` found: the numeric cross-check and the exact one.
+
+    Attributes
+    ----------
+    numeric : rankloci.numeric.crosscheck.CheckReport
+        Points on each component are singular, points off the locus regular,
+        and singular points found by minimisation lie on a component.
+    exact : rankloci.exact.singular.SingularResult
+        The comparison with Singular's minimal primes (``status`` "agree",
+        "disagree" or "skipped").
+    """
+
+    numeric: object
+    exact: object
+
+    @property
+    def ok(self) -> bool:
+        """Every numeric check passed and Singular does not disagree."""
+        return self.numeric.ok and self.exact.status != "disagree"
+
+    def to_dict(self) -> dict:
+        """The JSON document of ``rankloci check --format json``."""
+        return {**self.numeric.to_dict(), "singular": self.exact.to_dict(), "ok": self.ok}
+
+    def __str__(self) -> str:
+        from ..numeric.crosscheck import render_check_text
+
+        lines = [render_check_text(self.numeric),
+                 f"Singular (minimal associated primes of the maximal minors): "
+                 f"{self.exact.status}, {self.exact.reason}"]
+        return "\n".join(lines + [f"  {f}" for f in self.exact.findings])
+
+
+def check_model(model, given=None, *, samples=10, seed=0, numeric=False, should_stop=None,
+                progress=None) -> Check:
+    """What ``rankloci check`` computes: see :func:`check`."""
+    import numpy as np
+
+    from ..exact.singular import singular_cross_check
+    from ..jacobian import task_matrix
+    from ..methods import compute_locus, method_for
+    from ..numeric.crosscheck import cross_check
+
+    tell = progress or (lambda msg: None)
+    checked = given
+    if checked is None:
+        tm = task_matrix(model, frame="auto", numeric=numeric)
+        method = method_for(tm.shape)
+        tell(f"{tm.name}: computing the locus ({method}, seed {seed})")
+        checked = compute_locus(tm, method, rng=np.random.default_rng(seed), progress=progress,
+                                should_stop=should_stop)
+    J = task_matrix(model)  # the model's own frame; parameters substituted by cross_check
+    n = len(checked.components)
+    tell(f"{model.name}: checking {n} component{'' if n == 1 else 's'}, {samples} samples, "
+         f"seed {seed}")
+    report = cross_check(checked, J.matrix, J.variables, angles=J.angles,
+                         parameters=J.parameters, samples=samples,
+                         rng=np.random.default_rng(seed), seed=seed)
+    exact = singular_cross_check(task_matrix(model, frame="auto", numeric=True), checked,
+                                 rng=np.random.default_rng(seed), parameters=J.parameters)
+    return Check(report, exact)
+
+
+def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
+          variables=None, parameters=None, tip=None) -> Check:
+    """Check a locus numerically and exactly (the command ``rankloci check``).
+
+    Parameters
+    ----------
+    model
+        Anything :func:`load_model` accepts.
+    locus : Locus, optional
+        The locus to check (computed from ``model`` when omitted).
+    samples : int
+        Points per component, off-locus points and minimisation starts.
+    seed : int
+    numeric : bool
+        Compute the locus with the parameter values substituted.
+    timeout : float, optional
+        Seconds allowed to the locus computation.
+
+    Returns
+    -------
+    Check
+        ``ok`` is true when every check passed; ``str()`` gives the report of the
+        command line.
+
+    Examples
+    --------
+    >>> import rankloci
+    >>> rankloci.check("planar2r", samples=3).ok
+    True
+    """
+    if samples < 1:
+        raise ValueError(f"samples must be at least 1, got {samples}")
+    m = load_model(model, tip=tip, variables=variables, parameters=parameters)
+    return check_model(m, locus, samples=samples, seed=seed, numeric=numeric,
+                       should_stop=_deadline(timeout), progress=log_progress)
+
+
+def report(model, directory=None, *, formats=("md",), seed=0, samples=10, numeric=False,
+           timeout=None, tip=None):
+    """Build a report on a model and, given a directory, write it (``rankloci report``).
+
+    Needs matplotlib (``pip install "rankloci[report]"``).
+
+    Parameters
+    ----------
+    model
+        Anything :func:`load_model` accepts.
+    directory : path, optional
+        Where to write it; without it nothing is written.
+    formats : sequence of {"md", "tex", "pdf"}
+        The PDF needs ``latexmk`` or ``pdflatex`` on the PATH.
+    seed, samples, numeric, timeout
+        As for the command line.
+
+    Returns
+    -------
+    (Report, list of pathlib.Path)
+        The report's content and the files written.
+    """
+    import shutil
+
+    require_matplotlib("report")
+    from ..report import FORMATS, build_report, read_model_notes, write_report
+
+    bad = [f for f in formats if f not in FORMATS]
+    if bad:
+        raise ValueError(f"formats: {bad[0]!r} is not one of {FORMATS}")
+    m = load_model(model, tip=tip)
+    built = build_report(m, seed=seed, samples=samples, numeric=numeric, timeout=timeout,
+                         clock=time.perf_counter, progress=log_progress, dot=shutil.which("dot"),
+                         model_notes=read_model_notes(m))
+    if directory is None:
+        return built, []
+    latex = next(((kind, exe) for kind in ("latexmk", "pdflatex")
+                  if (exe := shutil.which(kind))), None) if "pdf" in formats else None
+    return built, write_report(built, directory, formats=formats, latex=latex)
+
+
+def require_matplotlib(what: str) -> None:
+    """Raise ImportError, saying what to install, when matplotlib is missing."""
+    import importlib.util
+
+    if importlib.util.find_spec("matplotlib") is None:
+        raise ImportError(f"the {what} needs matplotlib: pip install \"rankloci[report]\"")
+
+
+def is_singular(model, q, *, locus=None, **options) -> bool:
+    """Is the configuration ``q`` on the locus of ``model``?
+
+    Decided by the locus (:meth:`~rankloci.locus.Locus.contains`, which
+    respects each component's ``excluding``), not by an SVD at ``q``.
+
+    Parameters
+    ----------
+    model
+        Anything :func:`load_model` accepts.
+    q : sequence of float or mapping
+        Values of the variables, in order or by name.
+    locus : Locus, optional
+        The locus of ``model``; computed with ``options`` (see :func:`locus`)
+        when omitted, and then kept for later calls on the same model.
+
+    Examples
+    --------
+    >>> import rankloci
+    >>> rankloci.is_singular("planar2r", [0.3, 0.0]), rankloci.is_singular("planar2r", [0.3, 1.0])
+    (True, False)
+    """
+    if locus is None:
+        m = load_model(model, tip=options.pop("tip", None),
+                       variables=options.pop("variables", None),
+                       parameters=options.pop("parameters", None))
+        key = (m, tuple(sorted((k, repr(v)) for k, v in options.items())))
+        if key not in _LOCI:
+            if len(_LOCI) >= _MAX_CACHED:
+                _LOCI.pop(next(iter(_LOCI)))
+            _LOCI[key] = globals()["locus"](m, **options)
+        locus = _LOCI[key]
+    return locus.contains(q)
+
+
+#: Loci computed by :func:`is_singular`, by model and options (oldest dropped first).
+_LOCI: dict = {}
+_MAX_CACHED = 16

@@ -1,0 +1,165 @@
+"""Everything the library accepts as a model, turned into a rankloci model.
+
+:func:`as_model` is what every public function calls first: a built-in
+model name, a path to a ``.toml`` or ``.urdf`` file, a
+:class:`~rankloci.model.RobotModel` or :class:`~rankloci.model.MatrixModel`,
+a sympy matrix, a Robotics Toolbox ``DHRobot`` or a Pinocchio ``Model``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+
+__all__ = ["as_model", "matrix_model"]
+
+_IDENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_]{0,31}\Z")
+
+
+def _natural_key(symbol):
+    """Sort ``q2`` before ``q10``."""
+    return [int(t) if t.isdigit() else t for t in re.split(r"(\d+)", symbol.name)]
+
+
+def _toml_value(value) -> str:
+    """A parameter value written into TOML: a number, or an exact expression string."""
+    import sympy as sp
+
+    if isinstance(value, bool):
+        raise ValueError(f"parameter value {value!r} is not a number")
+    if isinstance(value, (int, float)):
+        return repr(value)
+    expr = sp.sympify(value)
+    if expr.free_symbols or not expr.is_real:
+        raise ValueError(f"parameter value {value!r} is not a real number")
+    return json.dumps(sp.sstr(expr))
+
+
+def matrix_model(matrix, *, variables=None, parameters=None, name: str = "matrix"):
+    """A :class:`~rankloci.model.MatrixModel` from a sympy matrix.
+
+    The matrix goes through the parser of raw-matrix model files, so it is
+    validated as a file would be: floats become the exact rationals of their
+    shortest decimal form, only ``sin cos tan sqrt ...`` are accepted, and the
+    symbols come back as real symbols of the same names.
+
+    Parameters
+    ----------
+    matrix : sympy.Matrix
+        Any shape.
+    variables : sequence of sympy.Symbol or str, optional
+        The column variables: the matrix loses rank at values of these.
+        Default: every symbol that is not a parameter, in natural name order.
+    parameters : mapping, optional
+        Parameter symbol (or name) -> numeric value.  Parameters stay symbolic
+        in the analysis; their values decide which components belong to this
+        matrix and are used by the numeric checks.
+    name : str, default "matrix"
+        The model name (lowercase letters, digits, ``_`` and ``-``).
+
+    Returns
+    -------
+    MatrixModel
+
+    Raises
+    ------
+    rankloci.errors.ModelError
+        A symbol that is neither a variable nor a parameter with a value, or
+        an entry the parser refuses.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> x, k = sp.symbols("x k")
+    >>> m = matrix_model(sp.Matrix([[sp.cos(x), k], [sp.sin(x), 1]]), parameters={k: 2})
+    >>> m.variables, m.parameters
+    ((x,), {k: 2})
+    """
+    import sympy as sp
+
+    from ..errors import ModelError
+    from ..io.toml_model import parse_model
+
+    M = sp.Matrix(matrix)
+    params = {str(k): v for k, v in (parameters or {}).items()}
+    symbols = set().union(*(e.free_symbols for e in M)) if M else set()
+    if variables is None:
+        variables = sorted((s for s in symbols if s.name not in params), key=_natural_key)
+    names = [str(v) for v in variables]
+    missing = sorted({s.name for s in symbols} - set(names) - set(params))
+    if missing:
+        raise ModelError(f"symbol {missing[0]!r} is neither a variable nor a parameter with a "
+                         f"value; pass parameters={{{missing[0]!r}: value}} or list it in "
+                         f"variables")
+    for n in names + list(params):
+        if not _IDENT.match(n):
+            raise ModelError(f"{n!r} is not a usable symbol name (letters, digits and _)")
+    rows = ",\n  ".join("[" + ", ".join(json.dumps(sp.sstr(e)) for e in M.row(i)) + "]"
+                        for i in range(M.rows))
+    text = (f"name = {json.dumps(name)}\nvariables = {json.dumps(names)}\n"
+            f"matrix = [\n  {rows}\n]\n")
+    if params:
+        text += "[parameters]\n" + "".join(f"{k} = {_toml_value(v)}\n" for k, v in params.items())
+    return parse_model(text)
+
+
+def _is_from(obj, package: str) -> bool:
+    module = type(obj).__module__ or ""
+    return module == package or module.startswith(package + ".")
+
+
+def as_model(model, *, variables=None, parameters=None, tip=None, base_link=None):
+    """The rankloci model of anything the library accepts as one.
+
+    Parameters
+    ----------
+    model : str, os.PathLike, RobotModel, MatrixModel, sympy.Matrix, DHRobot or pinocchio.Model
+        A built-in model name or a ``.toml`` / ``.urdf`` path; a model; a
+        symbolic matrix (see :func:`matrix_model`); a Robotics Toolbox DH
+        robot (:func:`~rankloci.adapters.from_rtb`); a Pinocchio model
+        (:func:`~rankloci.adapters.from_pinocchio`, ``tip`` names the frame).
+    variables, parameters
+        For a sympy matrix only.
+    tip, base_link : str, optional
+        For a URDF file or a Pinocchio model: the chain's last (and first) link
+        or frame.
+
+    Returns
+    -------
+    RobotModel or MatrixModel
+
+    Examples
+    --------
+    >>> as_model("planar2r").variables
+    (q1, q2)
+    """
+    import sympy as sp
+
+    from ..io import load_model as load
+    from ..jacobian import TaskMatrix
+    from ..model import MatrixModel, RobotModel
+
+    if (variables is not None or parameters is not None) and not isinstance(model, sp.MatrixBase):
+        raise ValueError("variables= and parameters= apply to a sympy matrix only, not to "
+                         f"{type(model).__name__}")
+    if isinstance(model, (RobotModel, MatrixModel)):
+        return model
+    if isinstance(model, (str, os.PathLike)):
+        return load(os.fspath(model), base_link=base_link, tip_link=tip)
+    if isinstance(model, sp.MatrixBase):
+        return matrix_model(model, variables=variables, parameters=parameters)
+    if isinstance(model, TaskMatrix):
+        return matrix_model(model.matrix, variables=model.variables,
+                            parameters=model.parameters, name=model.name)
+    if _is_from(model, "roboticstoolbox"):
+        from ..adapters import from_rtb
+
+        return from_rtb(model)
+    if _is_from(model, "pinocchio"):
+        from ..adapters import from_pinocchio
+
+        return from_pinocchio(model, tip=tip, base=base_link)
+    raise TypeError(f"cannot use a {type(model).__module__}.{type(model).__name__} as a model; "
+                    "give a built-in model name, a .toml or .urdf path, a sympy Matrix, a "
+                    "Robotics Toolbox DHRobot or a Pinocchio Model")
