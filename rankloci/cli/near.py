@@ -32,8 +32,8 @@ MAX_WAYPOINTS = 10000
 MAX_STEPS = 100000
 
 EPILOG_IK = """examples:
-  rankloci ik planar4r --q0 "0.62 0.23 1.0 0.46" --line "1.655,3.149 -> -0.345,3.149"
-  rankloci ik planar4r --q0 "0.2 0.6 0.6 0.6" --line "1.4306,2.8108 -> 1.7921,3.5588" --norm 2
+  rankloci ik planar4r --q0 "0.62 0.23 1.0 0.46" --line "0.524572,3.032596 -> -1.475428,3.032596"
+  rankloci ik planar4r --q0 "0.2 0.6 0.6 0.6" --line "1.430594,2.810773 -> 1.81366,3.56351" --norm 2
   rankloci ik pa10 --line "0.4,0.1,0.8 -> 0.5,-0.2,0.7" --norm mixed --format json -o rates.json
   rankloci ik planar4r --path waypoints.csv --restrict 1 --plot rates.png
 
@@ -215,7 +215,8 @@ def _start(kin, args, first):
             raise UsageError(f"--q0 puts the tool at {np.round(kin.position(q0), 6).tolist()}, "
                              f"{gap:.3g} from the path's first point")
         return q0
-    res = least_squares(lambda q: kin.position(q) - first, np.full(n, 0.3), method="lm")
+    res = least_squares(lambda q: kin.position(q) - first, np.full(n, 0.3), method="trf",
+                        xtol=1e-15, ftol=1e-15, gtol=1e-15)
     if np.linalg.norm(res.fun) > IK_START_RTOL * scale:
         raise UsageError(f"the first point {list(first)} is out of reach from q = 0.3 (each "
                          f"joint); give --q0")

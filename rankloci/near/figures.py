@@ -75,6 +75,8 @@ def path_figure(path, distance=None, labels=()):
     plot_indices(path, ax=axes[1])
     if distance is not None:
         plot_distance(path.t, distance, labels, ax=axes[2])
+    for ax in axes[:-1]:
+        ax.set_xlabel("")
     if path.stopped:
         fig.suptitle(path.stopped, fontsize="small")
     return fig

@@ -209,8 +209,12 @@ def ha_lee(A, y, *, max_iter: int | None = None) -> InfNormSolution:
     U, s, Vt = np.linalg.svd(A, full_matrices=True)
     x2 = Vt[:m].T @ ((U.T @ y) / s)
     N = Vt[m:].T
-    # steps 2-3: A_1 from the m - 1 smallest |x2_i|
-    free = sorted(np.argsort(np.abs(x2), kind="stable")[: m - 1].tolist())
+    # steps 2-3: A_1 from the m - 1 smallest |x2_i| (skipping a column dependent on those taken)
+    free = []
+    for j in np.argsort(np.abs(x2), kind="stable").tolist():
+        if len(free) < m - 1 and _independent(A, free + [j], s[0]):
+            free.append(j)
+    free.sort()
     history, seen = [], set()
     x, bound = x2, 0.0
     for it in range(max_iter + 1):
@@ -227,7 +231,7 @@ def ha_lee(A, y, *, max_iter: int | None = None) -> InfNormSolution:
                 continue
             x1n = float(np.max(np.abs(cand[free]))) if free else 0.0
             if best is None or x1n < best[1]:
-                best = (cand, x1n)
+                best = (cand, x1n, S)
             if x1n <= (1 + INF_NORM_RTOL) * bound:    # step 9(a)
                 break
         zeros = [sat[i] for i in np.flatnonzero(np.abs(g) <= INF_NORM_ZERO_RTOL)]
@@ -235,7 +239,7 @@ def ha_lee(A, y, *, max_iter: int | None = None) -> InfNormSolution:
             history.append(dict(free=tuple(free), bound=bound, x1_norm=np.inf, zeros=zeros))
             return _result(np.full(n, np.nan), bound, False, "ha_lee", it, sat, free, history,
                            "the saturated components give a singular system for every sign choice")
-        x, x1n = best
+        x, x1n, S = best
         history.append(dict(free=tuple(free), bound=bound, x1_norm=x1n, zeros=zeros))
         if x1n <= (1 + INF_NORM_RTOL) * bound:
             return _result(x, bound, True, "ha_lee", it, sat, free, history)
@@ -243,13 +247,19 @@ def ha_lee(A, y, *, max_iter: int | None = None) -> InfNormSolution:
             return _result(x, bound, False, "ha_lee", it, sat, free, history,
                            f"the column exchange returned to the basis {tuple(free)} (cycling)")
         seen.add(tuple(free))
-        free = _exchange(A, u, x, free, sat)
+        free = _exchange(A, u, x, free, sat, S)
     return _result(x, bound, False, "ha_lee", max_iter, sat, free, history,
                    f"no certified optimum after {max_iter} column exchanges")
 
 
-def _exchange(A, u, x, free, sat):
-    """Steps 10-13 (Cadzow's rule): the new free columns after one exchange."""
+def _exchange(A, u, x, free, sat, S):
+    """Steps 10-13 (Cadzow's rule): the new free columns after one exchange.
+
+    Step 12's ratio -[A_2'gamma]_i / [A_2'u]_i is 1/eps for the step eps at which entry i
+    of A_2'(u + eps gamma) reaches zero.  An entry that is zero already (no Haar
+    condition) has the sign S_i chosen for it: it limits the step at once (ratio +inf)
+    when gamma moves it against S_i, and never otherwise (ratio -inf).
+    """
     m = A.shape[0]
     p = int(np.argmax(np.abs(x[free])))                       # step 10
     rhs = np.zeros(m)
@@ -260,11 +270,27 @@ def _exchange(A, u, x, free, sat):
     den = A[:, sat].T @ u
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.where(np.abs(den) > INF_NORM_ZERO_RTOL, num / den,
-                         np.where(num > 0, np.inf, -np.inf))  # step 12
-    q = int(np.argmax(ratio))
-    new = list(free)
-    new[p] = sat[q]                                           # step 13
-    return sorted(new)
+                         np.where(S * num > 0, np.inf, -np.inf))  # step 12
+    scale = np.linalg.norm(A, 2)
+    for q in np.argsort(-ratio, kind="stable"):
+        new = list(free)
+        new[p] = sat[q]                                       # step 13
+        if _independent(A, new, scale):
+            return sorted(new)
+    return sorted(free)
+
+
+def _independent(A, cols, scale) -> bool:
+    """Whether the columns ``cols`` of A are linearly independent (RANK_RTOL of ``scale``).
+
+    Without the Haar condition the column of largest ratio in step 12 can be parallel
+    to a column kept in A_1; A_1 then loses rank and u is no longer determined.  The
+    exchange takes the largest ratio whose column keeps A_1 of full rank.
+    """
+    if not cols:
+        return True
+    s = np.linalg.svd(A[:, cols], compute_uv=False)
+    return bool(s[-1] > RANK_RTOL * scale)
 
 
 def _result(x, bound, converged, method, it, sat, free, history, reason=""):
