@@ -302,6 +302,12 @@ def build_parser() -> ArgumentParser:
     p.add_argument("--tip", dest="tip_link", help="URDF only: last link of the chain")
     p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
 
+    from .sweep import EPILOG_SWEEP, add_sweep_arguments
+
+    p = sub.add_parser("sweep", help="compute many loci (models x parameter grid x constraints) "
+                                     "on Dask", epilog=EPILOG_SWEEP, formatter_class=raw)
+    add_sweep_arguments(p)
+
     from .near import add_parsers as add_near_parsers
 
     add_near_parsers(sub, raw)

@@ -1,0 +1,267 @@
+"""Sweep: the example-robot-data chains on 1 and 2 Dask workers, and a scaling estimate.
+
+Runs ``rankloci sweep`` on every serial chain with 2 to 9 movable joints of
+example-robot-data's URDF files (the chains of ``benchmarks/corpus.py``: tip
+position for up to 3 joints, the full task otherwise, parameters substituted,
+the self-check on) with a time limit of ``--timeout`` seconds per case, once on
+a local cluster of 1 worker and once on 2, and writes ``benchmarks/sweep.md`` and
+``benchmarks/sweep.json``:
+
+- the wall time of each run and the speed-up, with the machine's load (``uptime``)
+  before and after each run (the machine is shared);
+- whether the two summaries agree except for the seconds;
+- for 8, 32 and 128 workers, the makespan of the measured case times (the
+  1-worker run's) scheduled as Dask schedules them (the most joints first, each
+  case to the first free worker), against the two lower bounds: the total over
+  the workers, and the longest case.
+
+Usage::
+
+    python benchmarks/sweep.py [--timeout SECONDS] [--workers 1,2] [--render]
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import heapq
+import io
+import json
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+REPO = HERE.parent
+
+#: Worker counts of the scaling estimate.
+ESTIMATE_WORKERS = (8, 32, 128)
+
+
+def robots_dir() -> Path | None:
+    """example-robot-data's ``robots`` directory (as ``benchmarks/corpus.py`` finds it)."""
+    sys.path.insert(0, str(HERE))
+    from corpus import robots_dir as find
+
+    return find()
+
+
+def spec_text(robots: Path, timeout: float) -> str:
+    """The sweep spec of the corpus chains."""
+    return f"""# the chains of benchmarks/corpus.py
+timeout = {timeout:g}
+numeric_parameters = true
+
+[[model]]
+path = {json.dumps(str(robots))}
+pattern = "**/*.urdf"
+chains = "all"
+min_joints = 2
+max_joints = 3
+task = "position"
+
+[[model]]
+path = {json.dumps(str(robots))}
+pattern = "**/*.urdf"
+chains = "all"
+min_joints = 4
+max_joints = 9
+task = "full"
+"""
+
+
+def uptime() -> str:
+    try:
+        return subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
+    except OSError:
+        return "(uptime not available)"
+
+
+def run(spec: Path, out: Path, workers: int) -> dict:
+    """One ``rankloci sweep`` on a local cluster of ``workers``; its wall time and records."""
+    cmd = [str(REPO / ".venv" / "bin" / "rankloci"), "sweep", str(spec), "-o", str(out),
+           "--workers", str(workers)]
+    before = uptime()
+    t0 = time.monotonic()
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    wall = time.monotonic() - t0
+    after = uptime()
+    if proc.returncode not in (0, 1):
+        raise SystemExit(f"rankloci sweep failed ({proc.returncode}): {proc.stderr[-2000:]}")
+    records = []
+    for row in csv.DictReader(io.StringIO((out / "summary.csv").read_text())):
+        records.append(row)
+    return {"workers": workers, "wall_s": wall, "uptime_before": before, "uptime_after": after,
+            "summary_csv": (out / "summary.csv").read_text(), "records": records,
+            "log_tail": proc.stderr.strip().splitlines()[-1:]}
+
+
+def makespan(times, workers: int) -> float:
+    """List scheduling of ``times`` (in the order given) on ``workers`` identical workers."""
+    free = [0.0] * workers
+    heapq.heapify(free)
+    end = 0.0
+    for t in times:
+        start = heapq.heappop(free)
+        heapq.heappush(free, start + t)
+        end = max(end, start + t)
+    return end
+
+
+def estimate(records) -> list[dict]:
+    """Makespans at :data:`ESTIMATE_WORKERS` from the 1-worker case times, Dask's order."""
+    order = sorted(records, key=lambda r: -int(r["joints"] or 0))  # stable: spec order within
+    times = [float(r["seconds"]) for r in order]
+    total, longest = sum(times), max(times)
+    out = []
+    for w in ESTIMATE_WORKERS:
+        m = makespan(times, w)
+        out.append({"workers": w, "makespan_s": m, "total_over_workers_s": total / w,
+                    "longest_case_s": longest, "speed_up": total / m})
+    return out
+
+
+def _without_seconds(text: str) -> list:
+    rows = list(csv.reader(io.StringIO(text)))
+    k = rows[0].index("seconds")
+    return [r[:k] + r[k + 1:] for r in rows]
+
+
+def render(data) -> str:
+    meta, runs = data["meta"], data["runs"]
+    base = runs[0]
+    recs = base["records"]
+    times = sorted(float(r["seconds"]) for r in recs)
+    n = len(times)
+    counts = {s: sum(r["status"] == s for r in recs) for s in ("done", "timeout", "memory",
+                                                                 "error")}
+    failed_check = sum(r["check"] == "fail" for r in recs)
+    lines = [
+        "# Sweep benchmark: example-robot-data chains on Dask",
+        "",
+        f"`python benchmarks/sweep.py`: `rankloci sweep` over the {n} cases of every serial "
+        f"chain with 2 to 9 movable joints in the URDF files of example-robot-data "
+        f"{meta['example_robot_data']} (the chains of `benchmarks/corpus.py`; tip position up "
+        "to 3 joints, full task otherwise; parameters substituted; the self-check on), on a "
+        "local Dask cluster of single-threaded worker processes, Python "
+        f"{meta['python']} on {meta['machine']} with {meta['cores']} cores. **The time limit "
+        f"is {meta['timeout_s']:g} s per case** (the child is killed 1 s after it), so that "
+        "the benchmark finishes in reasonable time; the cases that run out of it are the "
+        "long pole of the sweep.",
+        "",
+        "The machine is shared with other work, so each run's load is given (`uptime` just "
+        "before and just after).",
+        "",
+        "| workers | wall time (s) | speed-up | load before | load after |",
+        "| --- | --- | --- | --- | --- |",
+    ]
+    for r in runs:
+        lines.append(f"| {r['workers']} | {r['wall_s']:.1f} | {base['wall_s'] / r['wall_s']:.2f}x"
+                     f" | {r['uptime_before'].split('load average:')[-1].strip()} | "
+                     f"{r['uptime_after'].split('load average:')[-1].strip()} |")
+    same = all(_without_seconds(r["summary_csv"]) == _without_seconds(base["summary_csv"])
+               for r in runs)
+    diffs = []
+    if not same:
+        for r in runs[1:]:
+            a, b = _without_seconds(base["summary_csv"]), _without_seconds(r["summary_csv"])
+            diffs += [f"{x[0]}: {x[4]} with {base['workers']} worker(s), {y[4]} with "
+                      f"{r['workers']}" for x, y in zip(a[1:], b[1:]) if x != y]
+    lines += [
+        "",
+        f"Cases ({base['workers']}-worker run): {counts['done']} done ({failed_check} failing "
+        f"the self-check), {counts['timeout']} out of time, {counts['memory']} out of memory, "
+        f"{counts['error']} errors. Summaries of the runs, the seconds column aside: "
+        + ("**identical**." if same else "**they differ** in " + str(len(diffs)) +
+           " rows: " + "; ".join(diffs[:10]) + "."),
+        "",
+        "Case times of the 1-worker run (seconds, wall time on the worker, the child's start "
+        "and the self-check included): "
+        f"median {times[n // 2]:.2f}, 90th percentile {times[int(0.9 * (n - 1))]:.2f}, "
+        f"largest {times[-1]:.2f}, total {sum(times):.0f}.",
+        "",
+        "## Scaling estimate",
+        "",
+        "The measured case times of the 1-worker run, scheduled as Dask schedules this sweep "
+        "(the most joints first, each case to the first free worker; no start-up or transfer "
+        "cost), give these makespans. The lower bounds are the total over the workers and "
+        "the longest case.",
+        "",
+        "| workers | makespan (s) | total / workers (s) | longest case (s) | speed-up over 1 | "
+        "longest case / makespan |",
+        "| --- | --- | --- | --- | --- | --- |",
+    ]
+    for e in data["estimate"]:
+        lines.append(f"| {e['workers']} | {e['makespan_s']:.1f} | "
+                     f"{e['total_over_workers_s']:.1f} | {e['longest_case_s']:.1f} | "
+                     f"{e['speed_up']:.1f}x | {e['longest_case_s'] / e['makespan_s']:.0%} |")
+    lines += ["", data["reading"], ""]
+    return "\n".join(lines)
+
+
+def reading(data) -> str:
+    """The plain-language reading of the estimate."""
+    est = data["estimate"]
+    parts = []
+    for e in est:
+        excess = e["longest_case_s"] / e["total_over_workers_s"]
+        if e["makespan_s"] <= e["longest_case_s"] * 1.0001:
+            parts.append(f"at {e['workers']} workers the longest case is the makespan: "
+                         f"{e['longest_case_s']:.1f} s, {excess:.1f} times the "
+                         f"{e['total_over_workers_s']:.1f} s a perfect split would take")
+        else:
+            parts.append(f"at {e['workers']} workers the makespan is "
+                         f"{e['makespan_s']:.1f} s, {e['makespan_s'] / e['longest_case_s']:.1f} "
+                         f"times the longest case and "
+                         f"{e['makespan_s'] / e['total_over_workers_s']:.2f} times the total "
+                         f"over the workers")
+    return ("Reading: " + "; ".join(parts) + ". The longest cases are those stopped at the "
+            "time limit, so with a larger limit the long pole grows with it.")
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--timeout", type=float, default=20.0, help="seconds per case (default 20)")
+    ap.add_argument("--workers", default="1,2", help="comma list of worker counts (default 1,2)")
+    ap.add_argument("--output", default=str(HERE / "sweep"))
+    ap.add_argument("--render", action="store_true",
+                    help="only write OUTPUT.md again from OUTPUT.json")
+    args = ap.parse_args(argv)
+    if args.render:
+        data = json.loads(Path(args.output + ".json").read_text())
+        Path(args.output + ".md").write_text(render(data))
+        return 0
+    from importlib.metadata import version
+
+    robots = robots_dir()
+    if robots is None:
+        print("example-robot-data is not installed (pip install -e '.[test]')", file=sys.stderr)
+        return 2
+    runs = []
+    with tempfile.TemporaryDirectory(prefix="rankloci-sweep-bench-") as tmp:
+        spec = Path(tmp) / "corpus.toml"
+        spec.write_text(spec_text(robots, args.timeout))
+        for w in (int(x) for x in args.workers.split(",")):
+            print(f"{w} worker(s) ...", file=sys.stderr, flush=True)
+            runs.append(run(spec, Path(tmp) / f"out{w}", w))
+            print(f"  {runs[-1]['wall_s']:.1f} s", file=sys.stderr, flush=True)
+    import os
+
+    data = {"meta": {"python": platform.python_version(), "machine": platform.machine(),
+                     "cores": len(os.sched_getaffinity(0)), "timeout_s": args.timeout,
+                     "example_robot_data": version("example-robot-data"),
+                     "dask": version("dask"), "distributed": version("distributed")},
+            "runs": runs}
+    data["estimate"] = estimate(runs[0]["records"])
+    data["reading"] = reading(data)
+    Path(args.output + ".json").write_text(json.dumps(data, indent=1) + "\n")
+    Path(args.output + ".md").write_text(render(data))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

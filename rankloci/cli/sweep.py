@@ -1,0 +1,316 @@
+"""``rankloci sweep SPEC.toml -o DIR``: many locus computations, on Dask distributed.
+
+The spec (:mod:`rankloci.sweep.spec`) expands to cases (:mod:`rankloci.sweep.cases`);
+each case runs under its limits (:mod:`rankloci.sweep.task`) in this process or on a
+Dask cluster (:mod:`rankloci.sweep.execute`).  This module writes the files:
+
+- ``DIR/cases/ID.json`` for each case as soon as it finishes: the locus as
+  ``rankloci locus --format json`` writes it (``rankloci check MODEL --locus``
+  reads it), plus a ``sweep`` record: the case, its status, the summary row, the
+  limits and the case's hash;
+- ``DIR/summary.csv``, ``DIR/summary.md`` and a figure, once every case is done.
+
+Every file is written atomically (a temporary file renamed into place), so an
+interrupted sweep leaves whole files only; run again, it skips every case whose
+file carries the same hash (cases that ran out of time or memory are computed again
+when the limits are now larger).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+from .output import write_atomic
+from .parser import UsageError, memory_arg, timeout_arg
+
+__all__ = ["add_sweep_arguments", "cmd_sweep", "EPILOG_SWEEP"]
+
+EPILOG_SWEEP = """examples:
+  rankloci sweep designs.toml -o out/designs                # a local Dask cluster, one worker per core
+  rankloci sweep designs.toml -o out/designs --workers 2
+  rankloci sweep corpus.toml -o out/corpus --scheduler tcp://head:8786
+  rankloci sweep designs.toml -o out/designs --serial       # no Dask: one case after another
+
+A spec (TOML, read as data) names the models (built-in names, .toml/.urdf files,
+directories, every chain of a URDF file with chains = "all"), a grid over parameter
+values and constraint rows, the task, the method and the limits per case; see the
+README.  Writes DIR/cases/*.json (one locus per case), DIR/summary.csv,
+DIR/summary.md and a figure.  Run again to resume: finished cases are skipped.
+Exit 0 when every case is done and passes its self-check, 1 otherwise, 2 on bad input.
+"""
+
+
+def _workers_arg(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text[:20]!r} is not a number of workers 1 or above")
+    return value
+
+
+def _cores() -> int:
+    import os
+
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:
+        return os.cpu_count() or 1
+
+
+def add_sweep_arguments(p) -> None:
+    """The arguments of ``rankloci sweep``."""
+    p.add_argument("spec", metavar="SPEC.toml", help="the sweep specification")
+    p.add_argument("-o", "--output", metavar="DIR", required=True,
+                   help="directory of the case files and the summary (created if needed)")
+    p.add_argument("--workers", type=_workers_arg, default=None, metavar="N",
+                   help="worker processes of the local Dask cluster (default: one per core)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="use a running Dask scheduler, e.g. tcp://HOST:8786, instead of a local "
+                        "cluster")
+    p.add_argument("--serial", action="store_true",
+                   help="no Dask: run the cases one after another in this process (the default "
+                        "when one case is left to run)")
+    p.add_argument("--timeout", type=timeout_arg, default=None,
+                   help="seconds per case, instead of the spec's (0 = none)")
+    p.add_argument("--memory", type=memory_arg, default=None, metavar="MIB",
+                   help="memory limit per case in MiB, instead of the spec's (0 = none)")
+    p.add_argument("--quiet", action="store_true", help="no progress on stderr")
+
+
+class _Progress:
+    """A bar redrawn in place on a terminal; one line per finished case otherwise."""
+
+    def __init__(self, total: int, to_run: int, quiet: bool, stream=None):
+        self.stream = stream or sys.stderr
+        self.quiet = quiet
+        self.tty = not quiet and self.stream.isatty()
+        self.total, self.to_run = total, to_run
+        self.finished_before = total - to_run
+        self.done = self.failed = 0
+        self.running: set = set()
+        self.start = time.monotonic()
+        self._drawn = False
+
+    def line(self, text: str) -> None:
+        if self.quiet:
+            return
+        if self._drawn:
+            self.stream.write("\r\033[K")
+            self._drawn = False
+        print(f"rankloci: {text}", file=self.stream, flush=True)
+
+    def _eta(self) -> str:
+        if not self.done:
+            return "--"
+        left = (time.monotonic() - self.start) / self.done * (self.to_run - self.done)
+        return f"{int(left // 60)}m{int(left % 60):02d}s" if left >= 60 else f"{left:.0f}s"
+
+    def draw(self) -> None:
+        if not self.tty:
+            return
+        n = self.finished_before + self.done
+        width = 24
+        full = int(width * n / max(self.total, 1))
+        self.stream.write(f"\r\033[Ksweep [{'#' * full}{'.' * (width - full)}] {n}/{self.total} "
+                          f"done, {len(self.running)} running, {self.failed} failed, "
+                          f"ETA {self._eta()}")
+        self.stream.flush()
+        self._drawn = True
+
+    def started(self, case) -> None:
+        self.running.add(case.id)
+        self.draw()
+
+    def finished(self, case, record) -> None:
+        self.running.discard(case.id)
+        self.done += 1
+        ok = record["status"] == "done" and record.get("check") != "fail"
+        self.failed += not ok
+        if not self.tty and not self.quiet:
+            what = (f"{record['components']} component{'' if record['components'] == 1 else 's'}"
+                    f", check {record['check']}" if record["status"] == "done"
+                    else record["note"])
+            self.line(f"[{self.finished_before + self.done}/{self.total}] {case.label}: "
+                      f"{record['status']}, {what} ({record['seconds']:.1f} s)")
+        self.draw()
+
+    def close(self) -> None:
+        if self._drawn:
+            self.stream.write("\n")
+            self.stream.flush()
+            self._drawn = False
+
+
+def _finished_record(path: Path, case, timeout: float, memory: int):
+    """The record of ``case`` in ``path`` if it counts as finished for these limits, else None."""
+    from ..sweep.task import STATUSES
+
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+        record = data["sweep"]
+        if record["hash"] != case.hash or record["status"] not in STATUSES:
+            return None
+        before = record["limits"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+    if record["status"] == "error" and record.get("transient"):
+        return None
+
+    def covers(old, new):           # a limit of 0 is no limit
+        return old == 0 or (new != 0 and old >= new)
+
+    if record["status"] == "timeout" and not covers(before.get("timeout", 0), timeout):
+        return None
+    if record["status"] == "memory" and not covers(before.get("memory", 0), memory):
+        return None
+    return record
+
+
+def _output_dir(text: str) -> Path:
+    out = Path(text)
+    if out.exists() and not out.is_dir():
+        raise UsageError(f"-o {text!r}: exists and is not a directory")
+    anchor = next(p for p in [out, *out.absolute().parents] if p.exists())
+    if not anchor.is_dir():
+        raise UsageError(f"-o {text!r}: {str(anchor)!r} is not a directory")
+    return out
+
+
+def _settings(spec, timeout, memory) -> str:
+    task = spec.task if spec.task is not None else "each model's own"
+    return (f"Spec `{spec.file}`: task {task}, method {spec.method or 'the default for the shape'}"
+            f", parameters {'substituted' if spec.numeric else 'symbolic'}, seed {spec.seed}, "
+            f"self-check {'on' if spec.verify else 'off'}; at most "
+            f"{f'{timeout:g} s' if timeout else 'unlimited time'} and "
+            f"{f'{memory} MiB' if memory else 'unlimited memory'} per case.")
+
+
+def _executor(args, pending):
+    """``(DaskExecutor or None, where it runs)`` for the cases to run (None: in this process)."""
+    from ..sweep.execute import DaskExecutor, SetupError
+
+    if args.serial or len(pending) <= 1:
+        return None, "in this process, one after another"
+    try:
+        if args.scheduler:
+            ex = DaskExecutor.remote(args.scheduler)
+        else:
+            ex = DaskExecutor.local(args.workers or _cores())
+    except ImportError:
+        raise UsageError("Dask is not installed: pip install 'rankloci[sweep]', or use "
+                         "--serial") from None
+    except SetupError as e:
+        raise UsageError(str(e)) from None
+    try:
+        threads = ex.check_workers()
+    except SetupError as e:
+        ex.close()
+        raise UsageError(str(e)) from None
+    where = args.scheduler or "a local Dask cluster"
+    return ex, f"on {where}, {threads} worker thread{'' if threads == 1 else 's'}"
+
+
+def cmd_sweep(args) -> int:
+    from ..sweep.cases import expand
+    from ..sweep.execute import serial_events
+    from ..sweep.spec import read_spec
+    from ..sweep.summary import render_csv, render_figure, render_markdown, status_counts
+
+    if args.serial and (args.scheduler or args.workers):
+        raise UsageError("--serial runs without Dask; it excludes --workers and --scheduler")
+    if args.scheduler and args.workers:
+        raise UsageError("--workers sizes a local cluster; a running scheduler has its own "
+                         "workers")
+    if args.scheduler and "://" not in args.scheduler:
+        raise UsageError(f"--scheduler {args.scheduler!r}: give an address like "
+                         f"tcp://HOST:8786")
+    spec = read_spec(args.spec)
+    timeout = spec.timeout if args.timeout is None else args.timeout
+    memory = spec.memory if args.memory is None else args.memory
+    out = _output_dir(args.output)
+    cases, sources, skipped = expand(spec)  # bad input ends here, before anything is written
+    if not cases:
+        raise UsageError(f"{spec.file}: the spec gives no case ("
+                         + "; ".join(skipped[:3]) + (" ..." if len(skipped) > 3 else "") + ")")
+    case_dir = out / "cases"
+    case_dir.mkdir(parents=True, exist_ok=True)
+    for stale in case_dir.glob(".*.json.*"):  # temporary files of a run killed while writing
+        stale.unlink(missing_ok=True)
+    records = {}
+    for case in cases:
+        got = _finished_record(case_dir / f"{case.id}.json", case, timeout, memory)
+        if got is not None:
+            records[case.id] = got
+    pending = [c for c in cases if c.id not in records]
+    progress = _Progress(len(cases), len(pending), args.quiet)
+    for note in skipped:
+        progress.line(f"note: {note}")
+    executor, where = _executor(args, pending) if pending else (None, "")
+    progress.line(f"sweep {spec.file}: {len(cases)} case{'' if len(cases) == 1 else 's'}, "
+                  f"{len(records)} finished before, {len(pending)} to run"
+                  + (f" {where}" if pending else ""))
+    t0 = time.monotonic()
+    try:
+        events = (executor.events(pending, sources, timeout=timeout, memory=memory)
+                  if executor else serial_events(pending, sources, timeout=timeout,
+                                                 memory=memory))
+        for event in events:
+            if event[0] == "start":
+                progress.started(event[1])
+            elif event[0] == "done":
+                _, case, result = event
+                data = (result["locus"] or {}) | {"sweep": result["sweep"]}
+                write_atomic(case_dir / f"{case.id}.json", json.dumps(data, indent=2) + "\n")
+                records[case.id] = result["sweep"]
+                progress.finished(case, result["sweep"])
+            else:
+                progress.draw()
+    except KeyboardInterrupt:
+        progress.close()
+        if executor:
+            executor.stop()
+        progress.line(f"interrupted: {len(records)} of {len(cases)} cases are saved in "
+                      f"{case_dir}; run the same command again to resume")
+        raise
+    finally:
+        progress.close()
+        if executor:
+            executor.close()
+    ordered = [records[c.id] for c in cases]
+    figure = render_figure(ordered)
+    figures = []
+    if figure:
+        name, caption, png = figure
+        _write_bytes(out / name, png)
+        figures.append((name, caption))
+    write_atomic(out / "summary.csv", render_csv(ordered))
+    write_atomic(out / "summary.md", render_markdown(
+        ordered, title=spec.file, settings=_settings(spec, timeout, memory), figures=figures,
+        skipped=skipped))
+    counts = status_counts(ordered)
+    progress.line(f"sweep done in {time.monotonic() - t0:.1f} s: "
+                  + ", ".join(f"{v} {k}" for k, v in counts.items()))
+    print(out / "summary.md")
+    ok = counts["done"] == len(cases) and not counts["check failed"]
+    return 0 if ok else 1
+
+
+def _write_bytes(path: Path, data: bytes) -> None:
+    """``data`` to ``path`` through a temporary file: never half-written."""
+    import os
+    import tempfile
+
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.")
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
