@@ -6,7 +6,9 @@ differences taken in (-pi, pi]).  It is found in two steps: least squares on
 the equations from q (a Gauss-Newton-type step from q moves along the
 equations' gradients, so it lands near the closest point), then SLSQP on
 ||p - q||^2 with the equations as constraints from there.  Both are local:
-the distance returned is that to the nearest point found, an upper bound of
+the SLSQP step is skipped when the least-squares point is already stationary
+(p - q normal to the component there).  The distance returned is that to the nearest
+point found, an upper bound of
 the true distance, and equal to it when the closest point is the one the
 descent reaches (for the components of the built-in models the tests compare
 it with closed forms).
@@ -18,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..tolerances import ON_COMPONENT_RESIDUAL
+from ..tolerances import DIMENSION_RTOL, DIMENSION_STEP, ON_COMPONENT_RESIDUAL
 
 __all__ = ["Nearest", "ComponentDistance"]
 
@@ -82,6 +84,8 @@ class ComponentDistance:
                           max_nfev=200 * len(q)).x
         if eqs.residual(p) > ON_COMPONENT_RESIDUAL:
             return None
+        if self._stationary(eqs, p, q):
+            return p
 
         def f(x):
             d = self._wrap(x - q)
@@ -95,6 +99,23 @@ class ComponentDistance:
                 and np.linalg.norm(self._wrap(better - q)) < np.linalg.norm(self._wrap(p - q))):
             p = better
         return p
+
+    def _stationary(self, eqs, p, q) -> bool:
+        """Whether p - q is normal to the component at p (a stationary point of the distance).
+
+        The equations' gradient G (central differences, DIMENSION_STEP) spans the normal
+        space; p - q must lie in its row space to DIMENSION_RTOL.
+        """
+        d = self._wrap(p - q)
+        size = float(np.linalg.norm(d))
+        if size == 0:
+            return True
+        h = DIMENSION_STEP
+        G = np.array([(eqs(p + h * e) - eqs(p - h * e)) / (2 * h) for e in np.eye(len(p))]).T
+        if not G.size:
+            return False
+        coef = np.linalg.lstsq(G.T, d, rcond=None)[0]
+        return float(np.linalg.norm(G.T @ coef - d)) <= DIMENSION_RTOL * 100 * size
 
     def distance(self, i: int, q, start=None):
         """(distance, point) from ``q`` to component ``i`` ((inf, None) if no point is reached)."""

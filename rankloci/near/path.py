@@ -8,7 +8,7 @@ error (closed-loop inverse kinematics, gain ``1 / (4 dt)``), and q moves by
 qdot dt.  Each step records the minimum two-norm and minimum infinity-norm
 rates, the discontinuity indices, the mixing ratio and sigma_min/sigma_max;
 the path stops early, saying where, when J comes within REGULAR_MIN_RATIO of
-rank deficiency.
+rank deficiency or a joint would move more than ``max_step`` in one step.
 """
 
 from __future__ import annotations
@@ -137,7 +137,8 @@ def _rotation_error(R_goal, R):
 
 
 def joint_rates_along(kin: Kinematics, q0, points, *, norm: str = "inf", duration: float = 1.0,
-                      steps: int = 200, restricted=(), gain: float = DEFAULT_MIXING_GAIN) -> PathRates:
+                      steps: int = 200, restricted=(), gain: float = DEFAULT_MIXING_GAIN,
+                      max_step: float = 0.1) -> PathRates:
     """Follow the polyline ``points`` from configuration ``q0`` and record the joint rates.
 
     Parameters
@@ -158,6 +159,10 @@ def joint_rates_along(kin: Kinematics, q0, points, *, norm: str = "inf", duratio
         Joints (0-based) held still.
     gain : float
         The gain of the mixing ratio.
+    max_step : float
+        The path stops when a joint would move more than this in one step (the
+        rates blow up faster than the steps can follow, as when the path leaves the
+        workspace through the locus).
 
     Returns
     -------
@@ -210,6 +215,11 @@ def joint_rates_along(kin: Kinematics, q0, points, *, norm: str = "inf", duratio
             dm = minor_index(Jk, sol.saturated)
         r = float(mixing_ratio(d, gain))
         rates = {"2": x2, "inf": xi, "mixed": r * xi + (1 - r) * x2}[norm]
+        if np.max(np.abs(rates)) * dt > max_step:
+            stopped = (f"stopped at t = {t:.4g}: a joint would move "
+                       f"{np.max(np.abs(rates)) * dt:.3g} in one step (more than {max_step:g}); "
+                       f"sigma_min/sigma_max = {ratio:.1e}")
+            break
         for key, val in (("t", t), ("q", q.copy()), ("rates", rates), ("rates_2", x2),
                          ("rates_inf", xi), ("index", d), ("minor", dm), ("mixing", r),
                          ("ratio", ratio), ("error", float(np.linalg.norm(err)))):
