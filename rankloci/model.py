@@ -184,8 +184,8 @@ class RobotModel(_ContentIdentity):
         kinds = [j.kind for j in self.joints]
         counts = ", ".join(f"{kinds.count(k)} {k}" for k in ("revolute", "prismatic")
                            if k in kinds)
-        convention = {"dh": "standard DH", "mdh": "modified DH"}.get(self.convention,
-                                                                     self.convention)
+        convention = {"dh": "standard DH", "mdh": "modified DH",
+                      "urdf": "URDF joints"}.get(self.convention, self.convention)
         params = ", ".join(sorted(p.name for p in self.parameters))
         return (f"<RobotModel {self.name!r}: {counts or 'no'} joint{'s' * (len(kinds) != 1)}, "
                 f"{convention}" + (f", parameters {params}" if params else "") + ">")
