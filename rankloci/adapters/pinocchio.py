@@ -121,10 +121,19 @@ def from_pinocchio(model, *, tip=None, name=None):
 
     Examples
     --------
-    >>> import pinocchio as pin                             # doctest: +SKIP
-    >>> m = pin.buildModelFromUrdf("ur5_robot.urdf")        # doctest: +SKIP
-    >>> from_pinocchio(m, tip="tool0")                      # doctest: +SKIP
-    <RobotModel 'ur5': 6 revolute joints, standard DH>
+    A planar arm built by hand (two joints about z, links of 1 and 0.5):
+
+    >>> import numpy as np, pinocchio as pin, rankloci
+    >>> m = pin.Model()
+    >>> j1 = m.addJoint(0, pin.JointModelRZ(), pin.SE3.Identity(), "j1")
+    >>> j2 = m.addJoint(j1, pin.JointModelRZ(), pin.SE3(np.eye(3), np.array([1.0, 0, 0])), "j2")
+    >>> tip = pin.SE3(np.eye(3), np.array([0.5, 0, 0]))
+    >>> _ = m.addFrame(pin.Frame("tip", j2, tip, pin.FrameType.OP_FRAME))
+    >>> robot = from_pinocchio(m, tip="tip")
+    >>> robot
+    <RobotModel 'model': 2 revolute joints, URDF joints>
+    >>> [str(c.equations[0]) for c in rankloci.locus(robot, task="planar").components]
+    ['sin(q2)']
     """
     from ..io.urdf import parse_urdf
 

@@ -125,8 +125,8 @@ def from_rtb(robot, *, symbolic: bool = True):
 
     Examples
     --------
-    >>> import roboticstoolbox as rtb                       # doctest: +SKIP
-    >>> from_rtb(rtb.models.DH.Puma560())                   # doctest: +SKIP
+    >>> import roboticstoolbox as rtb
+    >>> from_rtb(rtb.models.DH.Puma560())
     <RobotModel 'puma_560': 6 revolute joints, standard DH, parameters a2, a3, d1, d3, d4>
     """
     import warnings
