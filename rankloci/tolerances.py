@@ -76,6 +76,37 @@ FSP_K2_BND = 10.0
 #: a null vector's first component at least this large names a dependent row.
 FSP_N_BND_NUMERATOR = 0.9
 
+# FSP solution space (rankloci.numeric.fsp_solution).  The listing's absolute
+# thresholds (SV_SMALL, SMALL/10) carry the units of A; these are the same
+# values for A, b and x of unit size, made relative so that a small motion b
+# (one step of a trajectory) or a Jacobian in other units is treated alike.
+
+#: Default ``tol`` of ``fsp_solution.solve``: a singular value at most this times
+#: sigma_max of A counts as zero when the reducer looks for dependent rows (the
+#: listing's SV_SMALL = 1e-4 and condition bound 1/SV_SMALL, relative to sigma_max).
+FSP_SOLVE_RTOL = FSP_SV_SMALL
+
+#: Blocking search: a component of a solution vector g counts as zero (that column
+#: may not be blocked next) when |g_c| <= this * max|g|: the listing's SMALL/10 =
+#: 1e-4 * max|A_ij| for a unit-size solution.
+FSP_G_ZERO_RTOL = 1e-4
+
+#: The reduced b is all zero (the completely restricted case, section 5.1) when
+#: max|b_red| <= this * max(max|b|, max|A| * max|x_fixed|): back-substitution leaves
+#: rounding of a few eps times those terms; 1e-12 leaves four orders of margin.
+FSP_B_ZERO_RTOL = 1e-12
+
+#: A dependent row's constraint sum (A_j g^i) t_i = b_j, minus its part along
+#: sum t_i = 1, is redundant when its entries are at most this times the size of
+#: the terms of A_j g^i (sum_l |A_jl g^i_l|).  For an exactly dependent row they
+#: cancel to ~cond * eps (1e-13 for a condition number of 1e3); 1e-9 leaves margin.
+FSP_CONSTRAINT_RTOL = 1e-9
+
+#: x solves A x = b when max_i |A_i x - b_i| is at most this times the size of the
+#: terms, max_i sum_l |A_il x_l| + max_i |b_i| (normwise): rounding of a solve with
+#: condition number up to 1e4 (the reducer's bound) stays near 1e-12; 1e-9 leaves margin.
+FSP_RESIDUAL_RTOL = 1e-9
+
 #: A polynomial counts as vanishing at a point when its value is at most
 #: ZERO_RTOL times the value of the same polynomial with every coefficient and
 #: every variable replaced by its absolute value (the size of its terms).
