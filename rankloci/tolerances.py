@@ -100,6 +100,8 @@ FSP_B_ZERO_RTOL = 1e-12
 #: sum t_i = 1, is redundant when its entries are at most this times the size of
 #: the terms of A_j g^i (sum_l |A_jl g^i_l|).  For an exactly dependent row they
 #: cancel to ~cond * eps (1e-13 for a condition number of 1e3); 1e-9 leaves margin.
+#: Also the rank threshold (relative to sigma_max) of the directions of S: the
+#: search keeps vectors at least FSP_G_ZERO_RTOL apart, far above it.
 FSP_CONSTRAINT_RTOL = 1e-9
 
 #: x solves A x = b when max_i |A_i x - b_i| is at most this times the size of the

@@ -415,7 +415,7 @@ def test_held_joints(seed):
 
 @pytest.mark.parametrize("seed", range(8))
 @pytest.mark.parametrize("shape, rank", [((6, 10), 5), ((6, 10), 4), ((6, 7), 5),
-                                         ((4, 4), 2)])
+                                         ((4, 4), 2), ((7, 5), 5), ((8, 6), 4)])
 def test_rank_deficient_random_systems(seed, shape, rank):
     rng = np.random.default_rng(seed)
     n, m = shape
