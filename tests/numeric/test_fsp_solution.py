@@ -73,8 +73,9 @@ def points_of(s, rng, count=5):
 #          part (-0.006, 0.343, 0) puts it at joint 5's point, a wrist; the
 #          base rotation about z)
 # gives every column a unit axis, and the search then finds the blocking the
-# zeros of eq. (32) show, after trying three first blockings, and vectors
-# within 0.001 of eq. (32) except two printed entries (see the test).
+# zeros of eq. (32) show (its first blocking is the third in lexicographic
+# order), vectors within 0.001 of eq. (32) except two printed entries (see the
+# test) and dq of eq. (33) to 0.0007.
 J_6_1_FITTED = J_6_1.copy()
 J_6_1_FITTED[4] = [0.000, -1.000, -0.000, -1.000, -1.000, -0.001, 0.000, 0.0, 0.0, 0.000]
 J_6_1_FITTED[5] = [1.000, 0.000, -1.000, -0.000, 0.000, -1.000, 0.001, 0.0, 0.0, 1.0]
