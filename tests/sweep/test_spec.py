@@ -1,0 +1,73 @@
+"""The sweep spec: TOML read as data, every problem one error naming the file and the key."""
+
+from __future__ import annotations
+
+import pytest
+
+from rankloci.sweep.cases import expand
+from rankloci.sweep.spec import MAX_CASES, SpecError, parse_spec
+
+
+def test_lists_ranges_and_expressions_become_exact_values():
+    spec = parse_spec('models = ["planar3r"]\n[grid.parameters]\n'
+                      'l2 = [0.5, 2, "3/2", "pi/4"]\n'
+                      'l3 = { start = 0.25, stop = 1, step = 0.25 }\n', file="s.toml")
+    (name2, v2), (name3, v3) = spec.entries[0].grid.parameters
+    assert name2 == "l2" and [str(v) for _, v in v2] == ["1/2", "2", "3/2", "pi/4"]
+    assert name3 == "l3" and [t for t, _ in v3] == ["0.25", "0.5", "0.75", "1"]
+    assert spec.entries[0].grid.size == 16
+
+
+def test_defaults_are_those_of_rankloci_locus_with_parameters_substituted():
+    spec = parse_spec('models = ["planar2r"]\n')
+    assert (spec.method, spec.task, spec.seed, spec.verify, spec.numeric) == (
+        None, None, 0, True, True)
+    assert spec.timeout == 600 and spec.memory == 8192
+
+
+@pytest.mark.parametrize("text, key", [
+    ('models = ["planar2r"]\nfoo = 1\n', "foo"),
+    ('models = ["planar2r"]\nmethod = "newton"\n', "method"),
+    ('models = ["planar2r"]\ntimeout = -1\n', "timeout"),
+    ('models = ["planar2r"]\ntimeout = nan\n', "timeout"),
+    ('models = ["planar2r"]\nseed = 1.5\n', "seed"),
+    ('models = ["planar2r"]\ntask = "sideways"\n', "task"),
+    ('models = ["planar2r"]\n[grid.parameters]\nl1 = []\n', "grid.parameters.l1"),
+    ('models = ["planar2r"]\n[grid.parameters]\nl1 = [1, 1.0]\n', "grid.parameters.l1"),
+    ('models = ["planar2r"]\n[grid.parameters]\nl1 = { start = 0, stop = 1 }\n',
+     "grid.parameters.l1"),
+    ('models = ["planar2r"]\n[grid.parameters]\nl1 = { start = 0, stop = 1, step = -1 }\n',
+     "grid.parameters.l1.step"),
+    ('models = ["planar2r"]\n[grid.parameters]\nl1 = ["__import__(\'os\').system(\'x\')"]\n',
+     "grid.parameters.l1[0]"),
+    ('models = ["planar2r"]\n[grid.parameters]\nl1 = ["q1 + 1"]\n', "grid.parameters.l1[0]"),
+    ('models = ["planar2r"]\n[grid]\naugment = [3]\n', "grid.augment[0]"),
+    ('[[model]]\nname = "planar2r"\nchains = "all"\n', "model[0]"),
+    ('[[model]]\nname = "planar2r"\npath = "x.toml"\n', "model[0]"),
+    ('[[model]]\npath = "missing.urdf"\n', "model[0].path"),
+    ('[[model]]\nname = "planar2r"\nmin_joints = 2\n', "model[0].min_joints"),
+    ("models = 3\n", "models"),
+    ("", "models"),
+])
+def test_a_bad_spec_names_the_file_and_the_key(text, key):
+    with pytest.raises(SpecError) as err:
+        parse_spec(text, file="s.toml")
+    assert err.value.file == "s.toml" and err.value.field == key
+    assert str(err.value).startswith(f"s.toml: field {key!r}: ")
+
+
+def test_invalid_toml_is_one_error():
+    with pytest.raises(SpecError, match="invalid TOML"):
+        parse_spec("models = [", file="s.toml")
+
+
+@pytest.mark.parametrize("text, match", [
+    ('models = ["planar9r"]\n', "no built-in model 'planar9r'"),
+    ('models = ["planar2r"]\n[grid.parameters]\nd9 = [1, 2]\n', "no parameter 'd9'"),
+    ('models = ["planar2r"]\n[grid]\naugment = ["lock(q7)"]\n', "lock"),
+    ('models = ["planar2r"]\n[grid.parameters]\nl1 = { start = 1, stop = 2, num = 400 }\n'
+     'l2 = { start = 1, stop = 2, num = 400 }\n', f"more than {MAX_CASES} cases"),
+])
+def test_models_and_grids_are_checked_before_anything_runs(text, match):
+    with pytest.raises(SpecError, match=match):
+        expand(parse_spec(text, file="s.toml"))
