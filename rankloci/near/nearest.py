@@ -2,10 +2,11 @@
 
 The distance from q to a component is min ||p - q|| over the points p where
 the component's equations vanish (joint-space Euclidean distance, angle
-differences taken in (-pi, pi]).  It is found in two steps: least squares on
-the equations from q (a Gauss-Newton-type step from q moves along the
-equations' gradients, so it lands near the closest point), then SLSQP on
-||p - q||^2 with the equations as constraints from there.  Both are local:
+differences taken in (-pi, pi]).  It is found in two steps: minimum-norm
+Gauss-Newton on the equations from q with steps of at most MAX_PROJECTION_STEP
+(each step is the shortest move that zeroes the linearised equations, so it
+lands near the closest point; least squares from q where that fails), then SLSQP on ||p - q||^2 with the
+equations as constraints from there.  Both are local:
 the SLSQP step is skipped when the least-squares point is already stationary
 (p - q normal to the component there).  The distance returned is that to the nearest
 point found, an upper bound of
@@ -22,7 +23,7 @@ import numpy as np
 
 from ..tolerances import DIMENSION_RTOL, DIMENSION_STEP, ON_COMPONENT_RESIDUAL
 
-__all__ = ["Nearest", "ComponentDistance"]
+__all__ = ["Nearest", "ComponentDistance", "MAX_PROJECTION_STEP"]
 
 
 @dataclass(frozen=True)
@@ -45,6 +46,32 @@ class Nearest:
     distance: float
     point: np.ndarray
     distances: tuple
+
+
+#: Longest step (joint-space norm, radians) of the projection onto a component.  A full
+#: Gauss-Newton step from far away can jump past the nearest zero of a trigonometric
+#: equation to another; short steps follow the descent of the residual to the nearest.
+MAX_PROJECTION_STEP = 0.1
+
+
+def _short_steps(eqs, p, max_iter: int = 200):
+    """Minimum-norm Gauss-Newton from ``p`` with steps capped at MAX_PROJECTION_STEP."""
+    p = np.array(p, dtype=float)
+    h = DIMENSION_STEP
+    eye = np.eye(len(p))
+    for _ in range(max_iter):
+        r = eqs(p)
+        if not np.all(np.isfinite(r)) or np.max(np.abs(r)) <= 1e-15:
+            break
+        G = np.array([(eqs(p + h * e) - eqs(p - h * e)) / (2 * h) for e in eye]).T
+        dx = -np.linalg.lstsq(G, r, rcond=None)[0]
+        size = float(np.linalg.norm(dx))
+        if size > MAX_PROJECTION_STEP:
+            dx *= MAX_PROJECTION_STEP / size
+        p = p + dx
+        if size <= 1e-15:
+            break
+    return p
 
 
 class ComponentDistance:
@@ -80,8 +107,10 @@ class ComponentDistance:
         eqs = self._eqs[i]
         if eqs.empty:
             return q.copy()
-        p = least_squares(eqs, start, method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15,
-                          max_nfev=200 * len(q)).x
+        p = _short_steps(eqs, start)
+        if eqs.residual(p) > ON_COMPONENT_RESIDUAL:
+            p = least_squares(eqs, start, method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15,
+                              max_nfev=200 * len(q)).x
         if eqs.residual(p) > ON_COMPONENT_RESIDUAL:
             return None
         if self._stationary(eqs, p, q):
