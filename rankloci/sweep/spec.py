@@ -331,7 +331,7 @@ def parse_spec(text: str, *, base: Path | str = ".", file: str = "") -> SweepSpe
     >>> spec = parse_spec('models = ["planar3r"]\\ntimeout = 30\\n'
     ...                   '[grid.parameters]\\nl2 = { start = 0.5, stop = 1.5, num = 3 }\\n')
     >>> spec.entries[0].name, spec.timeout, spec.entries[0].grid.parameters[0][1]
-    ('planar3r', 30, (('0.5', 1/2), ('1', 1), ('1.5', 3/2)))
+    ('planar3r', 30.0, (('0.5', 1/2), ('1', 1), ('1.5', 3/2)))
     """
     base = Path(base)
     if len(text) > MAX_SPEC_BYTES:
