@@ -198,6 +198,17 @@ def _model_args(p):
     p.add_argument("--tip", dest="tip_link", help="URDF only: last link of the chain")
 
 
+class _CommandListFormatter(argparse.RawDescriptionHelpFormatter):
+    """Measures each item one indent deeper: argparse measures subcommand names at the
+    parent's indent but prints them one level in, so a long name (manipulability) would
+    otherwise get its help on a line of its own."""
+
+    def add_argument(self, action):
+        self._indent()
+        super().add_argument(action)
+        self._dedent()
+
+
 def build_parser() -> ArgumentParser:
     """The parser of ``rankloci``; ``args.command`` names the subcommand (None if none)."""
     raw = argparse.RawDescriptionHelpFormatter
@@ -206,8 +217,7 @@ def build_parser() -> ArgumentParser:
         description="Closed-form rank-deficiency (singularity) loci of robot Jacobians "
                     "and symbolic matrices.",
         epilog="examples:\n  rankloci models\n  rankloci jacobian puma560\n"
-               "\nrun 'rankloci COMMAND --help' for the options of a command.",
-        formatter_class=raw,
+        formatter_class=_CommandListFormatter,
     )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=ArgumentParser)
 
