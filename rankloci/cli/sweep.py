@@ -239,9 +239,6 @@ def cmd_sweep(args) -> int:
         raise UsageError(f"{spec.file}: the spec gives no case ("
                          + "; ".join(skipped[:3]) + (" ..." if len(skipped) > 3 else "") + ")")
     case_dir = out / "cases"
-    case_dir.mkdir(parents=True, exist_ok=True)
-    for stale in case_dir.glob(".*.json.*"):  # temporary files of a run killed while writing
-        stale.unlink(missing_ok=True)
     records = {}
     for case in cases:
         got = _finished_record(case_dir / f"{case.id}.json", case, timeout, memory)
@@ -252,6 +249,14 @@ def cmd_sweep(args) -> int:
     for note in skipped:
         progress.line(f"note: {note}")
     executor, where = _executor(args, pending) if pending else (None, "")
+    try:                                    # the first write: the spec and the cluster are good
+        case_dir.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        if executor:
+            executor.close()
+        raise UsageError(f"-o {args.output!r}: cannot write there: {e.strerror or e}") from None
+    for stale in case_dir.glob(".*.json.*"):  # temporary files of a run killed while writing
+        stale.unlink(missing_ok=True)
     progress.line(f"sweep {spec.file}: {len(cases)} case{'' if len(cases) == 1 else 's'}, "
                   f"{len(records)} finished before, {len(pending)} to run"
                   + (f" {where}" if pending else ""))

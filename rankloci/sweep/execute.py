@@ -118,9 +118,12 @@ class DaskExecutor:
 
         config = dask.config.set(DASK_CONFIG)
         try:
+            # no dashboard; the scheduler's own HTTP server (health checks) on a free port,
+            # not on 8787, which another cluster on the machine may hold
             cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                    dashboard_address=None, memory_limit=0,
-                                   silence_logs=logging.ERROR, scheduler_port=0)
+                                   silence_logs=logging.ERROR, scheduler_port=0,
+                                   scheduler_kwargs={"dashboard_address": ":0"})
             client = Client(cluster)
         except BaseException:
             config.__exit__(None, None, None)
