@@ -217,6 +217,7 @@ def build_parser() -> ArgumentParser:
         description="Closed-form rank-deficiency (singularity) loci of robot Jacobians "
                     "and symbolic matrices.",
         epilog="examples:\n  rankloci models\n  rankloci jacobian puma560\n"
+               "\nrun 'rankloci COMMAND --help' for the options of a command.",
         formatter_class=_CommandListFormatter,
     )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=ArgumentParser)
