@@ -117,16 +117,14 @@ def polyline(points, s):
 
 
 def _two_norm(J, v, keep):
-    try:
+    """Minimum two-norm rates: the pseudo-inverse, or with restricted joints the least-norm
+    point of the FSP solution space (ORNL/TM-12816, LeastNorm)."""
+    if len(keep) < J.shape[1]:
         from ..numeric.fsp_solution import solve
-    except ImportError:
-        solve = None
-    if solve is not None and len(keep) < J.shape[1]:
+
         restricted = [j for j in range(J.shape[1]) if j not in keep]
         return np.asarray(solve(J, v, restricted=restricted).least_norm, dtype=float)
-    x = np.zeros(J.shape[1])
-    x[keep] = np.linalg.pinv(J[:, keep]) @ v
-    return x
+    return np.linalg.pinv(J) @ v
 
 
 def _rotation_error(R_goal, R):

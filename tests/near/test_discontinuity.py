@@ -164,6 +164,12 @@ def test_restricted_joints_do_not_move_and_the_tool_still_follows(planar4r):
                                  restricted=(0,))
         assert np.all(path.rates[:, 0] == 0.0) and np.all(path.q[:, 0] == q0[0])
         assert path.error.max() < 1e-3
+        # the FSP least-norm point is the pseudo-inverse solution of the remaining columns
+        for k in range(0, len(path.t), 25):
+            J = planar4r.jacobian(path.q[k])[:, 1:]
+            v = J @ path.rates_2[k, 1:]
+            np.testing.assert_allclose(path.rates_2[k, 1:], np.linalg.pinv(J) @ v, atol=1e-12)
+            assert np.abs(path.rates_inf[k, 1:]).max() <= np.abs(path.rates_2[k, 1:]).max() + 1e-12
 
 
 def test_path_arguments_are_checked(planar4r):
