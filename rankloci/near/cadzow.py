@@ -89,6 +89,12 @@ def cadzow(A, y, *, max_iter: int | None = None) -> InfNormSolution:
         x1n = float(np.max(np.abs(x[free]))) if free else 0.0
         zeros = [sat[i] for i in np.flatnonzero(sgn == 0)]
         history.append(dict(free=tuple(free), bound=bound, x1_norm=x1n, zeros=zeros))
+        gap = float(np.linalg.norm(A @ x - y))
+        if gap > INF_NORM_RTOL * (np.linalg.norm(y) + np.linalg.norm(A, 2) * np.linalg.norm(x)):
+            return _result(x, bound, False, "cadzow", it, sat, free, history,
+                           f"C-step 5: A_1 x_1 = y - A_2 x_2 has no solution (residual {gap:.1e}); "
+                           f"A_1 = columns {tuple(free)} has rank < m - 1, the Haar condition "
+                           "does not hold")
         if x1n <= (1 + INF_NORM_RTOL) * bound:                         # C-step 6(a)
             return _result(x, bound, True, "cadzow", it, sat, free, history)
         state = (tuple(free), round(bound, 12))

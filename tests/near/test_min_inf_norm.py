@@ -8,6 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from rankloci.io import load_model
 from rankloci.near.cadzow import cadzow
 from rankloci.near.min_inf_norm import (METHODS, haar_condition, ha_lee, linear_program,
                                         min_inf_norm)
@@ -162,3 +163,29 @@ def test_degenerate_systems_with_repeated_columns_match_the_linear_program():
         s, lp = ha_lee(A, y), linear_program(A, y)
         assert s.converged, s.reason
         assert s.norm == pytest.approx(lp.norm, rel=1e-8)
+
+
+@pytest.mark.parametrize("name", ["pa10", "mobile10"])
+def test_robot_jacobians_ha_lee_always_cadzow_only_where_it_can(name):
+    """Robot Jacobians rarely satisfy the Haar condition (the PA10's flange lies on axis 7, so
+    column 7 has no linear part; the mobile base's columns are constant).  Ha and Lee reach
+    the LP's optimum on every system; Cadzow's algorithm either does too or says it failed."""
+    from rankloci.numeric.batch_jacobian import BatchJacobian
+
+    model = load_model(name)
+    rng = np.random.default_rng(11)
+    Q = rng.uniform(-np.pi, np.pi, size=(40, len(model.joints)))
+    failed = 0
+    for J, y in zip(BatchJacobian(model)(Q), rng.normal(size=(40, 6))):
+        lp = linear_program(J, y)
+        s = ha_lee(J, y)
+        assert s.converged and s.norm == pytest.approx(lp.norm, rel=1e-9)
+        c = cadzow(J, y)
+        if c.converged:
+            assert c.norm == pytest.approx(lp.norm, rel=1e-9)
+            np.testing.assert_allclose(J @ c.x, y, atol=1e-9)
+        else:
+            failed += 1
+            assert "Haar condition" in c.reason or "cycling" in c.reason, c.reason
+    assert not haar_condition(J)
+    assert failed > 0, "some of these systems defeat Cadzow's algorithm"
