@@ -1,7 +1,8 @@
 """One case of a sweep, computed under its limits: what each worker runs.
 
 :func:`run_case` computes the locus of a case as ``rankloci locus`` does
-(``--frame auto``, the self-check unless the spec turns it off) in a forked
+(:func:`rankloci.api.calls.model_locus` with ``--frame auto``, the self-check
+unless the spec turns it off) in a forked
 child under the time and memory limits of
 :func:`rankloci.cli.limits.run_limited`, so a case that runs out of either
 ends as a record saying so, and the worker goes on with the next case.
@@ -57,10 +58,11 @@ def _kinds(locus) -> str:
 
 
 def _work(case, text, timeout):
-    """The child's work: ``tell -> (locus dict, matrix shape)``."""
+    """The child's work: ``tell -> (locus dict, the case's summary fields)``."""
 
     def work(tell):
-        from ..augmented import augmented_locus, parse_augment
+        from ..api.calls import model_locus
+        from ..augmented import parse_augment
         from ..errors import LocusError
         from ..jacobian import task_matrix
         from ..methods import method_for
@@ -75,20 +77,8 @@ def _work(case, text, timeout):
         except LocusError:
             raise LocusError(f"method {case.method} needs a square matrix; this one is "
                              f"{tm.shape[0]}x{tm.shape[1]}") from None
-        end = time.monotonic() + timeout if timeout else None
-        should_stop = None if end is None else (lambda: time.monotonic() > end)
-
-        def compute(t, seed):
-            return augmented_locus(model, t, method, seed=seed, progress=tell,
-                                   should_stop=should_stop, clock=time.perf_counter)
-
-        if case.verify:
-            from ..verify import verified_locus
-
-            reference = task_matrix(model, task=case.task, augment=extra)
-            locus = verified_locus(compute, tm, reference, seed=case.seed, progress=tell)[0]
-        else:
-            locus = compute(tm, case.seed)
+        locus = model_locus(model, tm, method, task=case.task, extra=extra, seed=case.seed,
+                            timeout=timeout or None, verify=case.verify, progress=tell)
         data = locus.to_dict() | {"rows": list(tm.row_labels), "seed": case.seed}
         summary = {
             "matrix": f"{tm.shape[0]}x{tm.shape[1]}",
@@ -110,6 +100,7 @@ def _preload() -> None:
     children share them.
     """
     from .. import augmented, jacobian, methods, verify  # noqa: F401
+    from ..api import calls  # noqa: F401
     from ..io import toml_model, urdf  # noqa: F401
     from ..numeric import crosscheck  # noqa: F401
 
@@ -189,6 +180,9 @@ def run_case(case, text: str | None, *, timeout: float, memory: int) -> dict:
         record.update(note=_short(e), message=str(e))
     except ChildFailed as e:
         last = str(e).strip().splitlines()[-1] if str(e).strip() else "no traceback"
-        record.update(note=_short(f"bug: {last}"), message=str(e))
+        if memory and "MemoryError" in str(e):     # raised while handling another error
+            record.update(status="memory", note=f"over {memory} MiB", message=str(e))
+        else:
+            record.update(note=_short(f"bug: {last}"), message=str(e))
     record["seconds"] = round(time.perf_counter() - start, 3)
     return {"sweep": record, "locus": locus}
