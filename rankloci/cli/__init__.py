@@ -17,7 +17,7 @@ from pathlib import Path
 
 from ..errors import ModelError, RanklociError
 from .commands import COMMANDS, EXIT_OK, EXIT_USAGE
-from .output import show_warning
+from .output import detach_progress, show_warning
 from .parser import UsageError, build_parser
 
 __all__ = ["main", "main_exit", "build_parser"]
@@ -35,7 +35,10 @@ def main(argv=None) -> int:
     """
     with warnings.catch_warnings():  # restores showwarning and the filters on return
         warnings.showwarning = show_warning
-        return _run(argv)
+        try:
+            return _run(argv)
+        finally:
+            detach_progress()  # the progress handler belongs to this run only
 
 
 def _run(argv) -> int:

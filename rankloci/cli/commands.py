@@ -14,7 +14,7 @@ import json
 import sys
 import time
 
-from .output import progress_printer, write_atomic
+from .output import clear_status, progress_printer, require_module, write_atomic
 from .near import cmd_ik, cmd_manipulability
 from .parser import UsageError
 from .sweep import cmd_sweep
@@ -96,10 +96,14 @@ def _limited(args, work, progress, what):
     try:
         return run_limited(work, timeout=args.timeout, memory_mb=args.memory, progress=progress)
     except LocusTimeout as e:
+        clear_status()
         print(f"rankloci: error: {e}; raise --timeout (now {args.timeout:g} s) or try "
               f"--numeric-parameters", file=sys.stderr)
     except LimitExceeded as e:
+        clear_status()
         print(f"rankloci: error: {what} {e}", file=sys.stderr)
+    finally:
+        clear_status()
     return None
 
 
@@ -257,8 +261,10 @@ def cmd_check(args) -> int:
         result = run_limited(work, timeout=args.timeout, memory_mb=args.memory,
                              progress=progress)
     except (LocusTimeout, LimitExceeded) as e:
+        clear_status()
         print(f"rankloci: error: the check {e}", file=sys.stderr)
         return EXIT_FAILED
+    clear_status()
     ok = result.ok
     if args.format == "json":
         print(json.dumps(result.to_dict(), indent=2))
@@ -284,6 +290,7 @@ def cmd_report(args) -> int:
                           write_report)
 
     formats = [f.strip() for f in args.format.split(",") if f.strip()]
+    require_module("matplotlib", "report", "rankloci report")  # the figures
     bad = [f for f in formats if f not in FORMATS]
     if bad or not formats:
         raise UsageError(f"--format {args.format!r}: give a comma list of {', '.join(FORMATS)}")
