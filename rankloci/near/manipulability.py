@@ -12,9 +12,10 @@ Ellipsoids and Polytopes*, MSc thesis, Istanbul Technical University (2005):
   pseudo-code), kept by scipy's ConvexHull (Qhull);
 - the **cone-cell index** w_p = sum_k S_k (eqs. 1.51-1.55): the cone cells are
   the simplices spanned by the origin and m vertices on a common facet (a
-  primary vertex set), S_k = |det [V_k1 ... V_km]| / d_m.  Here the facets are
-  Qhull's triangulated facets, and d_m = m!, the factor that makes S_k the
-  volume of the simplex; then w_p is the volume of the polytope.  For this
+  primary vertex set), S_k = |det [V_k1 ... V_km]| / d_m.  Here each facet of
+  the hull is triangulated in its own hyperplane (Delaunay), and d_m = m!, the
+  factor that makes S_k the volume of the simplex; then w_p is the volume of
+  the polytope, which the tests compare with Qhull's volume.  For this
   zonotope the volume is also 2^m sum over m-column subsets S of |det J_S|
   (the zonotope volume formula), and for square J, w_p = 2^m w.
 
@@ -220,7 +221,37 @@ def polytope(J) -> Polytope:
     key = np.round(np.hstack([normals, offsets[:, None]]) / max(1.0, np.abs(offsets).max()), 9)
     _, first = np.unique(key, axis=0, return_index=True)
     first.sort()
-    w_p = sum(abs(float(np.linalg.det(points[simplex]))) for simplex in hull.simplices)
-    return Polytope(vertices=points[hull.vertices], normals=normals[first], offsets=offsets[first],
+    vertices = points[hull.vertices]
+    w_p = _cone_cell_index(vertices, normals[first], offsets[first])
+    return Polytope(vertices=vertices, normals=normals[first], offsets=offsets[first],
                     simplices=hull.simplices, points=points, volume=float(hull.volume),
-                    w_p=w_p / math.factorial(m), rank=rank, flatness=flatness)
+                    w_p=w_p, rank=rank, flatness=flatness)
+
+
+def _cone_cell_index(vertices, normals, offsets) -> float:
+    """Kilic's w_p: sum of |det [V_k1 ... V_km]| / m! over the cone cells.
+
+    Each facet is triangulated on its own (Delaunay in the facet's hyperplane) and each
+    simplex of it, a primary vertex set, spans a cone cell with the origin.  Qhull's
+    triangulated output is not used for this: where facets have many vertices (6-D
+    polytopes of 7 columns), its simplices can overlap.
+    """
+    from scipy.spatial import Delaunay
+
+    m = vertices.shape[1]
+    scale = float(np.abs(vertices).max())
+    total = 0.0
+    for n, b in zip(normals, offsets):
+        V = vertices[np.abs(vertices @ n - b) <= 1e-9 * scale]
+        centre = V.mean(axis=0)
+        basis = np.linalg.svd(V - centre)[2][: m - 1]
+        flat = (V - centre) @ basis.T
+        if m == 2:
+            order = np.argsort(flat[:, 0])
+            cells = [order[[0, -1]]]
+        elif len(V) == m:
+            cells = [np.arange(m)]
+        else:
+            cells = Delaunay(flat).simplices
+        total += float(np.abs(np.linalg.det(V[np.asarray(cells)])).sum())
+    return total / math.factorial(m)

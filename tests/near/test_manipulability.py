@@ -112,7 +112,7 @@ def test_polytope_matches_pycapacity_on_random_jacobians(m, n):
         assert gap.min(axis=1).max() <= 1e-9 * scale and gap.min(axis=0).max() <= 1e-9 * scale
 
 
-@pytest.mark.parametrize("m, n", [(2, 3), (3, 4), (3, 6), (4, 6)])
+@pytest.mark.parametrize("m, n", [(2, 3), (3, 4), (3, 6), (4, 6), (6, 7)])
 def test_cone_cell_index_is_the_volume_and_the_zonotope_formula(m, n):
     rng = np.random.default_rng(10 * m + n)
     J = rng.normal(size=(m, n))
@@ -165,3 +165,13 @@ def test_zonotope_formula_counts_every_column_subset():
     J = np.array([[1.0, 0.0, 1.0], [0.0, 1.0, 1.0]])
     dets = [abs(np.linalg.det(J[:, list(S)])) for S in itertools.combinations(range(3), 2)]
     assert zonotope_volume(J) == pytest.approx(4 * sum(dets)) == pytest.approx(12.0)
+
+
+def test_cone_cell_index_of_the_full_pa10_jacobian():
+    """6-D, 7 columns: facets with many vertices, where Qhull's triangulated output overlaps;
+    the facet-by-facet cone cells give the volume (15.519)."""
+    J = Kinematics(load_model("pa10")).jacobian([0, PI4, 0, PI4, 0, PI4, 0])
+    P = polytope(J)
+    assert P.w_p == pytest.approx(P.volume, rel=1e-10)
+    assert P.w_p == pytest.approx(zonotope_volume(J), rel=1e-10)
+    assert P.w_p == pytest.approx(15.51895, rel=1e-6)
