@@ -71,3 +71,27 @@ def test_invalid_toml_is_one_error():
 def test_models_and_grids_are_checked_before_anything_runs(text, match):
     with pytest.raises(SpecError, match=match):
         expand(parse_spec(text, file="s.toml"))
+
+
+@pytest.mark.parametrize("payload", [
+    "__import__('os').system('touch {marker}')",
+    "open('{marker}', 'w').write('x')",
+    "(lambda: open('{marker}', 'w'))()",
+    "().__class__.__base__.__subclasses__()[0]('{marker}')",
+])
+@pytest.mark.parametrize("where", ["value", "augment"])
+def test_expressions_in_a_spec_run_no_code(tmp_path, payload, where):
+    marker = tmp_path / "marker"
+    text = payload.format(marker=marker).replace("'", "\\u0027")
+    body = (f'[grid.parameters]\nl1 = ["{text}"]\n' if where == "value"
+            else f'[grid]\naugment = ["{text}"]\n')
+    with pytest.raises(SpecError):
+        expand(parse_spec('models = ["planar2r"]\n' + body, file="s.toml"))
+    assert not marker.exists()
+
+
+def test_a_missing_spec_file_is_one_error(tmp_path):
+    from rankloci.sweep.spec import read_spec
+
+    with pytest.raises(SpecError, match="nope.toml: cannot read"):
+        read_spec(tmp_path / "nope.toml")
