@@ -22,13 +22,25 @@ from ..tolerances import REGULAR_MIN_RATIO
 
 __all__ = ["SliceData", "PathData", "slice_grid", "slice_joints", "path_through",
            "model_components", "sigma_ratios", "component_points", "component_equations",
-           "equation_weights", "regular_point"]
+           "equation_weights", "regular_point", "normal_directions"]
 
 #: Grid points per axis of a heat map: 181 puts a node every 2 degrees on [-pi, pi].
 GRID = 181
 
 #: Points along a manipulability path.
 PATH_POINTS = 401
+
+#: A joint along which log10 sigma_min/sigma_max spreads by less than this is one the ratio
+#: does not depend on (the spread of a joint it depends on is of order 1 and above).
+SENSITIVITY_MIN = 1e-3
+
+#: How far (rad or m) a joint the equations use is moved to probe the ratio off the locus.
+PROBE_STEP = 0.5
+
+#: Joint-space length of half a manipulability path, and the share of it across the component
+#: (along its normal space): about 1 rad of travel across, either side.
+PATH_LENGTH = 1.2
+PATH_NORMAL_SHARE = 0.8
 
 
 def model_components(locus):
@@ -112,17 +124,20 @@ class SliceData:
 
 
 def _axis_range(nm: NumericMatrix, k: int, center: float):
+    """A full turn centred on ``center`` for an angle (the locus through it stays off the
+    frame's edges), twice ``|center|`` (at least 1) either side for a length."""
     if nm.variables[k] in nm.angles:
-        return -np.pi, np.pi
+        return center - np.pi, center + np.pi
     half = max(1.0, 2.0 * abs(center))
     return center - half, center + half
 
 
-def _grid_points(nm, axes, point, n, margin: int = 0):
+def _grid_points(nm, axes, point, n, margin: int = 0, centres=None):
     (i, j) = axes
+    centres = dict(zip(axes, centres)) if centres is not None else {}
 
     def coords(k):
-        lo, hi = _axis_range(nm, k, point[k])
+        lo, hi = _axis_range(nm, k, centres.get(k, point[k]))
         h = (hi - lo) / (n - 1)
         return np.linspace(lo - margin * h, hi + margin * h, n + 2 * margin)
 
@@ -134,11 +149,40 @@ def _grid_points(nm, axes, point, n, margin: int = 0):
     return xs, ys, Q
 
 
-def ratio_grid(nm: NumericMatrix, axes, point, n: int = GRID):
-    """(xs, ys, sigma_min/sigma_max on the grid) of the slice through ``point``."""
-    xs, ys, Q = _grid_points(nm, axes, point, n)
+def ratio_grid(nm: NumericMatrix, axes, point, n: int = GRID, centres=None):
+    """(xs, ys, sigma_min/sigma_max on the grid) of the slice through ``point``.
+
+    ``centres`` (one per axis) centres the window elsewhere than on ``point``.
+    """
+    xs, ys, Q = _grid_points(nm, axes, point, n, centres=centres)
     R = sigma_ratios(nm.batch(Q.reshape(-1, Q.shape[-1]))).reshape(Q.shape[:2])
     return xs, ys, R
+
+
+def _window_centres(nm: NumericMatrix, axes, point, R):
+    """Centres of the slice's window that keep the locus off the frame's edges.
+
+    An angle's window is a full turn, so it may start anywhere: the start whose
+    edge line has the largest mean log ratio (the edge runs along no valley) is
+    taken, the centred one on ties.  The slice point stays inside the window.  ``R`` is the ratio on the centred window (rows: y).
+    """
+    logr = np.log10(np.maximum(R, REGULAR_MIN_RATIO))
+    out = []
+    for axis, k in enumerate(axes):
+        if nm.variables[k] not in nm.angles:
+            out.append(float(point[k]))
+            continue
+        lines = logr if axis == 0 else logr.T   # lines[:, m]: the line at grid index m
+        n = lines.shape[1] - 1                  # the last index repeats the first (a full turn)
+        h = 2 * np.pi / n
+        best = None
+        for m in range(-n // 2, n // 2 + 1):
+            # the mean: a valley along the edge lowers it, a curve crossing the edge hardly
+            score = float(np.mean(lines[:, m % n])) - 1e-3 * abs(m)
+            if best is None or score > best[0]:
+                best = (score, m)
+        out.append(float(point[k]) + best[1] * h)
+    return tuple(out)
 
 
 def slice_grid(nm: NumericMatrix, locus_components, parameters, axes, point, *, through=None,
@@ -153,9 +197,12 @@ def slice_grid(nm: NumericMatrix, locus_components, parameters, axes, point, *, 
     equations may vanish at regular configurations.
     """
     xs, ys, R = ratio_grid(nm, axes, point, n)
+    centres = _window_centres(nm, axes, point, R)
+    if centres != (float(point[axes[0]]), float(point[axes[1]])):
+        xs, ys, R = ratio_grid(nm, axes, point, n, centres)
     # the curves are traced on a grid two steps wider, so that a component on the border
-    # of the slice (q = +-pi) is drawn too; the figure clips them to the slice
-    cx, cy, Q = _grid_points(nm, axes, point, n, margin=2)
+    # of the slice is drawn too; the figure clips them to the slice
+    cx, cy, Q = _grid_points(nm, axes, point, n, margin=2, centres=centres)
     curves = []
     for idx, comp in locus_components:
         lines, pts = _component_on_slice(component_equations(comp, nm, parameters), Q, axes,
@@ -259,8 +306,10 @@ def _sensitivity(nm: NumericMatrix, point, k: int, n: int = 64) -> float:
     lo, hi = _axis_range(nm, k, point[k])
     Q = np.broadcast_to(point, (n, len(point))).copy()
     Q[:, k] = np.linspace(lo, hi, n)
+    # floored at REGULAR_MIN_RATIO: at a singular point the ratio's rounding noise (1e-16 to
+    # 1e-12) would otherwise count as change along a joint it does not depend on
     r = sigma_ratios(nm.batch(Q))
-    return float(np.ptp(np.log10(np.maximum(r, 1e-16))))
+    return float(np.ptp(np.log10(np.maximum(r, REGULAR_MIN_RATIO))))
 
 
 def slice_joints(nm: NumericMatrix, point, weights: dict) -> tuple[int, int]:
@@ -273,8 +322,18 @@ def slice_joints(nm: NumericMatrix, point, weights: dict) -> tuple[int, int]:
     n = len(nm.variables)
     if n < 2:
         raise ValueError(f"a slice needs two joint variables, the matrix has {n}")
-    sens = [_sensitivity(nm, point, k) for k in range(n)]
-    ranked = sorted(range(n), key=lambda k: (-weights.get(k, 0), -round(sens[k], 6), k))
+    # on the locus, the ratio stays 0 along the joints the component leaves free: probe also
+    # off it, with each joint the equations use moved by PROBE_STEP
+    point = np.asarray(point, dtype=float)
+    probes = [point]
+    for k in weights:
+        moved = point.copy()
+        moved[k] += PROBE_STEP
+        probes.append(moved)
+    sens = [max(_sensitivity(nm, q, k) for q in probes) for k in range(n)]
+    # a joint the ratio does not depend on (a base rotation) only draws stripes: last
+    ranked = sorted(range(n), key=lambda k: (sens[k] <= SENSITIVITY_MIN, -weights.get(k, 0),
+                                             -round(sens[k], 6), k))
     return tuple(sorted(ranked[:2]))
 
 
@@ -300,7 +359,11 @@ def regular_point(nm: NumericMatrix, rng, tries: int = 50) -> np.ndarray:
 
 @dataclass(frozen=True)
 class PathData:
-    """w = sqrt(det(J J^T)) along q(t) = point + t * step, t in [-1, 1]."""
+    """w = sqrt(det(J J^T)) along q(t) = point + t * step, t in [-1, 1].
+
+    ``zeros`` holds every parameter t at which the path meets the locus
+    (sigma_min/sigma_max at most ON_LOCUS_RTOL after refinement), t = 0 among them.
+    """
 
     component: int
     point: np.ndarray
@@ -308,20 +371,68 @@ class PathData:
     t: np.ndarray
     w: np.ndarray
     ratio: np.ndarray
+    zeros: tuple = ()
 
 
-def path_through(nm: NumericMatrix, point, rng, *, component: int, length: float = 1.0,
-                 n: int = PATH_POINTS, tries: int = 40) -> PathData:
-    """A straight path through ``point`` between two random regular configurations.
+def normal_directions(eqs: Equations, point, h: float = 1e-6) -> np.ndarray:
+    """An orthonormal basis (rows) of the span of the equations' gradients at ``point``."""
+    point = np.asarray(point, dtype=float)
+    f0 = eqs(point)
+    G = np.empty((len(f0), len(point)))
+    for k in range(len(point)):
+        e = np.zeros(len(point))
+        e[k] = h
+        G[:, k] = (eqs(point + e) - eqs(point - e)) / (2 * h)
+    if not G.size:
+        return np.zeros((0, len(point)))
+    _, s, vt = np.linalg.svd(G)
+    rank = int(np.sum(s > 1e-8 * max(float(s[0]), 1e-300)))
+    return vt[:rank]
 
-    The direction is random (``rng``) with ``|step| = length``; directions whose
-    end points are not clearly regular (sigma_min/sigma_max above
-    REGULAR_MIN_RATIO) are drawn again.
+
+def _zeros_along(nm, point, d, t, ratio) -> tuple:
+    """The parameters where the path meets the locus: local minima of the ratio, refined."""
+    from scipy.optimize import minimize_scalar
+
+    from ..tolerances import ON_LOCUS_RTOL
+
+    out = []
+    for k in range(len(t)):
+        lo, hi = max(k - 1, 0), min(k + 1, len(t) - 1)
+        if ratio[k] > ratio[lo] or ratio[k] > ratio[hi] or ratio[k] > 0.05:
+            continue
+        res = minimize_scalar(lambda s: float(sigma_ratios(nm(point + s * d)[None])[0]),
+                              bounds=(t[lo], t[hi]), method="bounded",
+                              options={"xatol": 1e-13})
+        if res.fun <= ON_LOCUS_RTOL and not any(abs(res.x - z) < 1e-6 for z in out):
+            out.append(float(res.x))
+    return tuple(sorted(out))
+
+
+def path_through(nm: NumericMatrix, point, rng, *, component: int, length: float = PATH_LENGTH,
+                 n: int = PATH_POINTS, tries: int = 40, normals=None) -> PathData:
+    """A straight path through ``point`` between two regular configurations.
+
+    With ``normals`` (rows spanning the component's normal space at ``point``,
+    :func:`normal_directions`) the path crosses the component transversally:
+    PATH_NORMAL_SHARE of its direction lies in that space, the rest is random.
+    Without, the direction is random.  ``|step| = length``; directions whose end
+    points are not clearly regular (sigma_min/sigma_max above REGULAR_MIN_RATIO)
+    are drawn again.  Every crossing of the locus on the path is in ``zeros``.
     """
     point = np.asarray(point, dtype=float)
     best = None
     for _ in range(tries):
         d = rng.normal(size=len(point))
+        if normals is not None and len(normals):
+            N = np.asarray(normals)
+            across = N.T @ rng.normal(size=len(N))
+            across /= np.linalg.norm(across)
+            along = d - N.T @ (N @ d)
+            nrm = np.linalg.norm(along)
+            along = along / nrm if nrm > 1e-12 else np.zeros_like(d)
+            share = PATH_NORMAL_SHARE if nrm > 1e-12 else 1.0
+            d = share * across + np.sqrt(1 - share ** 2) * along
         d *= length / np.linalg.norm(d)
         ends = sigma_ratios(nm.batch(np.stack([point - d, point + d])))
         if best is None or ends.min() > best[1]:
@@ -331,4 +442,6 @@ def path_through(nm: NumericMatrix, point, rng, *, component: int, length: float
     d = best[0]
     t = np.linspace(-1.0, 1.0, n)
     Js = nm.batch(point[None, :] + t[:, None] * d[None, :])
-    return PathData(component, point, d, t, _manipulability(Js), sigma_ratios(Js))
+    ratio = sigma_ratios(Js)
+    zeros = _zeros_along(nm, point, d, t, ratio)
+    return PathData(component, point, d, t, _manipulability(Js), ratio, zeros)

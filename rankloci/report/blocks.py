@@ -12,7 +12,8 @@ from dataclasses import dataclass
 
 from .mathfmt import latex
 
-__all__ = ["Heading", "Para", "Math", "Table", "Bullets", "Figure", "Code", "Marker", "SIGMA",
+__all__ = ["Heading", "Para", "Math", "Table", "Bullets", "Figure", "Code", "Marker", "Appendix",
+           "SIGMA",
            "block_label", "variables_text", "plural", "counted", "numbered"]
 
 #: The ratio the checks and the heat maps are about, as text with math.
@@ -80,6 +81,11 @@ class Code:
 
     text: str
     language: str = ""
+
+
+@dataclass(frozen=True)
+class Appendix:
+    """The start of the appendix: the sections after it are lettered A, B, ..."""
 
 
 @dataclass(frozen=True)

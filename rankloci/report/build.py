@@ -15,7 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-__all__ = ["Report", "ComponentView", "build_report", "READING_POINTS", "SUMMARY_CHARS"]
+__all__ = ["Report", "ComponentView", "build_report", "component_views", "READING_POINTS",
+           "SUMMARY_CHARS"]
 
 #: Extra points per component on which geometric readings are confirmed.
 READING_POINTS = 3
@@ -24,7 +25,7 @@ READING_POINTS = 3
 SUMMARY_CHARS = 110
 
 #: A geometric reading longer than this is shortened to its name in the summary table.
-SUMMARY_READING_CHARS = 240
+SUMMARY_READING_CHARS = 320
 
 #: An equation a reading names is written out when its width (in
 #: :func:`~rankloci.report.mathfmt.math_width` units) is at most this, else named by its order.
@@ -45,6 +46,8 @@ class ComponentView:
     summary: str = ""         # a short reading for tables: geometry first, "" if none is short
     geometry: tuple = ()      # the geometric readings (also the first of ``readings``)
     motions: tuple = ()       # the lost motion along each lost direction, in a few words
+    axes: tuple = ()          # the joints whose axes the reading names (drawn highlighted)
+    lost_axis: tuple = ()     # the axis of the rotation collinear axes lose (or ())
 
 
 @dataclass(frozen=True)
@@ -236,7 +239,7 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
     # figures
     say(f"{model.name}: figures")
     figures = timed("figures", lambda: report_figures(model, model_tm, locus, nm, params,
-                                                      seed, dot))
+                                                      seed, dot, views))
     tree = tree_summary(locus.tree) if locus is not None and locus.tree is not None else None
     notes = ()
     if locus is not None and tm.frame is not None and (tm.frame, tm.point) != (
@@ -253,6 +256,34 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
                   exact=exact_result, tree=tree, figures=figures, timings=tuple(timings),
                   seed=seed, samples=samples, timeout=timeout, numeric=numeric,
                   augmented=augmented, notes=notes, model_notes=model_notes, stamp=stamp)
+
+
+def component_views(model, locus, *, seed: int = 0) -> tuple:
+    """The :class:`ComponentView` of each component of ``locus`` (a locus of ``model``).
+
+    What :func:`build_report` says about the components (readings, compact
+    forms, lost motions), without the figures and checks.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankloci.io import load_model
+    >>> from rankloci.jacobian import task_matrix
+    >>> from rankloci.methods import compute_locus
+    >>> arm = load_model("planar2r")
+    >>> locus = compute_locus(task_matrix(arm), "determinant", rng=np.random.default_rng(0))
+    >>> component_views(arm, locus)[0].summary
+    'All links aligned (the arm is stretched out or folded back): axes 1 and 2 are parallel and the task point lies in their plane'
+    """
+    from ..jacobian import task_matrix
+    from ..numeric.equations import NumericMatrix
+    from .matrixfmt import jacobian_display
+
+    tm = task_matrix(model)
+    jac = jacobian_display(tm.matrix, tm.variables, tm.parameters, tm.row_labels)
+    params = dict(tm.parameters)
+    nm = NumericMatrix(sp.Matrix(tm.matrix).subs(params), tm.variables, tm.angles)
+    return _component_views(model, tm, locus, nm, params, np.random.default_rng(seed), jac)[0]
 
 
 def _component_views(model, model_tm, locus, nm, params, rng, jac):
@@ -288,7 +319,7 @@ def _component_views(model, model_tm, locus, nm, params, rng, jac):
         folded = fold(c.equations)
         folded_excluding = fold(c.excluding) if folded else ()
         geometry, directions, motions = [], [], []
-        summary = ""
+        summary, named, lost_axis = "", (), ()
         if not special:
             eqs = [e for e in c.equations if e not in c.parameter_conditions] or list(c.equations)
             shown = list(folded) if len(folded) == len(c.equations) else []
@@ -296,9 +327,10 @@ def _component_views(model, model_tm, locus, nm, params, rng, jac):
                       for k, e in enumerate(eqs)]
             reading = _reading(model, c, eqs, labels, nm, params, rng)
             if reading is not None:
+                named, lost_axis = reading.axes, reading.lost_axis
                 geometry = [reading.text] + ([reading.lost_rotation]
                                              if reading.lost_rotation else [])
-                first = reading.text.split(". ")[0]
+                first = reading.short
                 summary = first if len(first) <= SUMMARY_READING_CHARS else (
                     (reading.name[0].upper() + reading.name[1:] + "; " if reading.name else "")
                     + "see the component's subsection")
@@ -315,7 +347,8 @@ def _component_views(model, model_tm, locus, nm, params, rng, jac):
         summary = summary or (short[0] if short else "")
         views.append(ComponentView(i, c, special, tuple(geometry + directions), folded,
                                    folded_excluding, getattr(c, "kind", None), summary,
-                                   (summary,) if geometry else (), tuple(motions)))
+                                   (summary,) if geometry else (), tuple(motions), named,
+                                   lost_axis))
     items = sorted(notation.values(), key=lambda p: _notation_key(p[1], variables))
     return tuple(views), tuple(items)
 

@@ -13,10 +13,10 @@ from __future__ import annotations
 
 import sympy as sp
 
-from .blocks import (Bullets, Code, Heading, Marker, Math, Para, Table, block_label, counted,
-                     plural, variables_text)
+from .blocks import (Appendix, Bullets, Code, Heading, Marker, Math, Para, Table, block_label,
+                     counted, plural, variables_text)
 from .escape import literal, ref
-from .findings import findings_blocks
+from .findings import appendix_findings, findings_blocks
 from .mathfmt import LINE_WIDTH, broken_lines, latex, math_width, trig_latex
 
 __all__ = ["report_blocks", "matrix_blocks", "comparison_headline", "summary_table",
@@ -41,11 +41,13 @@ def report_blocks(report, *, timings: bool = True) -> list:
     out = [Heading(1, f"Singularity report: {title} (`{report.name}`)", block_label(report))]
     out += _summary(report)
     out += _model_section(report)
-    out += _jacobian_section(report)
     out += findings_blocks(report)
+    out += _reproduce_section(report)
+    out.append(Appendix())
+    out += _jacobian_section(report)
+    out += appendix_findings(report)
     if timings and report.timings:
         out += _timings_section(report)
-    out += _reproduce_section(report)
     return out
 
 
@@ -379,8 +381,26 @@ def _timings_section(report):
             Marker("end of timings")]
 
 
+def _model_argument(model) -> str:
+    """How a command names the model: its built-in name, or the path of its file."""
+    import shlex
+    from pathlib import Path
+
+    from ..io import builtin_models, models_dir
+
+    path = str(getattr(model, "path", "") or "")
+    if not path:
+        return model.name
+    p = Path(path)
+    try:
+        builtin = p.resolve().parent == models_dir().resolve() and p.stem in builtin_models()
+    except OSError:  # pragma: no cover - an unreadable directory
+        builtin = False
+    return model.name if builtin else shlex.quote(path)
+
+
 def _reproduce_section(report):
-    args = [f"rankloci report {report.name}", f"--seed {report.seed}",
+    args = [f"rankloci report {_model_argument(report.model)}", f"--seed {report.seed}",
             f"--samples {report.samples}"]
     if report.numeric:
         args.append("--numeric-parameters")

@@ -35,6 +35,7 @@ class FigureFile:
     title: str = ""
     components: tuple = ()    # the 1-based numbers of the components it shows
     through: int | None = None  # a heat map's slice passes through this component's sample
+    boxes: int = 0            # the branch tree: how many boxes are drawn
 
 
 def _units(model, model_tm) -> str:
@@ -47,6 +48,111 @@ def _units(model, model_tm) -> str:
     if any(j.kind == "prismatic" for j in model.joints):
         return "mixed units (prismatic and revolute columns)"
     return "dimensionless" if linear == 0 else ("m" if linear == 1 else f"m^{linear}")
+
+
+#: The regular pose beside each picture of the robot: this far along the component's path.
+ROBOT_REGULAR_T = 0.35
+
+
+def _vector3(labels, vec, rows) -> np.ndarray:
+    """The entries of ``vec`` on ``rows`` (e.g. vx vy vz) as a 3-vector (0 where absent)."""
+    labels = list(labels)
+    return np.array([float(vec[labels.index(r)]) if r in labels else 0.0 for r in rows])
+
+
+def _robot_figures(model, model_tm, comps, views, nm, params, paths, stem) -> list:
+    """A picture of the arm at each component's sample point and at a nearby regular pose."""
+    from ..model import RobotModel
+    from .figures import robot_png
+    from .robot import robot_pose
+
+    if not isinstance(model, RobotModel) or getattr(model, "frame", "base") != "base":
+        return []
+    names = [v.name for v in nm.variables]
+    labels = list(model_tm.row_labels)
+    lin = [k for k, r in enumerate(labels) if r in ("vx", "vy", "vz")]
+    tall = model_tm.shape[0] > model_tm.shape[1]
+    by_view = {v.index: v for v in views}
+    out = []
+    for path in paths:
+        idx = path.component
+        c = comps[idx]
+        q0 = path.point
+        ts = path.t[(path.t >= 0.2) & (path.t <= 0.6)]
+        rs = path.ratio[(path.t >= 0.2) & (path.t <= 0.6)]
+        t_reg = ROBOT_REGULAR_T if float(np.interp(ROBOT_REGULAR_T, path.t, path.ratio)) > \
+            float(np.max(rs)) / 10 else float(ts[int(np.argmax(rs))])
+        q1 = q0 + t_reg * path.step
+        J0, J1 = nm(q0), nm(q1)
+        arrow, what = None, ""
+        view = by_view.get(idx)
+        if view is not None and view.lost_axis:
+            arrow, what = np.array(view.lost_axis), "axis of the rotation the joints between the collinear axes lose"
+        elif c.direction_at_sample and not tall:
+            u = np.asarray(c.direction_at_sample[0], dtype=float)
+            a = _vector3(labels, u, ("vx", "vy", "vz"))
+            b = _vector3(labels, u, ("wx", "wy", "wz"))
+            small = 1e-3  # directions are read to 3 decimals
+            if np.linalg.norm(a) > small and np.linalg.norm(b) <= small:
+                arrow, what = a, "lost translation"
+            elif np.linalg.norm(b) > small and np.linalg.norm(a) <= small:
+                arrow, what = b, "axis of the lost rotation"
+            elif np.linalg.norm(a) > small:
+                arrow, what = a, "translation part of the lost motion"
+        axes = tuple(view.axes) if view is not None else ()
+        Jv0 = J0[lin] if lin else None
+        Jv1 = J1[lin] if lin else None
+        title = f"{stem}: component {idx}"
+        png = robot_png(robot_pose(model, dict(zip(names, q0)), params),
+                        robot_pose(model, dict(zip(names, q1)), params), highlight=axes,
+                        arrow=arrow, arrow_label=what, Jv_singular=Jv0, Jv_regular=Jv1,
+                        title=title)
+        flat = ""
+        if lin:
+            s0 = np.linalg.svd(Jv0, compute_uv=False)
+            s1 = np.linalg.svd(Jv1, compute_uv=False)
+            flat = (" Green: the translational manipulability ellipsoid "
+                    "$\\lbrace J_v \\dot q : \\lVert \\dot q \\rVert \\le 1 \\rbrace$ at the task "
+                    "point, scaled to a quarter of the arm's size; its smallest semi-axis is "
+                    f"{s0[-1] / s0[0]:.2g} of its largest at the singular pose and "
+                    f"{s1[-1] / s1[0]:.2g} at the regular one"
+                    + (" (flat: the lost motion is a translation)." if s0[-1] / s0[0] < 1e-6
+                       else " (not flat: the lost motion involves a rotation)."))
+        hot = (f" Red, long: the axes the reading names ({', '.join(map(str, axes))})."
+               if axes else "")
+        arrow_text = f" Purple arrow: the {what} at the task point." if arrow is not None else ""
+        caption = (f"The arm at the sample point of component {idx} (left) and at the regular "
+                   f"configuration $q_0 + {t_reg:.2f}\\,d$ on its manipulability path (right; "
+                   f"{SIGMA} = {float(np.interp(t_reg, path.t, path.ratio)):.2g}). Grey: the "
+                   "links through the frame origins; blue: the joint axes (dashed for prismatic "
+                   "joints); orange star: the task point." + hot + arrow_text + flat)
+        out.append(FigureFile(f"{stem}-robot-{idx}.png", png, caption, "robot", title, (idx,),
+                              idx))
+    return out
+
+
+def _tol_text() -> str:
+    from ..tolerances import ON_LOCUS_RTOL
+
+    return f"{ON_LOCUS_RTOL:.0e}".replace("e-0", "e-")
+
+
+def _isolated_sentence(data, comps, n: int) -> str:
+    """Why a component of codimension two or more shows as dots on a two-joint slice."""
+    dots = [i for i, lines, pts in data.curves if not lines and len(pts)]
+    if not dots:
+        return ""
+    by = dict(comps)
+    codim = sorted({n - by[i].dimension for i in dots})
+    what = numbered("component", dots)
+    c = codim[0] if len(codim) == 1 else None
+    size = (f"codimension {c}" if c is not None
+            else "codimensions " + ", ".join(str(x) for x in codim))
+    return (f" {what[0].upper() + what[1:]} {'has' if len(dots) == 1 else 'have'} {size} in "
+            f"the {n}-dimensional joint space (a redundant arm keeps its rank until two or more "
+            "conditions hold at once), so a two-joint slice meets "
+            f"{'it' if len(dots) == 1 else 'them'} only at isolated points (dots); around "
+            "each the ratio dips into a pit, not along a valley.")
 
 
 def _units_text(units: str) -> str:
@@ -75,14 +181,16 @@ def _slice_point_without_locus(nm, rng):
     return start, "a random regular configuration"
 
 
-def report_figures(model, model_tm, locus, nm, params, seed, dot) -> tuple:
+def report_figures(model, model_tm, locus, nm, params, seed, dot, views=()) -> tuple:
     """The :class:`FigureFile` of each figure of a report.
 
     ``model_tm`` is J in the model's own frame and ``nm`` its numeric form
     with the parameters at ``params``; ``locus`` may be None (it did not
     finish), and then the heat map passes through a configuration found
     numerically.  ``seed`` fixes the paths, ``dot`` is graphviz's ``dot``
-    (or None: the tree is drawn with matplotlib).
+    (or None: the tree is drawn with matplotlib).  ``views`` are the report's
+    :class:`~rankloci.report.build.ComponentView` (their readings name the axes
+    the pictures of the robot highlight).
     """
     from ..jacobian import task_matrix
     from ..numeric.equations import NumericMatrix
@@ -90,6 +198,7 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot) -> tuple:
     from .tree_summary import tree_summary
     from .escape import file_stem
     from .figures import augmented_png, heatmap_png, manipulability_png, tree_png
+    from .tree_summary import component_leaves
 
     stem = file_stem(model.name)  # names the files and titles the figures
     rng = np.random.default_rng(seed)
@@ -133,6 +242,7 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot) -> tuple:
                           f"of {numbered('component', sided)} (there the equations also "
                           "vanish at regular configurations)")
             drawn += "."
+            drawn += _isolated_sentence(data, comps, len(names))
         elif locus is None:
             drawn = ". The locus did not finish, so none is drawn."
         else:
@@ -146,30 +256,50 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot) -> tuple:
     slices = [data for data, _ in slices]
     # manipulability along paths
     if comps:
-        paths = [A.path_through(nm, np.array([c.sample[n] for n in names], dtype=float), rng,
-                                component=idx) for idx, c in comps[:MAX_PATHS]]
+        paths = []
+        for idx, c in comps[:MAX_PATHS]:
+            q0 = np.array([c.sample[n] for n in names], dtype=float)
+            normals = A.normal_directions(A.component_equations(c, nm, params), q0)
+            paths.append(A.path_through(nm, q0, rng, component=idx, normals=normals))
         units = _units(model, model_tm)
         caption = (f"Manipulability $w = \\sqrt{{\\det(J J^T)}}$ [{_units_text(units)}] along "
                    "straight joint-space "
                    "paths $q(t) = q_0 + t d$, $-1 \\le t \\le 1$, each through the sample "
                    "point $q_0$ of one component (at $t = 0$) between two regular "
-                   f"configurations; $d$ is random with $\\lVert d \\rVert = 1$ (seed {seed}).")
+                   f"configurations. $\\lVert d \\rVert = {A.PATH_LENGTH:g}$, "
+                   f"{A.PATH_NORMAL_SHARE:g} of it across the component (in the span of its "
+                   f"equations' gradients) and the rest random (seed {seed}), so each path "
+                   "crosses its component transversally. Red dots: every parameter $t$ at which "
+                   f"the path meets the locus ({SIGMA} refined to at most "
+                   f"{_tol_text()}), some of them on other components.")
         title = f"{stem}: manipulability across the locus"
         out.append(FigureFile(f"{stem}-manipulability.png",
                               manipulability_png(paths, units=units, title=title),
                               caption, "manipulability", title,
                               tuple(p.component for p in paths)))
+        out += _robot_figures(model, model_tm, dict(comps), views, nm, params, paths, stem)
     # the branch tree
     if locus is not None and locus.tree is not None and locus.tree.number_of_nodes():
-        summary = tree_summary(locus.tree)
-        cut = (f" It has {summary.total_nodes} nodes; only the paths to components are drawn, "
-               f"the other {summary.collapsed} branches are counted in dashed boxes."
-               if summary.collapsed else "")
-        caption = (f"Branch tree of the {locus.method} method. Green leaves are components, grey "
-                   "leaves other stop reasons (in brackets); each node shows its branch "
-                   "condition." + cut)
+        points = {idx: [np.array([c.sample[n] for n in names], dtype=float)]
+                  + A.component_points(c, nm, params, rng, 2)[1:] for idx, c in comps}
+        leaves = component_leaves(locus.tree, points, nm.variables, params)
+        summary = tree_summary(locus.tree, components=leaves)
+        cut = (f" The tree has {summary.total_nodes} nodes; drawn are the paths to one leaf of "
+               f"each component, the other {summary.collapsed} branches are counted in dashed "
+               "boxes." if summary.collapsed else "")
+        found = sorted(set(leaves.values()))
+        missing = [idx for idx, _ in comps if idx not in found]
+        miss = (f" No leaf matches {numbered('component', missing)}: the final merge of "
+                "the leaves formed it." if missing else "")
+        caption = (f"Branch tree of the {locus.method} method, top-down; each node shows its "
+                   "branch condition (in half-angle coordinates). Green leaves are branches "
+                   "that give a component of the model, labelled with its number (their "
+                   "conditions vanish at its points); grey leaves stop for the reason in "
+                   "brackets, among them branches that exist only for special parameter "
+                   "values." + cut + miss)
         out.append(FigureFile(f"{stem}-tree.png", tree_png(summary, dot=dot), caption,
-                              "tree", f"{stem}: branch tree of the {locus.method} method"))
+                              "tree", f"{stem}: branch tree of the {locus.method} method",
+                              boxes=summary.graph.number_of_nodes()))
     # augmented Jacobian: J and J_aug side by side
     base = getattr(locus, "base", None) if locus is not None else None
     if base is not None and slices:

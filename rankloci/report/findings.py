@@ -18,18 +18,31 @@ from .blocks import (SIGMA, Bullets, Code, Figure, Heading, Math, Para, Table, b
 from .escape import literal, ref
 from .mathfmt import LINE_WIDTH, broken_lines, latex, value_latex
 
-__all__ = ["findings_blocks", "plain_equations", "disagreement_verdict", "figure_labels",
-           "component_figures"]
+#: A drawn branch tree with more boxes than this is set on a page of its own.
+TALL_TREE_BOXES = 12
+
+__all__ = ["findings_blocks", "appendix_findings", "plain_equations", "disagreement_verdict",
+           "figure_labels", "component_figures"]
 
 
 def findings_blocks(report) -> list:
     """The sections from the locus to the algorithmic singularities, in order."""
     out = _locus_section(report)
     out += _figure_section(report)
-    out += _tree_section(report)
     out += _check_section(report)
     out += _comparison_section(report)
     out += _augmented_section(report)
+    return out
+
+
+def appendix_findings(report) -> list:
+    """The branch tree and the notes of the analysis, for the appendix."""
+    out = _tree_section(report)
+    notes = (list(report.locus.notes) if report.locus is not None else []) + list(report.notes)
+    if notes:
+        out.append(Heading(2, "Notes of the analysis", block_label(report, "notes")))
+        out.append(Bullets(tuple(n[0].upper() + n[1:] + ("" if n.endswith(".") else ".")
+                                 for n in notes)))
     return out
 
 
@@ -117,6 +130,10 @@ def _component_blocks(report, view):
         out.append(Bullets(tuple(r[0].upper() + r[1:] + "." for r in view.readings)))
     out.append(Para("The equations as plain text:"))
     out.append(Code(plain_equations(c)))
+    labels = figure_labels(report)
+    for f in report.figure("robot"):
+        if f.through == view.index:
+            out.append(Figure(f.name, f.caption, labels[f.name], alt=f.title))
     return out
 
 
@@ -128,19 +145,23 @@ def figure_labels(report) -> dict:
     for kind in ("manipulability", "tree", "augmented"):
         for f in report.figure(kind):
             out[f.name] = block_label(report, "fig", kind)
+    for f in report.figure("robot"):
+        out[f.name] = block_label(report, "fig", f"robot{f.through}")
     return out
 
 
 def component_figures(report, index: int) -> list:
     """(label, what it shows) of each figure that shows component ``index``."""
     labels = figure_labels(report)
-    out = []
+    out = [(labels[f.name], "the arm at its sample point") for f in report.figure("robot")
+           if f.through == index]
     for f in report.figure("sigma"):
         if index in f.components:
             what = ("heat map through its sample point" if f.through == index
                     else "heat map")
             out.append((labels[f.name], what))
-    out.sort(key=lambda item: item[1] != "heat map through its sample point")
+    out.sort(key=lambda item: (item[1] != "the arm at its sample point",
+                               item[1] != "heat map through its sample point"))
     for f in report.figure("manipulability"):
         if index in f.components:
             out.append((labels[f.name], "manipulability along a path through it"))
@@ -196,11 +217,10 @@ def _locus_section(report):
                         "are listed for designers who may change the geometry."))
         for v in special:
             out += _component_blocks(report, v)
-    notes = list(loc.notes) + list(report.notes)
-    if notes:
-        out.append(Heading(3, "Notes of the analysis"))
-        out.append(Bullets(tuple(n[0].upper() + n[1:] + ("" if n.endswith(".") else ".")
-                                 for n in notes)))
+    if list(loc.notes) + list(report.notes):
+        out.append(Para("The notes of the analysis (special parameter values it did not pursue, "
+                        "the frame it worked in) are in "
+                        f"{ref(block_label(report, 'notes'), 'the appendix')}."))
     return out
 
 
@@ -237,8 +257,9 @@ def _tree_section(report):
     rows = tuple((reason or "(none)", str(n)) for reason, n in sorted(tree.outcomes.items()))
     out.append(Table(("stop reason of the leaves", "leaves"), rows, "lr"))
     for f in figs:
-        out.append(Figure(f.name, f.caption, block_label(report, "fig", "tree"), tall=True,
-                          alt=f.title))
+        # a tree of more than a dozen boxes gets a page of its own, where it can be read
+        out.append(Figure(f.name, f.caption, block_label(report, "fig", "tree"),
+                          tall=f.boxes > TALL_TREE_BOXES, alt=f.title))
     return out
 
 

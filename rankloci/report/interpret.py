@@ -56,6 +56,12 @@ class Reading:
         For collinear axes: the rotation the joints between them cannot produce.
     points : int
         How many points of the component the facts were checked on.
+    axes : tuple of int
+        The joints whose axes the reading names.
+    lost_axis : tuple of float
+        The axis of ``lost_rotation`` (unit, base frame) or ``()``.
+    short : str
+        The name and the first fact of each factor, for a summary table.
     """
 
     name: str
@@ -64,6 +70,9 @@ class Reading:
     joint: str = ""
     lost_rotation: str = ""
     points: int = 0
+    axes: tuple = ()
+    lost_axis: tuple = ()
+    short: str = ""
 
 
 # --- facts at one configuration ----------------------------------------------------------------
@@ -321,15 +330,16 @@ def _lost_rotation(model, q, params, group) -> str:
     span = [lines[j - 1].direction for j in range(group[0], group[-1] + 1)
             if lines[j - 1].kind == "revolute"]
     if len(span) < 3:
-        return ""
+        return "", ()
     _, s, vt = np.linalg.svd(np.array(span))
     if s[-1] > GEOMETRY_RTOL * s[0]:
-        return ""
+        return "", ()
     n = vt[-1] * (1 if vt[-1][np.argmax(np.abs(vt[-1]))] > 0 else -1)
     joints = f"joints {group[0]} to {group[-1]}"
     return (f"{joints} together cannot rotate the end-effector about the common normal "
             f"[{', '.join(f'{x:+.3f}' for x in n)}] (base frame) of their axes at the sample "
-            "point; the other joints give that rotation only together with a translation")
+            "point; the other joints give that rotation only together with a translation",
+            tuple(float(x) for x in n))
 
 
 def dependent_joints(matrices, labels, columns=None) -> tuple:
@@ -439,7 +449,8 @@ def component_reading(model, equations, labels, points, factor_points, rng, para
     if not whole:
         if not dependent:
             return None
-        return Reading("", dependent[0].upper() + dependent[1:], (), dependent, "", len(points))
+        return Reading("", dependent[0].upper() + dependent[1:], (), dependent, "", len(points),
+                       tuple(int(c) for c in cols))
     per = []
     if len(equations) > 1:
         per = [(k, _common(model, qs, params, meets, random_facts) if qs else set())
@@ -450,18 +461,21 @@ def component_reading(model, equations, labels, points, factor_points, rng, para
     whole_s = _sentences(whole, meets)
     together = [x for x in _sentences(whole - set().union(*(f for _, f in per)), meets, whole)
                 if x[2] not in said] if per else []
-    factors, names, used = [], [], []
+    factors, names, used, brief = [], [], [], []
     for k, f in per:
         s = _sentences(f, meets)[:2]
         if s:
             factors.append((k, "; ".join(t for _, _, t in s)))
+            brief.append(f"where {labels[k]}, {s[0][2]}")
             names.append(_name(model, s[0][0], s[0][1], meets))
             used += s
     joint = together[:2] if per else whole_s[:2]
     used += joint
     if joint:
         first = _name(model, joint[0][0], joint[0][1], meets)
-        names = [first] if first or not per else names
+        brief.append(("together, " if brief else "") + joint[0][2])
+        # all links aligned says everything the factors say; other names add up
+        names = [first] if first == "all links aligned" else names + [first]
     unexplained = [k for k, f in per if not _sentences(f, meets)]
     if unexplained and not joint:
         names = []  # a factor nothing explains: the classical name of the others would mislead
@@ -479,15 +493,15 @@ def component_reading(model, equations, labels, points, factor_points, rng, para
         if missing:
             why = ""
             if matrix is not None:
-                names = [str(k + 1) for k in range(len(model.joints))]
-                keep = set(range(len(names)))
+                cols = [str(k + 1) for k in range(len(model.joints))]
+                keep = set(range(len(cols)))
                 for k, f in per:
                     if _sentences(f, meets) and factor_points[k]:
-                        d = dependent_joints([matrix(q) for q in factor_points[k]], names)
+                        d = dependent_joints([matrix(q) for q in factor_points[k]], cols)
                         keep -= {int(d[-1]) - 1} if d else set()
-                rest = dependent_joints([matrix(q) for q in points], names, sorted(keep))
-                if rest and len(keep) < len(names):
-                    dropped = _and(sorted(set(range(1, len(names) + 1)) - {c + 1 for c in keep}))
+                rest = dependent_joints([matrix(q) for q in points], cols, sorted(keep))
+                if rest and len(keep) < len(cols):
+                    dropped = _and(sorted(set(range(1, len(cols) + 1)) - {c + 1 for c in keep}))
                     told = _and([labels[k] for k, f in per if k not in unexplained])
                     why = (f"; {told} already {'makes' if len(per) - len(missing) == 1 else 'make'}"
                            f" the column of joint {dropped} depend on the others, and "
@@ -499,6 +513,7 @@ def component_reading(model, equations, labels, points, factor_points, rng, para
             parts.append(f"{_and(missing)} alone gives no fact about the axes: it acts only "
                          f"together with the other {plural('equation', len(equations) - 1)}"
                          + why)
+            brief.append(f"{_and(missing)} acts only with the others")
         body = "; ".join(parts)
     else:
         body = joint_text
@@ -509,17 +524,38 @@ def component_reading(model, equations, labels, points, factor_points, rng, para
             if remark:
                 extra.append(remark)
                 break
-    lost = ""
+    lost, lost_axis = "", ()
     rev = [k + 1 for k, j in enumerate(model.joints) if j.kind == "revolute"]
     for kind, what, _ in used:
         if kind == "collinear":
-            lost = _lost_rotation(model, points[0], params, list(what))
+            lost, lost_axis = _lost_rotation(model, points[0], params, list(what))
         elif kind == "parallel" and "wrist" in name and len(rev) >= 3:
-            lost = _lost_rotation(model, points[0], params, rev[-3:])
+            lost, lost_axis = _lost_rotation(model, points[0], params, rev[-3:])
         if lost:
             break
     gloss = _GLOSS.get(name, "")
     head = (name[0].upper() + name[1:] + (f" ({gloss})" if gloss else "") + ": ") if name else ""
     text = head + (body if head else body[0].upper() + body[1:])
     text = ". ".join([text] + [e[0].upper() + e[1:] for e in extra])
-    return Reading(name, text, tuple(factors), joint_text, lost, len(points))
+    short = "; ".join(brief) if per else (joint[0][2] if joint else body)
+    if name == "all links aligned" and joint:
+        short = joint[0][2]  # the one fact that says it all
+    short = head + (short if head else short[0].upper() + short[1:])
+    return Reading(name, text, tuple(factors), joint_text, lost, len(points), _named_axes(used),
+                   lost_axis, short)
+
+
+def _named_axes(sentences) -> tuple:
+    """The joints whose axes a list of sentences (kind, what, text) names."""
+    out = set()
+
+    def take(x):
+        if isinstance(x, int):
+            out.add(x)
+        elif isinstance(x, (tuple, list, frozenset, set)):
+            for y in x:
+                take(y)
+
+    for _, what, _ in sentences:
+        take(what)
+    return tuple(sorted(out))

@@ -10,21 +10,24 @@ tables that are too wide are scaled (``\\resizebox``).  Labels are
 
 from __future__ import annotations
 
-from .blocks import Bullets, Code, Figure, Heading, Marker, Math, Para, Table
+from .blocks import Appendix, Bullets, Code, Figure, Heading, Marker, Math, Para, Table
 from .content import report_blocks
 from .escape import literal, rich_tex, tex_escape
 from .mathfmt import math_width
 
 __all__ = ["render_latex", "blocks_latex", "PACKAGES"]
 
-PACKAGES = ("amsmath", "amssymb", "graphicx", "booktabs")
+PACKAGES = ("amsmath", "amssymb", "graphicx", "booktabs", "float")
 
 #: Width of the text block in "letters" of a table cell (about 0.55 em each at 11 pt):
 #: a table whose estimated width exceeds it is scaled to the line width.
 TABLE_WIDTH = 80.0
 
 _PREAMBLE = r"""\documentclass[11pt,a4paper]{article}
+\usepackage[T1]{fontenc}
+\usepackage{lmodern}
 \usepackage[margin=2.5cm]{geometry}
+\usepackage{float}
 \usepackage{amsmath,amssymb}
 \usepackage{graphicx}
 \usepackage{booktabs}
@@ -46,7 +49,7 @@ def render_latex(report, *, fragment: bool = False, timings: bool = True) -> str
     blocks = report_blocks(report, timings=timings)
     wide = report.tm.shape[1] > 10
     if fragment:
-        body = blocks_latex(blocks, wide_matrix=wide)
+        body = blocks_latex(blocks, wide_matrix=wide, appendix=False)
         head = (f"% rankloci report on {report.name}: a fragment for \\input.\n"
                 f"% Needs \\usepackage{{{','.join(PACKAGES)}}} and, when input from another\n"
                 f"% directory, \\graphicspath{{{{path/to/reports/{report.name}/}}}}.\n"
@@ -61,11 +64,15 @@ def render_latex(report, *, fragment: bool = False, timings: bool = True) -> str
             "\\begin{document}\n\\maketitle\n" + body + "\\end{document}\n")
 
 
-def blocks_latex(blocks, *, wide_matrix: bool = False, top: int = 1) -> str:
+def blocks_latex(blocks, *, wide_matrix: bool = False, top: int = 1,
+                 appendix: bool = True) -> str:
     """LaTeX of a list of blocks (:mod:`~rankloci.report.blocks`).
 
     Headings of level ``top`` become ``\\section``, the next level
-    ``\\subsection`` and so on.
+    ``\\subsection`` and so on.  Figures stay where they are in the text
+    (``[H]``, the ``float`` package); a tall one (the branch tree) gets a page
+    of its own.  :class:`~rankloci.report.blocks.Appendix` becomes
+    ``\\appendix`` (a comment when ``appendix`` is false, for a fragment).
 
     Examples
     --------
@@ -102,11 +109,15 @@ def blocks_latex(blocks, *, wide_matrix: bool = False, top: int = 1) -> str:
             out.append("\\begin{itemize}\n" + "\n".join(f"  \\item {rich_tex(i)}" for i in b.items)
                        + "\n\\end{itemize}")
         elif isinstance(b, Figure):
-            size = ("width=\\linewidth,height=0.8\\textheight,keepaspectratio" if b.tall
+            size = ("width=\\linewidth,height=0.78\\textheight,keepaspectratio" if b.tall
                     else "width=0.92\\linewidth")
-            out.append("\\begin{figure}[htbp]\n\\centering\n"
+            page = "\\clearpage\n" if b.tall else ""
+            out.append(page + "\\begin{figure}[H]\n\\centering\n"
                        f"\\includegraphics[{size}]{{{b.file}}}\n"
-                       f"\\caption{{{rich_tex(b.caption)}}}\\label{{{b.label}}}\n\\end{{figure}}")
+                       f"\\caption{{{rich_tex(b.caption)}}}\\label{{{b.label}}}\n\\end{{figure}}"
+                       + ("\n\\clearpage" if b.tall else ""))
+        elif isinstance(b, Appendix):
+            out.append("\\appendix" if appendix else "% appendix")
         elif isinstance(b, Code):
             out.append(_code(b.text))
         elif isinstance(b, Marker):

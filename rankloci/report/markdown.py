@@ -7,7 +7,7 @@ linked by their file names, so the Markdown file and its PNGs move together.
 
 from __future__ import annotations
 
-from .blocks import Bullets, Code, Figure, Heading, Marker, Math, Para, Table
+from .blocks import Appendix, Bullets, Code, Figure, Heading, Marker, Math, Para, Table
 from .content import report_blocks
 from .escape import heading_anchor, md_escape, md_refs, rich_md
 
@@ -36,15 +36,20 @@ def blocks_markdown(blocks) -> str:
     <BLANKLINE>
     """
     out = []
-    section = 0
+    section, lettered = 0, None
     figures, headings = {}, {}
     for b in blocks:
-        if isinstance(b, Heading):
+        if isinstance(b, Appendix):
+            lettered = 0
+            out.append("---")
+        elif isinstance(b, Heading):
             text = rich_md(b.text)
-            if b.level == 2:
+            if b.level == 2 and lettered is not None:
+                lettered += 1
+                text = f"Appendix {chr(ord('A') + lettered - 1)}. {text}"
+            elif b.level == 2:
                 section += 1
-                text = f"{section}. {text}" if not text.startswith(("Timings", "Reproducing")) \
-                    else text
+                text = f"{section}. {text}" if not text.startswith("Reproducing") else text
             out.append("#" * b.level + " " + text)
             if b.label:
                 headings[b.label] = heading_anchor(text)

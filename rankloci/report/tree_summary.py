@@ -9,7 +9,14 @@ import networkx as nx
 
 from ..locus import Outcome
 
-__all__ = ["TreeSummary", "tree_summary", "node_outcome", "is_component_leaf"]
+__all__ = ["TreeSummary", "tree_summary", "node_outcome", "is_component_leaf", "component_leaves",
+           "LEAF_MATCH_RTOL"]
+
+#: A leaf's branch conditions count as vanishing at a point of a component when each is at
+#: most this relative to the sum of the absolute values of its terms there: points on a
+#: component are accurate to ~1e-12 (ROOT_XTOL), conditions that do not hold stay of order
+#: 1e-3 and above at generic points.
+LEAF_MATCH_RTOL = 1e-7
 
 
 def node_outcome(data) -> Outcome | None:
@@ -51,7 +58,61 @@ class TreeSummary:
     outcomes: dict = field(default_factory=dict)
 
 
-def tree_summary(tree: nx.DiGraph, max_nodes: int = 45) -> TreeSummary:
+def component_leaves(tree: nx.DiGraph, points: dict, variables, parameters) -> dict:
+    """The component each component leaf of ``tree`` gives: leaf -> 1-based number.
+
+    ``points`` maps each component's number to points of it (arrays over
+    ``variables``).  A leaf gives component k when every branch condition from
+    the root down to it vanishes (:data:`LEAF_MATCH_RTOL`) at one of k's points;
+    leaves that match no component (branches for special parameter values, or
+    pieces the final merge put inside another component) are left out.
+    """
+    import sympy as sp
+
+    names = {v.name: v for v in variables}
+    params = {str(k): v for k, v in parameters.items()}
+    cache = {}
+
+    def value(cond, q):
+        if cond not in cache:
+            try:
+                e = sp.sympify(cond, locals={**names, **{k: sp.Symbol(k) for k in params}})
+            except (sp.SympifyError, SyntaxError, TypeError):
+                cache[cond] = None
+                return None
+            e = e.subs({sp.Symbol(k): v for k, v in params.items()})
+            terms = sp.Add.make_args(sp.expand(e))
+            cache[cond] = (sp.lambdify(list(variables), e, "numpy"),
+                           [sp.lambdify(list(variables), t, "numpy") for t in terms])
+        f = cache[cond]
+        if f is None:
+            return None
+        size = sum(abs(float(t(*q))) for t in f[1])
+        return abs(float(f[0](*q))) / size if size > 0 else 0.0
+
+    roots = [n for n in tree if tree.in_degree(n) == 0]
+    out = {}
+    for leaf in (n for n in tree if tree.out_degree(n) == 0 and is_component_leaf(tree.nodes[n])):
+        path = next((nx.shortest_path(tree, r, leaf) for r in roots if nx.has_path(tree, r, leaf)),
+                    [leaf])
+        conds = [tree.nodes[n].get("condition") for n in path if tree.nodes[n].get("condition")]
+        if not conds or not points:
+            continue
+        first = next(iter(points.values()))[0]
+        conds = [c for c in conds if value(str(c), first) is not None]
+        if not conds:
+            continue
+        for k, qs in sorted(points.items()):
+            # a condition that is no expression ("(all configurations)") constrains nothing;
+            # a component made of several leaves (q = 0 and q = pi) has points on each
+            if any(all(v is None or v <= LEAF_MATCH_RTOL
+                       for v in (value(str(c), q) for c in conds)) for q in qs):
+                out[leaf] = k
+                break
+    return out
+
+
+def tree_summary(tree: nx.DiGraph, max_nodes: int = 30, components=None) -> TreeSummary:
     """The branch tree cut down to at most about ``max_nodes`` nodes for drawing.
 
     A small tree is kept whole.  A larger one keeps the paths from the root to
@@ -67,15 +128,27 @@ def tree_summary(tree: nx.DiGraph, max_nodes: int = 45) -> TreeSummary:
     def role(n):
         if tree.out_degree(n):
             return "inner"
+        if components is not None:
+            return "component" if n in components else "leaf"
         return "component" if is_component_leaf(tree.nodes[n]) else "leaf"
+
+    def label(n):
+        return _label(n, tree.nodes[n], leaf=tree.out_degree(n) == 0,
+                      component=(components or {}).get(n))
 
     if tree.number_of_nodes() <= max_nodes:
         G = nx.DiGraph()
         for n, d in tree.nodes(data=True):
-            G.add_node(n, label=_label(n, d, leaf=tree.out_degree(n) == 0), role=role(n))
+            G.add_node(n, label=label(n), role=role(n))
         G.add_edges_from(tree.edges())
         return TreeSummary(G, tree.number_of_nodes(), 0, dict(outcomes))
     keep = {n for n in tree if role(n) == "component"}
+    if components:
+        # one leaf per component: the first branch that found it
+        first = {}
+        for n in sorted(keep, key=lambda n: (isinstance(n, str), str(n).zfill(8))):
+            first.setdefault(components[n], n)
+        keep = set(first.values())
     for n in list(keep):
         keep |= nx.ancestors(tree, n)
     keep |= {n for n in tree if tree.in_degree(n) == 0}
@@ -92,7 +165,7 @@ def tree_summary(tree: nx.DiGraph, max_nodes: int = 45) -> TreeSummary:
     G = nx.DiGraph()
     collapsed = 0
     for n in sorted(shown):
-        G.add_node(n, label=_label(n, tree.nodes[n], leaf=tree.out_degree(n) == 0), role=role(n))
+        G.add_node(n, label=label(n), role=role(n))
     for n in sorted(shown):
         rest = []
         for c in tree.successors(n):
@@ -111,20 +184,27 @@ def tree_summary(tree: nx.DiGraph, max_nodes: int = 45) -> TreeSummary:
             what = "\n".join(f"{v} x {k}" for k, v in sorted(leaves.items()))
             head = f"{len(sub)} more {'branch' if len(sub) == 1 else 'branches'}"
             if found:
-                head += f", {found} component {'leaf' if found == 1 else 'leaves'}"
+                head += f", {found} {'leaf' if found == 1 else 'leaves'} of components"
             sid = f"s{n}"
             G.add_node(sid, label=f"{head}\n{what}", role="summary")
             G.add_edge(n, sid)
     return TreeSummary(G, tree.number_of_nodes(), collapsed, dict(outcomes))
 
 
-def _short(text: str, width: int = 38) -> str:
+def _wrapped(text: str, width: int = 30, lines: int = 4) -> str:
+    """``text`` wrapped at ``width`` characters, at most ``lines`` lines (then cut with ...)."""
+    import textwrap
+
     text = " ".join(str(text).split())
-    return text if len(text) <= width else text[:width - 3] + "..."
+    out = textwrap.wrap(text, width, break_long_words=True, break_on_hyphens=False) or [""]
+    if len(out) > lines:
+        out = out[:lines]
+        out[-1] = out[-1][:width - 3] + "..."
+    return "\n".join(out)
 
 
-def _label(n, d, *, leaf: bool) -> str:
-    lines = [f"{n}: {_short(d.get('condition', ''))}"]
+def _label(n, d, *, leaf: bool, component=None) -> str:
+    lines = [f"{n}: " + _wrapped(d.get("condition", ""))]
     bits = []
     if "columns" in d:
         bits.append(f"cols {d['columns']}")
@@ -132,6 +212,8 @@ def _label(n, d, *, leaf: bool) -> str:
         bits.append(f"k={d['k']}")
     if bits:
         lines.append(", ".join(bits))
-    if leaf:
+    if component is not None:
+        lines.append(f"component {component}")
+    elif leaf:
         lines.append(f"[{_outcome_text(d)}]")
     return "\n".join(lines)

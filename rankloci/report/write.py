@@ -54,7 +54,7 @@ def read_model_notes(model) -> str:
 
 #: The names of the figure files of a report after ``STEM-``: an older one that is not
 #: produced again is removed.
-_FIGURE_SUFFIX = r"(?:sigma-[1-9][0-9]*|manipulability|tree|augmented)\.png"
+_FIGURE_SUFFIX = r"(?:sigma-[1-9][0-9]*|robot-[1-9][0-9]*|manipulability|tree|augmented)\.png"
 
 #: What a file name of a report may be: a stem and one extension, nothing that leaves the
 #: directory.
