@@ -120,8 +120,9 @@ def from_rtb(robot, *, symbolic: bool = True):
     Raises
     ------
     rankloci.errors.ModelError
-        Not a DH robot, a flipped joint, symbolic link values, or a twist
-        whose sine and cosine are not exact (not a multiple of pi/12).
+        Not a DH robot, a flipped joint, or symbolic link values.  A twist that
+        is not a multiple of pi/12 is kept as written, and the locus computation
+        refuses it (its cosine is not an exact number).
 
     Examples
     --------

@@ -121,9 +121,10 @@ def as_model(model, *, variables=None, parameters=None, tip=None, base_link=None
         (:func:`~rankloci.adapters.from_pinocchio`, ``tip`` names the frame).
     variables, parameters
         For a sympy matrix only.
-    tip, base_link : str, optional
-        For a URDF file or a Pinocchio model: the chain's last (and first) link
-        or frame.
+    tip : str, optional
+        For a URDF file or a Pinocchio model: the chain's last link or frame.
+    base_link : str, optional
+        For a URDF file: the chain's first link.
 
     Returns
     -------
@@ -159,7 +160,10 @@ def as_model(model, *, variables=None, parameters=None, tip=None, base_link=None
     if _is_from(model, "pinocchio"):
         from ..adapters import from_pinocchio
 
-        return from_pinocchio(model, tip=tip, base=base_link)
+        if base_link is not None:
+            raise ValueError("base_link= applies to URDF files; a Pinocchio chain starts at "
+                             "the model's root")
+        return from_pinocchio(model, tip=tip)
     raise TypeError(f"cannot use a {type(model).__module__}.{type(model).__name__} as a model; "
                     "give a built-in model name, a .toml or .urdf path, a sympy Matrix, a "
                     "Robotics Toolbox DHRobot or a Pinocchio Model")
