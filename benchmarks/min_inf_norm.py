@@ -37,7 +37,8 @@ def systems(name, n, rng):
 
     model = load_model(name)
     angles = [j.kind == "revolute" for j in model.joints]
-    Q = np.where(angles, rng.uniform(-np.pi, np.pi, (n, len(angles))), rng.normal(size=(n, len(angles))))
+    shape = (n, len(angles))
+    Q = np.where(angles, rng.uniform(-np.pi, np.pi, shape), rng.normal(size=shape))
     Js = BatchJacobian(model)(Q)
     ys = rng.normal(size=(n, Js.shape[1]))
     return Js, ys

@@ -67,7 +67,8 @@ def _common(p):
                    help="a built-in model name (see 'rankloci models') or a .toml/.urdf file")
     p.add_argument("--base-link", dest="base_link", help="URDF only: first link of the chain")
     p.add_argument("--tip", dest="tip_link", help="URDF only: last link of the chain")
-    p.add_argument("--plot", metavar="FILE.png", help="write the figure to FILE.png (or .pdf, .svg)")
+    p.add_argument("--plot", metavar="FILE.png",
+                   help="write the figure to FILE.png (or .pdf, .svg)")
     p.add_argument("--no-locus", dest="locus", action="store_false",
                    help="skip the locus and the distance to its components")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed of the locus probes (default 0)")
@@ -102,9 +103,11 @@ def add_parsers(sub, formatter_class) -> None:
     p.add_argument("--gain", type=float, default=None,
                    help="gain a of the mixing ratio r = 1 - exp(-a d) (default 20)")
     p.add_argument("--format", choices=("csv", "json"), default="csv")
-    p.add_argument("-o", "--output", metavar="FILE", help="write the table to FILE (default stdout)")
+    p.add_argument("-o", "--output", metavar="FILE",
+                   help="write the table to FILE (default stdout)")
 
-    p = sub.add_parser("manipulability", help="manipulability ellipsoid and polytope at a configuration",
+    p = sub.add_parser("manipulability",
+                       help="manipulability ellipsoid and polytope at a configuration",
                        epilog=EPILOG_MANIP, formatter_class=formatter_class)
     _common(p)
     p.add_argument("--q", required=True, metavar='"Q1 Q2 ..."',
@@ -165,7 +168,8 @@ def _robot(args):
     if not isinstance(model, RobotModel):
         raise UsageError(f"{args.command} needs a robot model; {args.model!r} is a raw matrix")
     if any(getattr(j, "mimic", None) is not None for j in model.joints):
-        raise UsageError(f"{args.command}: {model.name} has mimic joints, which are not supported here")
+        raise UsageError(f"{args.command}: {model.name} has mimic joints, which are not "
+                         "supported here")
     return model
 
 
@@ -193,7 +197,8 @@ def _locus_distance(model, args, tell):
     tm = task_matrix(model, frame="auto", numeric=True)
     method = method_for(tm.shape)
     if tell:
-        tell(f"{model.name}: computing the locus of its {tm.shape[0]}x{tm.shape[1]} Jacobian ({method})")
+        tell(f"{model.name}: computing the locus of its {tm.shape[0]}x{tm.shape[1]} Jacobian "
+             f"({method})")
     locus = compute_locus(tm, method, rng=np.random.default_rng(args.seed),
                           should_stop=_deadline(args.timeout))
     labels = [", ".join(f"{e} = 0" for e in c.equations) for c in locus.components]
@@ -268,7 +273,9 @@ def cmd_ik(args) -> int:
         raise UsageError(f"--restrict {bad[0]}: {model.name} has joints 1..{n}")
     restricted = sorted({j - 1 for j in args.restrict})
     if n - len(restricted) < len(kin.rows):
-        raise UsageError(f"--restrict leaves {n - len(restricted)} joints for {len(kin.rows)} task rows")
+        left = n - len(restricted)
+        raise UsageError(f"--restrict leaves {left} joint{'s' * (left != 1)} for "
+                         f"{len(kin.rows)} task rows")
     q0 = _start(kin, args, np.array(points[0]))
     progress = progress_printer(args.quiet)
 
@@ -396,9 +403,11 @@ def cmd_manipulability(args) -> int:
     result = {"model": model.name, "q": q.tolist(),
               "task": _measures(J) | {"row_names": [_ROW_NAMES[r] for r in kin.rows]}}
     if pos and len(pos) < len(kin.rows):
-        result["position"] = _measures(J[pos]) | {"row_names": [_ROW_NAMES[kin.rows[i]] for i in pos]}
+        names = [_ROW_NAMES[kin.rows[i]] for i in pos]
+        result["position"] = _measures(J[pos]) | {"row_names": names}
     if args.plot and len(pos) not in (2, 3):
-        raise UsageError(f"--plot draws 2 or 3 position rows; the task of {model.name} has {len(pos)}")
+        raise UsageError(f"--plot draws 2 or 3 position rows; the task of {model.name} has "
+                         f"{len(pos)}")
     progress = progress_printer(args.quiet)
     if args.locus:
         def work(tell):
@@ -447,7 +456,8 @@ def _manipulability_text(r) -> str:
             flat = ", flat" if m["polytope_flat"] else ""
             lines.append(f"  polytope: {m['polytope_vertices']} vertices, "
                          f"{m['polytope_facets']} facets, volume {m['polytope_volume']:.6g}, "
-                         f"cone-cell index w_p = {m['w_p']:.6g}, dimension {m['polytope_rank']}{flat}")
+                         f"cone-cell index w_p = {m['w_p']:.6g}, "
+                         f"dimension {m['polytope_rank']}{flat}")
         else:
             lines.append("  polytope: too many columns to enumerate")
     near = r.get("nearest_component", "absent")

@@ -102,7 +102,8 @@ def cadzow(A, y, *, max_iter: int | None = None) -> InfNormSolution:
             why = (f"; A_2'u has zero entries (columns {', '.join(map(str, zeros))}): "
                    "the Haar condition does not hold" if any(h["zeros"] for h in history) else "")
             return _result(x, bound, False, "cadzow", it, sat, free, history,
-                           f"the column exchange returned to the basis {tuple(free)} (cycling){why}")
+                           f"the column exchange returned to the basis {tuple(free)} "
+                           f"(cycling){why}")
         seen.add(state)
         # C-steps 7-8: p, then gamma with A_1'gamma = sgn(x_1(p)) e_p and u'gamma = 0
         p = int(np.argmax(np.abs(x[free])))

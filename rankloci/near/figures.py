@@ -118,8 +118,9 @@ def plot_manipulability(J, ax=None):
                           label=f"ellipsoid, w = {E.w:.4g}")
         if len(P.simplices):
             tris = P.points[P.simplices]
+            label = f"polytope, w_p = {P.w_p:.4g}"
             ax.add_collection3d(Poly3DCollection(tris, alpha=0.25, facecolor="C1",
-                                                 edgecolor="none", label=f"polytope, w_p = {P.w_p:.4g}"))
+                                                 edgecolor="none", label=label))
         ax.scatter(*P.vertices.T, color="C1", s=6)
         lim = float(np.abs(P.vertices).max()) or 1.0
         ax.set(xlim=(-lim, lim), ylim=(-lim, lim), zlim=(-lim, lim), xlabel="vx", ylabel="vy",

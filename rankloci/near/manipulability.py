@@ -164,7 +164,8 @@ def zonotope_volume(J) -> float:
     m, n = J.shape
     if n < m:
         return 0.0
-    total = sum(abs(float(np.linalg.det(J[:, list(S)]))) for S in itertools.combinations(range(n), m))
+    subsets = itertools.combinations(range(n), m)
+    total = sum(abs(float(np.linalg.det(J[:, list(S)]))) for S in subsets)
     return 2.0 ** m * total
 
 

@@ -145,7 +145,8 @@ def sign_choices(g, fallback, limit: int = MAX_SIGN_CHOICES):
 
     Examples
     --------
-    >>> [list(map(int, s)) for s in sign_choices(np.array([0.0, 0.0, -1.0]), np.array([1.0, -1.0, 0.0]))]
+    >>> g, x2 = np.array([0.0, 0.0, -1.0]), np.array([1.0, -1.0, 0.0])
+    >>> [list(map(int, s)) for s in sign_choices(g, x2)]
     [[1, -1, -1], [1, 1, -1], [-1, -1, -1], [-1, 1, -1]]
     """
     zero = np.abs(g) <= INF_NORM_ZERO_RTOL
@@ -330,7 +331,8 @@ def linear_program(A, y) -> InfNormSolution:
                                reason=f"HiGHS: {res.message}")
     x = res.x[:n]
     t = float(res.x[-1])
-    sat = tuple(int(j) for j in np.flatnonzero(np.abs(np.abs(x) - t) <= INF_NORM_RTOL * max(t, 1e-300)))
+    at_norm = np.abs(np.abs(x) - t) <= INF_NORM_RTOL * max(t, 1e-300)
+    sat = tuple(int(j) for j in np.flatnonzero(at_norm))
     return InfNormSolution(x=x, norm=float(np.max(np.abs(x))), bound=t, converged=True, method="lp",
                            iterations=int(getattr(res, "nit", 0)), saturated=sat,
                            free=tuple(j for j in range(n) if j not in sat))

@@ -5,14 +5,12 @@ the component's equations vanish (joint-space Euclidean distance, angle
 differences taken in (-pi, pi]).  It is found in two steps: minimum-norm
 Gauss-Newton on the equations from q with steps of at most MAX_PROJECTION_STEP
 (each step is the shortest move that zeroes the linearised equations, so it
-lands near the closest point; least squares from q where that fails), then SLSQP on ||p - q||^2 with the
-equations as constraints from there.  Both are local:
-the SLSQP step is skipped when the least-squares point is already stationary
-(p - q normal to the component there).  The distance returned is that to the nearest
-point found, an upper bound of
-the true distance, and equal to it when the closest point is the one the
-descent reaches (for the components of the built-in models the tests compare
-it with closed forms).
+lands near the closest point; least squares from q where that fails), then
+SLSQP on ||p - q||^2 with the equations as constraints, skipped when the point
+is already stationary (p - q normal to the component there).  Both steps are
+local: the distance returned is that to the nearest point found, an upper
+bound of the true distance, equal to it when the closest point is the one the
+descent reaches (the tests compare it with closed forms on the built-in models).
 """
 
 from __future__ import annotations

@@ -225,7 +225,8 @@ def joint_rates_along(kin: Kinematics, q0, points, *, norm: str = "inf", duratio
         q = q + rates * dt
     arr = {k: np.array(v) for k, v in rec.items()}
     return PathRates(t=arr["t"], q=arr["q"].reshape(-1, n), rates=arr["rates"].reshape(-1, n),
-                     rates_2=arr["rates_2"].reshape(-1, n), rates_inf=arr["rates_inf"].reshape(-1, n),
+                     rates_2=arr["rates_2"].reshape(-1, n),
+                     rates_inf=arr["rates_inf"].reshape(-1, n),
                      index=arr["index"], minor_index=arr["minor"], mixing=arr["mixing"],
                      sigma_ratio=arr["ratio"], error=arr["error"], norm=norm, stopped=stopped,
                      lp_fallbacks=fallbacks, restricted=tuple(sorted(set(restricted))))

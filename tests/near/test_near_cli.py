@@ -79,7 +79,8 @@ def test_ik_planar4r_csv_table_and_figure(capsys, tmp_path):
     np.testing.assert_allclose(data[0, 1:5], [0.62, 0.23, 1.0, 0.46])
     rates = data[:, 5:9]
     inf_norm = np.abs(rates).max(axis=1)
-    saturated = np.sum(np.abs(np.abs(rates) - inf_norm[:, None]) <= 1e-9 * inf_norm[:, None], axis=1)
+    at_norm = np.abs(np.abs(rates) - inf_norm[:, None]) <= 1e-9 * inf_norm[:, None]
+    saturated = np.sum(at_norm, axis=1)
     assert np.all(saturated >= 3), "n - m + 1 = 3 components at the infinity norm (theorem 3)"
     assert np.all(data[:, header.index("nearest_component")] == 1)
     assert np.all(data[:, header.index("distance")] > 0)
@@ -124,7 +125,8 @@ BAD = [
     (["ik", "planar4r", "--q0", Q0, "--line", "1,2 -> 3,4"], "--q0 puts the tool at"),
     (["ik", "planar4r", "--line", "9,9 -> 3,4"], "out of reach"),
     (["ik", "planar4r", "--q0", Q0, "--line", LINE, "--restrict", "9"], "--restrict 9"),
-    (["ik", "planar4r", "--q0", Q0, "--line", LINE, "--restrict", "1", "2", "3"], "leaves 1 joint"),
+    (["ik", "planar4r", "--q0", Q0, "--line", LINE, "--restrict", "1", "2", "3"],
+     "leaves 1 joint for"),
     (["ik", "planar4r", "--q0", Q0, "--line", LINE, "--steps", "0"], "--steps"),
     (["ik", "planar4r", "--q0", Q0, "--line", LINE, "--gain", "-1"], "--gain"),
     (["ik", "planar4r", "--q0", Q0, "--path", "/nonexistent/w.csv"], "cannot read"),
