@@ -176,6 +176,11 @@ def _robot(args):
 def _check_out(option, path, suffixes):
     if path is None:
         return
+    if option == "--plot":
+        try:
+            import matplotlib  # noqa: F401
+        except ImportError:
+            raise UsageError("--plot needs matplotlib (pip install 'rankloci[report]')") from None
     p = Path(path)
     if suffixes and p.suffix.lower() not in suffixes:
         raise UsageError(f"{option} {path!r}: the file must end in {', '.join(suffixes)}")
