@@ -238,6 +238,7 @@ def cmd_ik(args) -> int:
 
     from ..near.discontinuity import DEFAULT_MIXING_GAIN
     from ..near.path import Kinematics, joint_rates_along
+    from ..tolerances import REGULAR_MIN_RATIO
     from .commands import _limited
 
     if not 1 <= args.steps <= MAX_STEPS:
@@ -282,6 +283,11 @@ def cmd_ik(args) -> int:
         raise UsageError(f"--restrict leaves {left} joint{'s' * (left != 1)} for "
                          f"{len(kin.rows)} task rows")
     q0 = _start(kin, args, np.array(points[0]))
+    sv = np.linalg.svd(np.delete(kin.jacobian(q0), restricted, axis=1), compute_uv=False)
+    if sv[-1] <= REGULAR_MIN_RATIO * sv[0]:
+        raise UsageError(f"the start configuration {np.round(q0, 6).tolist()} is singular "
+                         f"(sigma_min/sigma_max = {sv[-1] / sv[0] if sv[0] else 0.0:.1e}); "
+                         "start elsewhere")
     progress = progress_printer(args.quiet)
 
     def work(tell):
@@ -296,8 +302,9 @@ def cmd_ik(args) -> int:
                                  restricted=restricted, gain=gain)
         if args.locus:
             near = [cd.nearest(q, warm=True) for q in path.q]
-            distance = (np.array([r.distances for r in near]).reshape(len(near), -1),
-                        np.array([r.component for r in near]))
+            D = np.array([r.distances for r in near], dtype=float)
+            distance = (D.reshape(len(near), len(labels)),
+                        np.array([r.component for r in near], dtype=int))
         return path, distance, labels
 
     got = _limited(args, work, progress, "the path")

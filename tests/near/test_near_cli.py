@@ -132,6 +132,7 @@ BAD = [
     (["ik", "planar4r", "--q0", Q0, "--path", "/nonexistent/w.csv"], "cannot read"),
     (["ik", "planar4r", "--q0", Q0, "--line", LINE, "--path", "w.csv"], "not allowed"),
     (["ik", "planar4r", "--q0", Q0], "one of the arguments"),
+    (["ik", "planar4r", "--q0", "0 0 0 0", "--line", "4,0 -> 3,0"], "is singular"),
     (["ik", "planar4r", "--q0", Q0, "--line", LINE, "-o", "/nonexistent/dir/r.csv"],
      "does not exist"),
 ]
