@@ -17,7 +17,7 @@ from .mathfmt import math_width
 
 __all__ = ["render_latex", "blocks_latex", "PACKAGES"]
 
-PACKAGES = ("amsmath", "amssymb", "graphicx", "booktabs", "float")
+PACKAGES = ("amsmath", "amssymb", "graphicx", "booktabs")
 
 #: Width of the text block in "letters" of a table cell (about 0.55 em each at 11 pt):
 #: a table whose estimated width exceeds it is scaled to the line width.
@@ -49,7 +49,7 @@ def render_latex(report, *, fragment: bool = False, timings: bool = True) -> str
     blocks = report_blocks(report, timings=timings)
     wide = report.tm.shape[1] > 10
     if fragment:
-        body = blocks_latex(blocks, wide_matrix=wide, appendix=False)
+        body = blocks_latex(blocks, wide_matrix=wide, appendix=False, placement="!htbp")
         head = (f"% rankloci report on {report.name}: a fragment for \\input.\n"
                 f"% Needs \\usepackage{{{','.join(PACKAGES)}}} and, when input from another\n"
                 f"% directory, \\graphicspath{{{{path/to/reports/{report.name}/}}}}.\n"
@@ -65,13 +65,14 @@ def render_latex(report, *, fragment: bool = False, timings: bool = True) -> str
 
 
 def blocks_latex(blocks, *, wide_matrix: bool = False, top: int = 1,
-                 appendix: bool = True) -> str:
+                 appendix: bool = True, placement: str = "H") -> str:
     """LaTeX of a list of blocks (:mod:`~rankloci.report.blocks`).
 
     Headings of level ``top`` become ``\\section``, the next level
     ``\\subsection`` and so on.  Figures stay where they are in the text
-    (``[H]``, the ``float`` package); a tall one (the branch tree) gets a page
-    of its own.  :class:`~rankloci.report.blocks.Appendix` becomes
+    (``placement`` ``H``, from the ``float`` package the document loads; a
+    fragment for a paper passes ``!htbp``); a tall one (the branch tree) gets a
+    page of its own.  :class:`~rankloci.report.blocks.Appendix` becomes
     ``\\appendix`` (a comment when ``appendix`` is false, for a fragment).
 
     Examples
@@ -112,7 +113,7 @@ def blocks_latex(blocks, *, wide_matrix: bool = False, top: int = 1,
             size = ("width=\\linewidth,height=0.78\\textheight,keepaspectratio" if b.tall
                     else "width=0.92\\linewidth")
             page = "\\clearpage\n" if b.tall else ""
-            out.append(page + "\\begin{figure}[H]\n\\centering\n"
+            out.append(page + f"\\begin{{figure}}[{placement}]\n\\centering\n"
                        f"\\includegraphics[{size}]{{{b.file}}}\n"
                        f"\\caption{{{rich_tex(b.caption)}}}\\label{{{b.label}}}\n\\end{{figure}}"
                        + ("\n\\clearpage" if b.tall else ""))
@@ -132,8 +133,9 @@ def _code(text: str) -> str:
     """
     lines = []
     for line in text.split("\n"):
-        body = tex_escape(line).replace(",  ", ", \\allowbreak ")
-        for op in (" + ", " - ", " = ", " != ", "*"):
+        # "-{}": no "--" ligature (an en dash in T1 fonts), so options copy as typed
+        body = tex_escape(line).replace("-", "-{}").replace(",  ", ", \\allowbreak ")
+        for op in (" + ", " -{} ", " = ", " != ", "*"):
             body = body.replace(op, op + "\\allowbreak{}" if op != "*" else "*\\allowbreak{}")
         lines.append(body)
     joined = "\\\\".join(lines)
