@@ -44,7 +44,7 @@ the first point.  Each step solves J(q) qdot = xdot: --norm 2 (pseudo-inverse),
 inf (Ha and Lee's minimum infinity-norm algorithm), or mixed (r x_inf + (1 - r)
 x_2, r = 1 - exp(-gain d) with d the discontinuity index).  The table has t,
 q, the applied rates, the discontinuity index, the index formed with J (0 on
-the locus), the mixing ratio, sigma_min/sigma_max, the tracking error and the
+the locus), Gravagne's index over every face, the mixing ratio, sigma_min/sigma_max, the tracking error and the
 distance to the nearest locus component.  The path stops early, saying so,
 when J comes within 1e-6 (sigma_min/sigma_max) of losing rank.
 """
@@ -350,9 +350,11 @@ def _ik_table(model, path, distance, labels, fmt) -> str:
 
     names = [v.name for v in model.variables]
     columns = (["t"] + names + [f"rate_{v}" for v in names]
-               + ["index", "index_J", "mixing", "sigma_ratio", "tracking_error"])
+               + ["index", "index_J", "index_all_faces", "mixing", "sigma_ratio",
+                  "tracking_error"])
     data = [path.t[:, None], path.q, path.rates, path.index[:, None], path.minor_index[:, None],
-            path.mixing[:, None], path.sigma_ratio[:, None], path.error[:, None]]
+            path.subspace_index[:, None], path.mixing[:, None], path.sigma_ratio[:, None],
+            path.error[:, None]]
     if distance is not None:
         D, comp = distance
         columns += ["distance", "nearest_component"]

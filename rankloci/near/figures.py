@@ -37,10 +37,11 @@ def plot_joint_rates(path, ax=None):
 
 
 def plot_indices(path, ax=None):
-    """The discontinuity index, its form with J, the mixing ratio and sigma_min/sigma_max."""
+    """The discontinuity indices, the mixing ratio and sigma_min/sigma_max against time."""
     ax = _axes(ax)
     ax.plot(path.t, path.index, label="discontinuity index")
     ax.plot(path.t, path.minor_index, label="index with J (0 on the locus)")
+    ax.plot(path.t, path.subspace_index, "-.", lw=0.8, label="Gravagne's index (every face)")
     ax.plot(path.t, path.mixing, "--", label="mixing ratio r")
     ax.plot(path.t, path.sigma_ratio, ":", label="sigma_min/sigma_max")
     ax.set_xlabel("t")

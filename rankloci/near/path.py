@@ -18,7 +18,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..tolerances import REGULAR_MIN_RATIO
-from .discontinuity import DEFAULT_MIXING_GAIN, discontinuity_index, minor_index, mixing_ratio
+from .discontinuity import (DEFAULT_MIXING_GAIN, discontinuity_index, minor_index, mixing_ratio,
+                            subspace_index)
 from .min_inf_norm import ha_lee, linear_program
 
 __all__ = ["NORMS", "PathRates", "joint_rates_along", "polyline", "Kinematics"]
@@ -74,6 +75,7 @@ class PathRates:
     rates_2, rates_inf : (N, n) minimum two-norm and minimum infinity-norm rates
     index : (N,) Ha and Lee's discontinuity index (orthonormal null-space form)
     minor_index : (N,) the same formed with J (vanishes on the locus)
+    subspace_index : (N,) Gravagne's index over every face (Ha and Lee eq. 39)
     mixing : (N,) mixing ratio r
     sigma_ratio : (N,) sigma_min / sigma_max of J
     error : (N,) distance from the tool point to the path point
@@ -94,6 +96,7 @@ class PathRates:
     rates_inf: np.ndarray
     index: np.ndarray
     minor_index: np.ndarray
+    subspace_index: np.ndarray
     mixing: np.ndarray
     sigma_ratio: np.ndarray
     error: np.ndarray
@@ -181,7 +184,7 @@ def joint_rates_along(kin: Kinematics, q0, points, *, norm: str = "inf", duratio
     ang = [i for i, r in enumerate(kin.rows) if r >= 3]
     R0 = kin.pose(q)[:3, :3]
     rec = {k: [] for k in ("t", "q", "rates", "rates_2", "rates_inf", "index", "minor",
-                           "mixing", "ratio", "error")}
+                           "subspace", "mixing", "ratio", "error")}
     stopped, fallbacks = "", 0
     for k in range(steps + 1):
         t = k * dt
@@ -219,7 +222,8 @@ def joint_rates_along(kin: Kinematics, q0, points, *, norm: str = "inf", duratio
                        f"sigma_min/sigma_max = {ratio:.1e}")
             break
         for key, val in (("t", t), ("q", q.copy()), ("rates", rates), ("rates_2", x2),
-                         ("rates_inf", xi), ("index", d), ("minor", dm), ("mixing", r),
+                         ("rates_inf", xi), ("index", d), ("minor", dm),
+                         ("subspace", subspace_index(Jk)), ("mixing", r),
                          ("ratio", ratio), ("error", float(np.linalg.norm(err)))):
             rec[key].append(val)
         q = q + rates * dt
@@ -227,6 +231,7 @@ def joint_rates_along(kin: Kinematics, q0, points, *, norm: str = "inf", duratio
     return PathRates(t=arr["t"], q=arr["q"].reshape(-1, n), rates=arr["rates"].reshape(-1, n),
                      rates_2=arr["rates_2"].reshape(-1, n),
                      rates_inf=arr["rates_inf"].reshape(-1, n),
-                     index=arr["index"], minor_index=arr["minor"], mixing=arr["mixing"],
+                     index=arr["index"], minor_index=arr["minor"],
+                     subspace_index=arr["subspace"], mixing=arr["mixing"],
                      sigma_ratio=arr["ratio"], error=arr["error"], norm=norm, stopped=stopped,
                      lp_fallbacks=fallbacks, restricted=tuple(sorted(set(restricted))))

@@ -95,6 +95,7 @@ def test_planar4r_line_gravagnes_index_falls_where_ha_and_lees_does_not(planar4r
     assert path.error.max() < 1e-3, "the tool follows the line"
     J = [planar4r.jacobian(q) for q in path.q]
     gravagne = np.array([subspace_index(A) for A in J])
+    np.testing.assert_allclose(path.subspace_index, gravagne, rtol=1e-12)
     assert np.all(gravagne <= path.index + 1e-12)
     i = int(np.argmin(gravagne))
     assert gravagne[i] < 2e-3 and path.index[i] > 0.1

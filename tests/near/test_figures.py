@@ -26,7 +26,7 @@ def test_path_plots_use_the_given_axes(path):
     assert plot_joint_rates(path, ax=axes[0]) is fig
     assert plot_indices(path, ax=axes[1]) is fig
     assert plot_distance(path.t, np.linspace(1, 0.5, len(path.t)), ["c1"], ax=axes[2]) is fig
-    assert len(axes[0].lines) == 4 and len(axes[1].lines) == 4 and len(axes[2].lines) == 1
+    assert len(axes[0].lines) == 4 and len(axes[1].lines) == 5 and len(axes[2].lines) == 1
     np.testing.assert_allclose(axes[0].lines[2].get_ydata(), path.rates[:, 2])
 
 
