@@ -178,6 +178,7 @@ class Component:
         return sp.lambdify(tuple(variables), eqs, modules="numpy")
 
     def to_dict(self) -> dict:
+        """The component as JSON-ready data (an entry of ``components`` in ``rankloci.locus/2``)."""
         return {
             "equations": [sp.sstr(e) for e in self.equations],
             "solved": {str(k): [sp.sstr(v) for v in vals] for k, vals in self.solved.items()},
@@ -321,6 +322,11 @@ class Locus:
         return parse_locus_dict(data, model)
 
     def to_dict(self) -> dict:
+        """The locus as JSON-ready data, schema ``rankloci.locus/2`` (read by :meth:`from_dict`).
+
+        Parameter values are written as floats and ``seconds`` to 4 decimals;
+        the branch tree is not included.
+        """
         return {
             "schema": SCHEMA,
             "model": self.model,
