@@ -11,6 +11,8 @@ is already stationary (p - q normal to the component there).  Both steps are
 local: the distance returned is that to the nearest point found, an upper
 bound of the true distance, equal to it when the closest point is the one the
 descent reaches (the tests compare it with closed forms on the built-in models).
+A point in a component's excluded set (its ``excluding`` expressions vanish
+there, and its equations can hold at regular configurations) is not counted.
 """
 
 from __future__ import annotations
@@ -109,7 +111,7 @@ class ComponentDistance:
         if eqs.residual(p) > ON_COMPONENT_RESIDUAL:
             p = least_squares(eqs, start, method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15,
                               max_nfev=200 * len(q)).x
-        if eqs.residual(p) > ON_COMPONENT_RESIDUAL:
+        if eqs.residual(p) > ON_COMPONENT_RESIDUAL or not eqs.admits(p):
             return None
         if self._stationary(eqs, p, q):
             return p
@@ -122,7 +124,7 @@ class ComponentDistance:
                        constraints=[{"type": "eq", "fun": eqs}], options={"ftol": 1e-14,
                                                                          "maxiter": 200})
         better = res.x
-        if (eqs.residual(better) <= ON_COMPONENT_RESIDUAL
+        if (eqs.residual(better) <= ON_COMPONENT_RESIDUAL and eqs.admits(better)
                 and np.linalg.norm(self._wrap(better - q)) < np.linalg.norm(self._wrap(p - q))):
             p = better
         return p
