@@ -210,11 +210,11 @@ def joint_rates_along(kin: Kinematics, q0, points, *, norm: str = "inf", duratio
             sol = linear_program(Jk, v)
         xi = np.zeros(n)
         xi[keep] = sol.x
-        d = dm = 1.0
+        d = dm = np.nan    # not defined without n - m + 1 saturated columns (an LP fallback)
         if len(sol.saturated) == len(keep) - Jk.shape[0] + 1:
             d = discontinuity_index(Jk, sol.saturated)
             dm = minor_index(Jk, sol.saturated)
-        r = float(mixing_ratio(d, gain))
+        r = float(mixing_ratio(d, gain)) if np.isfinite(d) else 1.0
         rates = {"2": x2, "inf": xi, "mixed": r * xi + (1 - r) * x2}[norm]
         if np.max(np.abs(rates)) * dt > max_step:
             stopped = (f"stopped at t = {t:.4g}: a joint would move "
