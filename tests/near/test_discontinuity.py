@@ -126,6 +126,11 @@ def test_planar4r_rates_blow_up_and_the_index_drops_near_the_locus(planar4r):
     assert path.sigma_ratio[-1] < 0.05 * path.sigma_ratio[0]
     assert path.minor_index[-1] < 0.02 * path.minor_index[0], "the index with J drops to ~0"
     assert path.index[-1] < 0.5 * path.index[0], "the discontinuity index drops along this path"
+    # near the end the index falls to ~0 and the rates jump between solutions (sign flips
+    # from one step to the next), which they never do over the first 80 % of the path
+    flips = np.any(np.diff(np.sign(path.rates_inf), axis=0) != 0, axis=1)
+    assert not flips[:160].any() and flips[180:].sum() >= 5
+    assert path.index[:160].min() > 0.1 and path.index.min() < 0.01
     # along the approach rate * sigma_min stays bounded: the blow-up is 1/sigma_min
     smin = np.array([np.linalg.svd(planar4r.jacobian(q), compute_uv=False)[-1] for q in path.q])
     assert np.max(rate * smin) < 3 * np.median(rate * smin)
