@@ -11,9 +11,12 @@ The modules, in the order of the data:
 
 - :mod:`~rankloci.report.build`: :func:`build_report` and :class:`Report`;
 - :mod:`~rankloci.report.analysis`: the numbers behind figures and comparisons;
-- :mod:`~rankloci.report.reading`: plain-language readings, verified numerically;
-- :mod:`~rankloci.report.figure_files` and :mod:`~rankloci.report.figures`:
-  which figures, with which captions, and their PNG bytes;
+- :mod:`~rankloci.report.reading`: plain-language readings of lost directions, verified
+  numerically; :mod:`~rankloci.report.geometry` and :mod:`~rankloci.report.interpret`: the
+  geometric facts at a configuration and one complete reading of each component;
+- :mod:`~rankloci.report.figure_files`, :mod:`~rankloci.report.figures` and
+  :mod:`~rankloci.report.robot`: which figures, with which captions; the plotting
+  functions (each returns a matplotlib Figure and takes ``ax=``) and their PNG bytes;
 - :mod:`~rankloci.report.content` and :mod:`~rankloci.report.findings`: the
   report as blocks (:mod:`~rankloci.report.blocks`);
 - :mod:`~rankloci.report.mathfmt`, :mod:`~rankloci.report.matrixfmt` and

@@ -27,15 +27,14 @@ import numpy as np
 
 from ..model import RobotModel
 from .blocks import plural
+from .geometry import (RANDOM_POINTS, dependent_joints, design_points, distance_to_line,
+                       facts_at, meeting_point, random_configuration)
 from .reading import GEOMETRY_RTOL, axis_lines
 
-__all__ = ["Reading", "component_reading", "facts_at", "dependent_joints", "FACTOR_POINTS", "RANDOM_POINTS"]
+__all__ = ["Reading", "component_reading", "FACTOR_POINTS"]
 
 #: Points sampled on each factor's hypersurface, and on the component besides its sample.
 FACTOR_POINTS = 3
-
-#: Random configurations whose facts are design facts (they are never a reading).
-RANDOM_POINTS = 5
 
 
 @dataclass(frozen=True)
@@ -73,131 +72,6 @@ class Reading:
     axes: tuple = ()
     lost_axis: tuple = ()
     short: str = ""
-
-
-# --- facts at one configuration ----------------------------------------------------------------
-
-def _parallel(u, v) -> bool:
-    return float(np.linalg.norm(np.cross(u, v))) <= GEOMETRY_RTOL
-
-
-def _dist_line(p, line) -> float:
-    r = p - line.point
-    return float(np.linalg.norm(r - (r @ line.direction) * line.direction))
-
-
-def _meeting_point(a, b):
-    """The point where two non-parallel lines meet, or None when they miss each other."""
-    n = np.cross(a.direction, b.direction)
-    nn = float(np.linalg.norm(n))
-    if nn <= GEOMETRY_RTOL:
-        return None
-    w = b.point - a.point
-    # closest points: a.point + s a.d, b.point + t b.d
-    s = np.dot(np.cross(w, b.direction), n) / nn ** 2
-    t = np.dot(np.cross(w, a.direction), n) / nn ** 2
-    pa, pb = a.point + s * a.direction, b.point + t * b.direction
-    return pa, pb
-
-
-def _scale(lines, tool) -> float:
-    pts = [ln.point for ln in lines] + [tool]
-    return max(max(float(np.linalg.norm(p - q)) for p in pts for q in pts), 1e-9)
-
-
-def _design_points(model, params, rng):
-    """Points where consecutive revolute axes meet at every configuration (checked at random).
-
-    Returns a tuple of joint tuples: the axes through each such point, the first
-    two of which define it (pairs that meet at the same point are merged).
-    """
-    rev = [k + 1 for k, j in enumerate(model.joints) if j.kind == "revolute"]
-    pairs = [(a, b) for a, b in zip(rev, rev[1:]) if b == a + 1]
-    keep = set(pairs)
-    same = {(p, r) for p, r in itertools.combinations(pairs, 2)}
-    for _ in range(RANDOM_POINTS):
-        lines, tool = axis_lines(model, _random_q(model, rng), params)
-        tol = GEOMETRY_RTOL * _scale(lines, tool)
-        where = {}
-        for a, b in list(keep):
-            m = _meeting_point(lines[a - 1], lines[b - 1])
-            if m is None or float(np.linalg.norm(m[0] - m[1])) > tol:
-                keep.discard((a, b))
-            else:
-                where[(a, b)] = m[0]
-        same = {(p, r) for p, r in same if p in where and r in where
-                and float(np.linalg.norm(where[p] - where[r])) <= tol}
-    groups = []
-    for p in sorted(keep):
-        hit = [g for g in groups if any((min(p, r), max(p, r)) in same for r in g)]
-        groups = [g for g in groups if g not in hit] + [sorted(set().union([p], *hit))]
-    return tuple(tuple(sorted({j for pr in g for j in pr})) for g in sorted(groups))
-
-
-def _random_q(model, rng) -> dict:
-    return {str(v): (rng.uniform(-np.pi, np.pi) if j.kind == "revolute" else rng.normal())
-            for v, j in zip(model.variables, model.joints)}
-
-
-def facts_at(model, q: dict, params, meets=()) -> set:
-    """Every geometric fact at configuration ``q``, as hashable keys.
-
-    ``meets`` lists consecutive axes (a, b) that meet by design; their meeting
-    points are tested like the task point.  Keys: ``("collinear", a, b)``,
-    ``("parallel", a, b)``, ``("perpendicular", a, b)``, ``("intersect", a, b)``,
-    ``("on-axis", X, a)``, ``("in-plane", X, a, b)`` (X in the plane through
-    axis a parallel to axis b) and ``("coplanar", X, frozenset)`` (X and the
-    parallel axes in one plane; X may be None), where X is ``"P"`` (the task
-    point) or a pair (a, b) of ``meets``.
-    """
-    lines, tool = axis_lines(model, q, params)
-    tol = GEOMETRY_RTOL * _scale(lines, tool)
-    rev = [ln for ln in lines if ln.kind == "revolute"]
-    points = {"P": tool}
-    for axes in meets:
-        m = _meeting_point(lines[axes[0] - 1], lines[axes[1] - 1])
-        if m is not None and float(np.linalg.norm(m[0] - m[1])) <= tol:
-            if float(np.linalg.norm(m[0] - tool)) > tol:
-                points[axes] = 0.5 * (m[0] + m[1])
-    facts = set()
-    for a, b in itertools.combinations(rev, 2):
-        if _parallel(a.direction, b.direction):
-            if _dist_line(b.point, a) <= tol:
-                facts.add(("collinear", a.joint, b.joint))
-            else:
-                facts.add(("parallel", a.joint, b.joint))
-            continue
-        if abs(float(a.direction @ b.direction)) <= GEOMETRY_RTOL:
-            facts.add(("perpendicular", a.joint, b.joint))
-        n = np.cross(a.direction, b.direction)
-        if abs(float((b.point - a.point) @ n)) / float(np.linalg.norm(n)) <= tol:
-            facts.add(("intersect", a.joint, b.joint))
-    for name, p in points.items():
-        own = set(name) if isinstance(name, tuple) else set()
-        on = {a.joint for a in rev if a.joint not in own and _dist_line(p, a) <= tol}
-        facts |= {("on-axis", name, j) for j in on}
-        for a, b in itertools.permutations(rev, 2):
-            if a.joint in on or a.joint in own or _parallel(a.direction, b.direction):
-                continue
-            n = np.cross(a.direction, b.direction)
-            n /= np.linalg.norm(n)
-            if abs(float((p - a.point) @ n)) <= tol:
-                facts.add(("in-plane", name, a.joint, b.joint))
-    # planes of parallel axes, with or without a point
-    for a, b in itertools.combinations(rev, 2):
-        if not _parallel(a.direction, b.direction) or _dist_line(b.point, a) <= tol:
-            continue
-        n = np.cross(a.direction, b.point - a.point)
-        n /= np.linalg.norm(n)
-        members = frozenset(c.joint for c in rev if _parallel(a.direction, c.direction)
-                            and abs(float((c.point - a.point) @ n)) <= tol)
-        if len(members) >= 3:
-            facts.add(("coplanar", None, members))
-        for name, p in points.items():
-            own = set(name) if isinstance(name, tuple) else set()
-            if not own & members and abs(float((p - a.point) @ n)) <= tol:
-                facts.add(("coplanar", name, members))
-    return facts
 
 
 # --- reading the facts -------------------------------------------------------------------------
@@ -342,35 +216,6 @@ def _lost_rotation(model, q, params, group) -> str:
             tuple(float(x) for x in n))
 
 
-def dependent_joints(matrices, labels, columns=None) -> tuple:
-    """The smallest set of columns that is rank deficient in every one of ``matrices``.
-
-    A set counts as rank deficient when its smallest singular value is at most
-    RANK_RTOL times the largest singular value of the whole matrix.  Returns the
-    labels of the columns, or ``()`` when only the whole matrix is.  ``columns``
-    (indices) limits the search to those columns.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> J = np.array([[1.0, 2.0, 0.0], [0.0, 0.0, 1.0]])
-    >>> dependent_joints([J], ["1", "2", "3"])
-    ('1', '2')
-    """
-    from ..tolerances import RANK_RTOL
-
-    Js = [np.asarray(J, dtype=float) for J in matrices]
-    m, n = Js[0].shape
-    pool = list(range(n)) if columns is None else list(columns)
-    tops = [float(np.linalg.svd(J, compute_uv=False)[0]) for J in Js]
-    for size in range(1, min(m, n - 1, len(pool)) + 1):
-        for cols in itertools.combinations(pool, size):
-            if all(float(np.linalg.svd(J[:, cols], compute_uv=False)[-1]) <= RANK_RTOL * top
-                   for J, top in zip(Js, tops)):
-                return tuple(labels[c] for c in cols)
-    return ()
-
-
 def _offset_remark(model, points, params, x, axis) -> str:
     """Why a point in a plane through ``axis`` is the general form of the point on ``axis``."""
     dists = []
@@ -378,9 +223,9 @@ def _offset_remark(model, points, params, x, axis) -> str:
         lines, tool = axis_lines(model, q, params)
         p = tool if x == "P" else None
         if p is None:
-            m = _meeting_point(lines[x[0] - 1], lines[x[1] - 1])
+            m = meeting_point(lines[x[0] - 1], lines[x[1] - 1])
             p = 0.5 * (m[0] + m[1])
-        dists.append(_dist_line(p, lines[axis - 1]))
+        dists.append(distance_to_line(p, lines[axis - 1]))
     scale = max(dists)
     if scale <= 0 or max(dists) - min(dists) > 1e-6 * max(scale, 1.0):
         return ""
@@ -434,10 +279,10 @@ def component_reading(model, equations, labels, points, factor_points, rng, para
     """
     if not isinstance(model, RobotModel) or not points:
         return None
-    meets = _design_points(model, params, rng)
+    meets = design_points(model, params, rng)
     random_facts = set()
     for _ in range(RANDOM_POINTS):
-        random_facts |= facts_at(model, _random_q(model, rng), params, meets)
+        random_facts |= facts_at(model, random_configuration(model, rng), params, meets)
     whole = _common(model, points, params, meets, random_facts)
     dependent = ""
     if matrix is not None:

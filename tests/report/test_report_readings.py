@@ -15,7 +15,7 @@ from rankloci.io import load_model
 from rankloci.jacobian import task_matrix
 from rankloci.methods import method_for
 from rankloci.report.build import component_views
-from rankloci.report.interpret import dependent_joints, facts_at
+from rankloci.report.geometry import dependent_joints, facts_at
 from rankloci.report.mathfmt import latex as mlatex
 
 SEED = 0

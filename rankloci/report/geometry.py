@@ -1,0 +1,182 @@
+"""Geometric facts about an arm's joint axes at one configuration, and dependent columns.
+
+:func:`facts_at` lists what holds at a configuration: axes collinear,
+parallel, perpendicular or meeting, and the task point or a design point (where
+consecutive axes meet at every configuration, :func:`design_points`) on an
+axis or in a plane.  :mod:`~rankloci.report.interpret` keeps the facts that
+hold on a component and at no random configuration.  :func:`dependent_joints`
+finds the smallest set of dependent columns of J.  numpy only.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+
+from .reading import GEOMETRY_RTOL, axis_lines
+
+__all__ = ["facts_at", "design_points", "dependent_joints", "meeting_point", "parallel",
+           "distance_to_line", "arm_scale", "random_configuration", "RANDOM_POINTS"]
+
+#: Random configurations whose facts are design facts (they are never a reading).
+RANDOM_POINTS = 5
+
+
+def parallel(u, v) -> bool:
+    """Are the unit directions ``u`` and ``v`` parallel (to GEOMETRY_RTOL)?"""
+    return float(np.linalg.norm(np.cross(u, v))) <= GEOMETRY_RTOL
+
+
+def distance_to_line(p, line) -> float:
+    """Distance from the point ``p`` to the axis ``line`` (an AxisLine)."""
+    r = p - line.point
+    return float(np.linalg.norm(r - (r @ line.direction) * line.direction))
+
+
+def meeting_point(a, b):
+    """The closest points (on ``a``, on ``b``) of two axes; None when they are parallel.
+
+    The axes meet where the two points coincide.
+    """
+    n = np.cross(a.direction, b.direction)
+    nn = float(np.linalg.norm(n))
+    if nn <= GEOMETRY_RTOL:
+        return None
+    w = b.point - a.point
+    # closest points: a.point + s a.d, b.point + t b.d
+    s = np.dot(np.cross(w, b.direction), n) / nn ** 2
+    t = np.dot(np.cross(w, a.direction), n) / nn ** 2
+    pa, pb = a.point + s * a.direction, b.point + t * b.direction
+    return pa, pb
+
+
+def arm_scale(lines, tool) -> float:
+    """The largest distance between two axis points or an axis point and the task point."""
+    pts = [ln.point for ln in lines] + [tool]
+    return max(max(float(np.linalg.norm(p - q)) for p in pts for q in pts), 1e-9)
+
+
+def design_points(model, params, rng):
+    """Points where consecutive revolute axes meet at every configuration (checked at random).
+
+    Returns a tuple of joint tuples: the axes through each such point, the first
+    two of which define it (pairs that meet at the same point are merged).
+    """
+    rev = [k + 1 for k, j in enumerate(model.joints) if j.kind == "revolute"]
+    pairs = [(a, b) for a, b in zip(rev, rev[1:]) if b == a + 1]
+    keep = set(pairs)
+    same = {(p, r) for p, r in itertools.combinations(pairs, 2)}
+    for _ in range(RANDOM_POINTS):
+        lines, tool = axis_lines(model, random_configuration(model, rng), params)
+        tol = GEOMETRY_RTOL * arm_scale(lines, tool)
+        where = {}
+        for a, b in list(keep):
+            m = meeting_point(lines[a - 1], lines[b - 1])
+            if m is None or float(np.linalg.norm(m[0] - m[1])) > tol:
+                keep.discard((a, b))
+            else:
+                where[(a, b)] = m[0]
+        same = {(p, r) for p, r in same if p in where and r in where
+                and float(np.linalg.norm(where[p] - where[r])) <= tol}
+    groups = []
+    for p in sorted(keep):
+        hit = [g for g in groups if any((min(p, r), max(p, r)) in same for r in g)]
+        groups = [g for g in groups if g not in hit] + [sorted(set().union([p], *hit))]
+    return tuple(tuple(sorted({j for pr in g for j in pr})) for g in sorted(groups))
+
+
+def random_configuration(model, rng) -> dict:
+    """A random configuration: angles uniform in [-pi, pi], lengths standard normal."""
+    return {str(v): (rng.uniform(-np.pi, np.pi) if j.kind == "revolute" else rng.normal())
+            for v, j in zip(model.variables, model.joints)}
+
+
+def facts_at(model, q: dict, params, meets=()) -> set:
+    """Every geometric fact at configuration ``q``, as hashable keys.
+
+    ``meets`` lists consecutive axes (a, b) that meet by design; their meeting
+    points are tested like the task point.  Keys: ``("collinear", a, b)``,
+    ``("parallel", a, b)``, ``("perpendicular", a, b)``, ``("intersect", a, b)``,
+    ``("on-axis", X, a)``, ``("in-plane", X, a, b)`` (X in the plane through
+    axis a parallel to axis b) and ``("coplanar", X, frozenset)`` (X and the
+    parallel axes in one plane; X may be None), where X is ``"P"`` (the task
+    point) or a pair (a, b) of ``meets``.
+    """
+    lines, tool = axis_lines(model, q, params)
+    tol = GEOMETRY_RTOL * arm_scale(lines, tool)
+    rev = [ln for ln in lines if ln.kind == "revolute"]
+    points = {"P": tool}
+    for axes in meets:
+        m = meeting_point(lines[axes[0] - 1], lines[axes[1] - 1])
+        if m is not None and float(np.linalg.norm(m[0] - m[1])) <= tol:
+            if float(np.linalg.norm(m[0] - tool)) > tol:
+                points[axes] = 0.5 * (m[0] + m[1])
+    facts = set()
+    for a, b in itertools.combinations(rev, 2):
+        if parallel(a.direction, b.direction):
+            if distance_to_line(b.point, a) <= tol:
+                facts.add(("collinear", a.joint, b.joint))
+            else:
+                facts.add(("parallel", a.joint, b.joint))
+            continue
+        if abs(float(a.direction @ b.direction)) <= GEOMETRY_RTOL:
+            facts.add(("perpendicular", a.joint, b.joint))
+        n = np.cross(a.direction, b.direction)
+        if abs(float((b.point - a.point) @ n)) / float(np.linalg.norm(n)) <= tol:
+            facts.add(("intersect", a.joint, b.joint))
+    for name, p in points.items():
+        own = set(name) if isinstance(name, tuple) else set()
+        on = {a.joint for a in rev if a.joint not in own and distance_to_line(p, a) <= tol}
+        facts |= {("on-axis", name, j) for j in on}
+        for a, b in itertools.permutations(rev, 2):
+            if a.joint in on or a.joint in own or parallel(a.direction, b.direction):
+                continue
+            n = np.cross(a.direction, b.direction)
+            n /= np.linalg.norm(n)
+            if abs(float((p - a.point) @ n)) <= tol:
+                facts.add(("in-plane", name, a.joint, b.joint))
+    # planes of parallel axes, with or without a point
+    for a, b in itertools.combinations(rev, 2):
+        if not parallel(a.direction, b.direction) or distance_to_line(b.point, a) <= tol:
+            continue
+        n = np.cross(a.direction, b.point - a.point)
+        n /= np.linalg.norm(n)
+        members = frozenset(c.joint for c in rev if parallel(a.direction, c.direction)
+                            and abs(float((c.point - a.point) @ n)) <= tol)
+        if len(members) >= 3:
+            facts.add(("coplanar", None, members))
+        for name, p in points.items():
+            own = set(name) if isinstance(name, tuple) else set()
+            if not own & members and abs(float((p - a.point) @ n)) <= tol:
+                facts.add(("coplanar", name, members))
+    return facts
+
+
+def dependent_joints(matrices, labels, columns=None) -> tuple:
+    """The smallest set of columns that is rank deficient in every one of ``matrices``.
+
+    A set counts as rank deficient when its smallest singular value is at most
+    RANK_RTOL times the largest singular value of the whole matrix.  Returns the
+    labels of the columns, or ``()`` when only the whole matrix is.  ``columns``
+    (indices) limits the search to those columns.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> J = np.array([[1.0, 2.0, 0.0], [0.0, 0.0, 1.0]])
+    >>> dependent_joints([J], ["1", "2", "3"])
+    ('1', '2')
+    """
+    from ..tolerances import RANK_RTOL
+
+    Js = [np.asarray(J, dtype=float) for J in matrices]
+    m, n = Js[0].shape
+    pool = list(range(n)) if columns is None else list(columns)
+    tops = [float(np.linalg.svd(J, compute_uv=False)[0]) for J in Js]
+    for size in range(1, min(m, n - 1, len(pool)) + 1):
+        for cols in itertools.combinations(pool, size):
+            if all(float(np.linalg.svd(J[:, cols], compute_uv=False)[-1]) <= RANK_RTOL * top
+                   for J, top in zip(Js, tops)):
+                return tuple(labels[c] for c in cols)
+    return ()
