@@ -222,6 +222,9 @@ def cmd_sweep(args) -> int:
     from ..sweep.spec import read_spec
     from ..sweep.summary import render_csv, render_figure, render_markdown, status_counts
 
+    from .output import require_module
+
+    require_module("matplotlib", "report", "rankloci sweep (its summary figure)")
     if args.serial and (args.scheduler or args.workers):
         raise UsageError("--serial runs without Dask; it excludes --workers and --scheduler")
     if args.scheduler and args.workers:
