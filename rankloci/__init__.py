@@ -7,6 +7,8 @@ starts fast.
 - :func:`load_model`, :func:`jacobian`, :func:`locus`, :func:`check`,
   :func:`report`, :func:`is_singular`: the command line's subcommands as
   functions (:mod:`rankloci.api`);
+- :func:`min_inf_norm`, :func:`manipulability`, :func:`joint_rates`,
+  :func:`nearest_component`: what a robot does near its locus (:mod:`rankloci.near`);
 - :func:`from_rtb`, :func:`from_pinocchio`: models from Robotics Toolbox for
   Python and Pinocchio (:mod:`rankloci.adapters`);
 - :class:`Locus`, :class:`Component`, :class:`Outcome`: the result types;
@@ -42,12 +44,14 @@ _EXPORTS = {
     "RanklociError": "rankloci.errors", "ModelError": "rankloci.errors",
     "ExpressionError": "rankloci.errors", "ShapeError": "rankloci.errors",
     "LocusError": "rankloci.errors", "LocusTimeout": "rankloci.errors",
+    "min_inf_norm": "rankloci.near.min_inf_norm", "manipulability": "rankloci.near.api",
+    "joint_rates": "rankloci.near.api", "nearest_component": "rankloci.near.api",
 }
 
 #: Submodules reachable as attributes without importing them first.
 _SUBMODULES = ("adapters", "algebra", "api", "augmented", "cli", "directions", "errors", "exact",
-               "expr", "io", "jacobian", "kinematics", "locus", "methods", "model", "numeric",
-               "render_text", "report", "tolerances", "tree", "verify")
+               "expr", "io", "jacobian", "kinematics", "locus", "methods", "model", "near",
+               "numeric", "render_text", "report", "tolerances", "tree", "verify")
 
 __all__ = ["__version__", *_EXPORTS]
 

@@ -1,0 +1,126 @@
+"""What ``rankloci ik`` and ``rankloci manipulability`` do, as functions of a model.
+
+Each takes a model as :func:`rankloci.load_model` does (a built-in name, a file,
+a :class:`~rankloci.model.RobotModel`, ...) and returns frozen results; nothing
+is printed or written.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["Manipulability", "manipulability", "joint_rates", "nearest_component", "model_locus"]
+
+
+@dataclass(frozen=True)
+class Manipulability:
+    """The ellipsoid and polytope of a robot's Jacobian at one configuration.
+
+    Attributes
+    ----------
+    q : numpy.ndarray
+    J : numpy.ndarray
+        The task rows of the base-frame Jacobian at the tool point.
+    rows : tuple of int
+        Which of (vx, vy, vz, wx, wy, wz) the rows of J are.
+    ellipsoid : Ellipsoid
+    polytope : Polytope or None
+        None when J has more columns than the polytope enumerates.
+    """
+
+    q: np.ndarray
+    J: np.ndarray
+    rows: tuple
+    ellipsoid: object
+    polytope: object
+
+
+def _robot(model):
+    from ..api import load_model
+    from ..model import RobotModel
+
+    model = load_model(model)
+    if not isinstance(model, RobotModel):
+        raise ValueError(f"model must be a robot model, got {type(model).__name__}")
+    return model
+
+
+def manipulability(model, q, *, position_only: bool = False) -> Manipulability:
+    """Manipulability ellipsoid and polytope of ``model`` at ``q``.
+
+    Parameters
+    ----------
+    model : str, path or RobotModel
+    q : array_like
+        One value per joint variable.
+    position_only : bool
+        Keep only the position rows (vx, vy, vz) of the task, as Kilic draws them.
+
+    Returns
+    -------
+    Manipulability
+
+    Examples
+    --------
+    >>> m = manipulability("planar2r", [np.pi / 4, np.pi / 4])
+    >>> round(m.ellipsoid.w, 6), round(m.polytope.w_p, 6)
+    (0.707107, 2.828427)
+    """
+    from .manipulability import MAX_POLYTOPE_COLUMNS, ellipsoid, polytope
+    from .path import Kinematics
+
+    kin = Kinematics(_robot(model))
+    q = np.asarray(q, dtype=float)
+    if q.shape != (kin.n,):
+        raise ValueError(f"q must have {kin.n} values (one per joint), got shape {q.shape}")
+    J = kin.jacobian(q)
+    rows = kin.rows
+    if position_only:
+        keep = [i for i, r in enumerate(rows) if r < 3]
+        J, rows = J[keep], tuple(rows[i] for i in keep)
+    P = polytope(J) if J.shape[1] <= MAX_POLYTOPE_COLUMNS else None
+    return Manipulability(q=q, J=J, rows=tuple(rows), ellipsoid=ellipsoid(J), polytope=P)
+
+
+def joint_rates(model, q0, points, **options):
+    """Joint rates of ``model`` along the polyline ``points`` from ``q0``.
+
+    ``options`` are those of :func:`rankloci.near.path.joint_rates_along` (``norm``,
+    ``duration``, ``steps``, ``restricted``, ``gain``, ``max_step``).
+
+    Examples
+    --------
+    >>> q0 = [0.62, 0.23, 1.0, 0.46]
+    >>> path = joint_rates("planar4r", q0, [[0.524572, 3.032596], [0.0, 3.0]], steps=10)
+    >>> path.rates.shape
+    (11, 4)
+    """
+    from .path import Kinematics, joint_rates_along
+
+    return joint_rates_along(Kinematics(_robot(model)), q0, points, **options)
+
+
+def model_locus(model, *, seed: int = 0):
+    """The locus of the model's task Jacobian with its parameters at their values."""
+    from ..jacobian import task_matrix
+    from ..methods import compute_locus, method_for
+
+    tm = task_matrix(_robot(model), frame="auto", numeric=True)
+    return compute_locus(tm, method_for(tm.shape), rng=np.random.default_rng(seed)), tm.angles
+
+
+def nearest_component(model, q, *, seed: int = 0):
+    """The component of the model's locus nearest to ``q`` (joint space): a ``Nearest``.
+
+    Examples
+    --------
+    >>> near = nearest_component("planar2r", [0.3, 0.5])
+    >>> near.component, round(near.distance, 12)
+    (0, 0.5)
+    """
+    from .nearest import ComponentDistance
+
+    locus, angles = model_locus(model, seed=seed)
+    return ComponentDistance(locus, angles).nearest(np.asarray(q, dtype=float))
