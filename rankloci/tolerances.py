@@ -197,6 +197,15 @@ OFF_LOCUS_MIN_RESIDUAL = 1e-2
 #: A completeness-probe minimum counts as singular when sigma_min/sigma_max <= this (RANK_RTOL).
 PROBE_SINGULAR_RTOL = RANK_RTOL
 
+#: Such a minimum is then followed by Newton steps on sigma_min/sigma_max
+#: (rankloci.numeric.equations.descend_to_singular) and counts as a singular point only if
+#: they drive the ratio to at most this.  At rank-deficient configurations of the built-in
+#: arms (puma560, ur5, pa10, ssrms, mobile10, planar4r) the minimum is 4e-19 to 6e-17, the
+#: rounding floor; a minimum that stalls far above it is a positive local minimum, a
+#: configuration that is nearly but not exactly singular: a 7R arm with 0.5 mm joint offsets
+#: has them at 9e-13 to 8e-10 (the one at 1.7e-10 is regular when evaluated with 40 digits).
+PROBE_DESCENT_RTOL = 1e-13
+
 #: A singular probe point is covered when some component's scaled equations are all at most this.
 #: A minimiser stops within ~ratio/|grad ratio| (~1e-8 rad) of a smooth locus, ~1e-6 rad near
 #: tangential intersections; scaled trig equations change by at most their degree (<= 8) per

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..algebra import laplace_det
 from ..errors import LocusError
+from ..tree.modular import block_rank
 from ..tree.probe import numeric_rank
 
 if TYPE_CHECKING:
@@ -30,7 +31,24 @@ MAX_COLUMN_SETS = 5000
 MAX_BLOCKS = 400
 
 
-def choose_columns(ctx: "Context", M, points, candidates: int = 12):
+def _regular(ctx: "Context", M, points, size: int, branch):
+    """A test ``(rows, cols) -> bool``: is that block of ``M`` regular on the branch?
+
+    Exact (modulo a prime) where the branch allows it, else numeric at the
+    points.  Only points where ``M`` itself has rank ``size`` count: a
+    sample point may lie on a smaller subset where more is singular.
+    """
+    exact = ctx.modular.values(M, branch) if branch is not None else None
+    if exact is not None:
+        exact = [E for E in exact if E.rank() == size]
+        return lambda rl, cl: any(block_rank(E, rl, cl) == size for E in exact)
+    evaluated = [ctx.probe.evaluated(M, g) for g in points]
+    evaluated = [(A, S) for A, S in evaluated if numeric_rank(A, S) == size]
+    return lambda rl, cl: any(numeric_rank(A[np.ix_(rl, cl)], S[np.ix_(rl, cl)]) == size
+                              for A, S in evaluated)
+
+
+def choose_columns(ctx: "Context", M, points, candidates: int = 12, *, branch=None):
     """n columns whose square block is regular at the points, and its determinant.
 
     Among up to ``candidates`` regular blocks (smallest entries first) the
@@ -45,14 +63,10 @@ def choose_columns(ctx: "Context", M, points, candidates: int = 12):
     ranked = sorted(combos, key=lambda cs: sum(size[c] for c in cs))
     best = None
     tried = 0
-    # a block is regular on the branch if it is regular at one of its points
-    # where the whole matrix has full rank (a sample point may happen to lie
-    # on a smaller subset where more is singular)
-    evaluated = [ctx.probe.evaluated(M, g) for g in points]
-    evaluated = [(A, S) for A, S in evaluated if numeric_rank(A, S) == n]
+    regular = _regular(ctx, M, points, n, branch)
+    rows = list(range(n))
     for cols in ranked:
-        cl = list(cols)
-        if not any(numeric_rank(A[:, cl], S[:, cl]) == n for A, S in evaluated):
+        if not regular(rows, list(cols)):
             continue
         sub = [[row[c] for c in cols] for row in M]
         ctx.tick()
@@ -66,7 +80,7 @@ def choose_columns(ctx: "Context", M, points, candidates: int = 12):
         raise LocusError("no regular square block found although the matrix has full rank")
     return best
 
-def choose_block(ctx: "Context", A, r, points, candidates: int = 24):
+def choose_block(ctx: "Context", A, r, points, candidates: int = 24, *, branch=None):
     """Rows and columns of an r x r block of ``A`` regular at the points.
 
     The null vectors built from the block's cofactors are independent
@@ -84,7 +98,15 @@ def choose_block(ctx: "Context", A, r, points, candidates: int = 24):
     N = N / np.where(norms > 0, norms, 1.0)[:, None]
     cols = sorted(_pivots(N, r))
     rows = sorted(_pivots(N[:, cols].T, r))
-    if r == 0 or math.comb(n, r) * math.comb(m, r) > MAX_BLOCKS:
+    if r == 0:
+        return rows, cols
+    regular = _regular(ctx, A, points, r, branch)
+    if not regular(rows, cols):
+        # the numeric proposal is singular on the branch: the first regular block instead
+        rows, cols = next(((list(rs), list(cs)) for rs in itertools.combinations(range(n), r)
+                           for cs in itertools.combinations(range(m), r)
+                           if regular(list(rs), list(cs))), (rows, cols))
+    if math.comb(n, r) * math.comb(m, r) > MAX_BLOCKS:
         return rows, cols
 
     def score(rl, cl, most=None):
@@ -98,19 +120,16 @@ def choose_block(ctx: "Context", A, r, points, candidates: int = 24):
     best = (score(rows, cols), rows, cols)
     if best[0][0] == 0:
         return rows, cols
-    evaluated = [ctx.probe.evaluated(A, g) for g in points]
-    evaluated = [(E, S) for E, S in evaluated if numeric_rank(E, S) == r]
     size = [[len(p) for p in row] for row in A]
     blocks = sorted(((rs, cs) for rs in itertools.combinations(range(n), r)
                      for cs in itertools.combinations(range(m), r)),
                     key=lambda rc: sum(size[i][j] for i in rc[0] for j in rc[1]))
     tried = 0
     for rs, cs in blocks:
-        if tried >= candidates or not evaluated:
+        if tried >= candidates:
             break
         rl, cl = list(rs), list(cs)
-        if (rl, cl) == (rows, cols) or not any(
-                numeric_rank(E[np.ix_(rl, cl)], S[np.ix_(rl, cl)]) == r for E, S in evaluated):
+        if (rl, cl) == (rows, cols) or not regular(rl, cl):
             continue
         tried += 1
         ctx.tick()

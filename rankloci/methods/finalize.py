@@ -112,9 +112,13 @@ def _component(ctx: Context, eqs, branch, pts) -> _Candidate:
     eqs_j = tuple(eqs_j)
     used = set().union(*(e.free_symbols for e in eqs_j)) if eqs_j else set()
     free = tuple(v for v in tm.variables if v not in used)
-    # dimension: joint variables minus the rank of the equations' gradient
+    # dimension: joint variables minus the rank of the equations' gradient, exactly where
+    # the branch has points modulo a prime, else numerically at the sample point
     dim = len(tm.variables)
-    if eqs_j:
+    exact = ctx.modular.dimension(branch) if eqs_j else None
+    if exact is not None:
+        dim = exact
+    elif eqs_j:
         f, syms = _equation_functions(ring, eqs_j, tm)
         x0 = np.array([qv[v] for v in tm.variables] + [pv[p] for p in ring.params], dtype=float)
         h = DIMENSION_STEP

@@ -20,14 +20,14 @@ if TYPE_CHECKING:
 __all__ = ["left_null_vectors"]
 
 
-def left_null_vectors(ctx: "Context", A, rank, points):
+def left_null_vectors(ctx: "Context", A, rank, points, *, branch=None):
     """Left null vectors of ``A`` (n x n, rank ``rank`` on the branch), fraction free.
 
     Returns the vectors and the polynomial ``d`` (the determinant of the
     regular block used): the vectors are independent wherever d != 0.
     """
     n = len(A)
-    rows, cols = choose_block(ctx, A, rank, points)
+    rows, cols = choose_block(ctx, A, rank, points, branch=branch)
     block = [[A[i][j] for j in cols] for i in rows]
     d = laplace_det(block, ctx.ring) if rank else ctx.ring.ctx.constant(1)
     vectors = []

@@ -42,7 +42,7 @@ def singular_vector_tree(ctx: Context) -> bool:
     root = Branch()
     pts = ctx.sampler.points(root)
     M = ctx.M if len(ctx.M) <= len(ctx.M[0]) else transpose(ctx.M)
-    rank = ctx.probe.generic_rank(M, pts)
+    rank = ctx.rank(M, root, pts)
     if rank < len(M):
         node = ctx.add_node(None, root, shape=_shape(M), k=len(M) - rank)
         ctx.leaf(root, node, Outcome.DEGENERATE)
@@ -65,12 +65,12 @@ def _svm(ctx: Context, M, branch, parent, level):
     if pts is None:
         return
     M = ctx.substitute(M, branch)
-    rank = ctx.probe.generic_rank(M, pts)
+    rank = ctx.rank(M, branch, pts)
     if rank < n:
         ctx.annotate(node, k=n - rank)
         ctx.leaf(branch, node, Outcome.BEYOND_REDUNDANCY)
         return
-    cols, D = choose_columns(ctx, M, pts)
+    cols, D = choose_columns(ctx, M, pts, branch=branch)
     rest = [c for c in range(m) if c not in cols]
     ctx.annotate(node, columns=[c + 1 for c in cols], outcome=Outcome.REFINED, level=level)
     ctx.progress(f"branch {node}: {n}x{m} matrix, determinant of columns {[c + 1 for c in cols]}")
@@ -88,7 +88,7 @@ def _svm(ctx: Context, M, branch, parent, level):
     pending = []
     for child in branches:
         cpts = ctx.sampler.points(child)
-        crank = ctx.probe.generic_rank(ctx.substitute(M, child), cpts) if cpts else n
+        crank = ctx.rank(ctx.substitute(M, child), child, cpts) if cpts else n
         if crank < n:
             cnode = ctx.add_node(node, child, k=n - crank)
             ctx.leaf(child, cnode, Outcome.BEYOND_REDUNDANCY)
@@ -109,7 +109,7 @@ def _reduce(ctx: Context, M, cols, rest, branch, parent, level):
     Mb = ctx.substitute(M, branch)
     Jsq = [[row[c] for c in cols] for row in Mb]
     Jr = [[row[c] for c in rest] for row in Mb]
-    r = ctx.probe.generic_rank(Jsq, pts)
+    r = ctx.rank(Jsq, branch, pts)
     k = n - r
     if k == 0:
         # the factor has real points but J_sq is regular there: not a branch
@@ -119,7 +119,7 @@ def _reduce(ctx: Context, M, cols, rest, branch, parent, level):
         ctx.annotate(node, k=k)
         ctx.leaf(branch, node, Outcome.BEYOND_REDUNDANCY)
         return
-    U, d = left_null_vectors(ctx, Jsq, r, pts)
+    U, d = left_null_vectors(ctx, Jsq, r, pts, branch=branch)
     zero = ctx.ring.ctx.constant(0)
     Jdag = [[ctx.ring.normal(sum((u[j] * Jr[j][c] for j in range(n)
                                   if not u[j].is_zero() and not Jr[j][c].is_zero()), zero))
@@ -164,10 +164,10 @@ def _minor_branch(ctx: Context, M, branch, parent):
     Mb = ctx.substitute(M, branch)
     if len(Mb) > len(Mb[0]):
         Mb = transpose(Mb)
-    if ctx.probe.generic_rank(Mb, pts) < len(Mb):
+    if ctx.rank(Mb, branch, pts) < len(Mb):
         ctx.leaf(branch, parent, Outcome.ALL_MINORS_VANISH)
         return
-    cols, D = choose_columns(ctx, Mb, pts, candidates=MINOR_CANDIDATES)
+    cols, D = choose_columns(ctx, Mb, pts, candidates=MINOR_CANDIDATES, branch=branch)
     ctx.annotate(parent, columns=[c + 1 for c in cols])
     ctx.split(branch, parent, D, "a minor on a branch",
               lambda child, node: _minor_branch(ctx, M, child, node))

@@ -59,7 +59,7 @@ def _minors_branch(ctx: Context, minors, branch, parent):
     if pts is None:
         return
     reduced = [branch.reduce(p, ctx.ring) for p in minors]
-    alive = [p for p in reduced if not ctx.probe.vanishes(p, pts)]
+    alive = [p for p in reduced if not ctx.vanishes(p, branch, pts)]
     if not alive:
         ctx.leaf(branch, parent, Outcome.ALL_MINORS_VANISH)
         return

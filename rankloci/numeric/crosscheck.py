@@ -27,8 +27,9 @@ import numpy as np
 import sympy as sp
 
 from ..tolerances import (COVER_RESIDUAL, MINOR_RTOL, OFF_LOCUS_MIN_RESIDUAL, ON_COMPONENT_RESIDUAL,
-                          ON_LOCUS_RTOL, PROBE_SINGULAR_RTOL, RANK_RTOL)
-from .equations import MAX_TRIES, Equations, NumericMatrix, minimise_ratio, points_on
+                          ON_LOCUS_RTOL, PROBE_DESCENT_RTOL, PROBE_SINGULAR_RTOL, RANK_RTOL)
+from .equations import (MAX_TRIES, Equations, NumericMatrix, descend_to_singular, minimise_ratio,
+                        points_on)
 from .fsp import dependent_rows
 from .minors import relative_max_minor
 from .svd import numeric_rank_drop, sigma_ratio
@@ -238,9 +239,13 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
     # completeness
     singular, uncovered = 0, []
     for q0 in nm.random_q(rng, samples):
-        p = _point(nm, minimise_ratio(nm, q0))
-        if p.sigma_ratio > PROBE_SINGULAR_RTOL:
+        q = minimise_ratio(nm, q0)
+        if sigma_ratio(nm(q)) > PROBE_SINGULAR_RTOL:
             continue
+        q, r = descend_to_singular(nm, q)
+        if r > PROBE_DESCENT_RTOL:
+            continue            # a positive local minimum: nearly, not exactly, singular
+        p = _point(nm, q)
         singular += 1
         findings += _findings_at("probe", p, True)
         if not any(e.residual(np.array(p.q)) <= COVER_RESIDUAL for e in all_eqs):

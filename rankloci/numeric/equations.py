@@ -14,7 +14,7 @@ import sympy as sp
 from ..tolerances import EXCLUSION_RTOL, ON_COMPONENT_RESIDUAL
 
 __all__ = ["NumericMatrix", "Equations", "normalised", "coefficient_norm", "points_on", "minimise_ratio",
-           "MAX_TRIES"]
+           "descend_to_singular", "ratio_and_gradient", "MAX_TRIES"]
 
 #: Random starts per requested point (root finding, off-locus draws).
 MAX_TRIES = 40
@@ -175,3 +175,37 @@ def minimise_ratio(nm: NumericMatrix, q0):
 
     res = minimize(f, q0, jac=True, method="BFGS", options={"gtol": 1e-20, "maxiter": 400})
     return res.x
+
+
+def ratio_and_gradient(nm: NumericMatrix, q) -> tuple[float, np.ndarray]:
+    """sigma_min/sigma_max of J(q) and its gradient in q."""
+    U, s, Vt = np.linalg.svd(nm(q), full_matrices=False)
+    if s[0] == 0:
+        return 0.0, np.zeros_like(q)
+    dJ = nm.derivatives(q)
+    ds_min = np.einsum("i,kij,j->k", U[:, -1], dJ, Vt[-1])
+    ds_max = np.einsum("i,kij,j->k", U[:, 0], dJ, Vt[0])
+    return float(s[-1] / s[0]), (ds_min * s[0] - s[-1] * ds_max) / s[0] ** 2
+
+
+def descend_to_singular(nm: NumericMatrix, q, *, steps: int = 60) -> tuple[np.ndarray, float]:
+    """Newton steps on r = sigma_min/sigma_max from ``q``; the best point and its ratio.
+
+    Near a rank-deficient configuration r grows like the distance to it, so
+    the step r * grad r / |grad r|**2 lands on it and r falls to the
+    rounding floor (~1e-15) in a few steps.  At a positive local minimum of
+    r (a configuration that is only nearly singular) the gradient vanishes,
+    the steps stop reducing r, and the ratio stays where it was.
+    """
+    q = np.asarray(q, dtype=float).copy()
+    r, g = ratio_and_gradient(nm, q)
+    for _ in range(steps):
+        gg = float(g @ g)
+        if r == 0.0 or gg == 0.0:
+            break
+        trial = q - r * g / gg
+        rt, gt = ratio_and_gradient(nm, trial)
+        if not rt < r / 1.5:
+            break
+        q, r, g = trial, rt, gt
+    return q, r

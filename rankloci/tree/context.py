@@ -20,6 +20,7 @@ from ..errors import LocusError, LocusTimeout
 from ..locus import Outcome
 from . import cover, prune
 from .branch import Branch, SubstitutedMatrices
+from .modular import ModularProbe
 from .probe import Probe
 from .sampler import BranchSampler
 
@@ -71,6 +72,8 @@ class Context:
         if self.model_sampler is None:
             self.model_sampler = self.sampler
         self.probe = Probe(self.ring)
+        # its own random stream, so that the numeric samples do not depend on it
+        self.modular = ModularProbe(self.ring, rng.spawn(1)[0])
         self.substituted = SubstitutedMatrices(self.ring)
         self.tree = nx.DiGraph()
         self.leaves: list[tuple[Branch, int]] = []
@@ -132,7 +135,7 @@ class Context:
         if prune.known(self, branch):
             self.annotate(node, outcome=Outcome.KNOWN)
             return
-        if pts and self.probe.generic_rank(self.M, pts) == self.full_rank:
+        if pts and self.rank(self.M, branch, pts) == self.full_rank:
             self.annotate(node, outcome=Outcome.COVERED)
             return
         self.annotate(node, outcome=outcome)
@@ -164,6 +167,22 @@ class Context:
                 continue
             for child in cover.children(self, branch, f):
                 then(child, self.add_node(parent, child, outcome=Outcome.REFINED))
+
+    # --- decisions on a branch ---------------------------------------------------------------
+
+    def rank(self, M, branch: Branch, points) -> int:
+        """Rank of ``M`` (substituted for ``branch``) on ``branch``.
+
+        Exact (modulo a large prime, see :mod:`.modular`) where the branch
+        allows it; otherwise the largest numeric rank at its sample points.
+        """
+        exact = self.modular.rank(M, branch)
+        return exact if exact is not None else self.probe.generic_rank(M, points)
+
+    def vanishes(self, p, branch: Branch, points) -> bool:
+        """Does ``p`` vanish on ``branch``?  Exact where the branch allows it."""
+        exact = self.modular.vanishes(p, branch)
+        return exact if exact is not None else self.probe.vanishes(p, points)
 
     # --- algebra with notes -----------------------------------------------------------------
 
