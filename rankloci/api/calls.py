@@ -203,7 +203,7 @@ def locus(model, *, variables=None, parameters=None, task=None, augment=(), meth
     >>> L = rankloci.locus(sp.Matrix([[sp.cos(x), k * y], [sp.sin(x), 1]]), parameters={k: 2})
     >>> [str(c.equations[0]) for c in L.components]
     ['k*y*sin(x) - cos(x)']
-    >>> L.contains({"x": 0.0, "y": 0.5}), L.contains({"x": 0.0, "y": 0.0})
+    >>> L.contains({"x": 0.7853981633974483, "y": 0.5}), L.contains({"x": 0.0, "y": 0.5})
     (True, False)
     """
     from ..augmented import parse_augment
