@@ -184,7 +184,7 @@ def tree_summary(tree: nx.DiGraph, max_nodes: int = 30, components=None) -> Tree
             what = "\n".join(f"{v} x {k}" for k, v in sorted(leaves.items()))
             head = f"{len(sub)} more {'branch' if len(sub) == 1 else 'branches'}"
             if found:
-                head += f", {found} {'leaf' if found == 1 else 'leaves'} of components"
+                head += f", {found} component {'leaf' if found == 1 else 'leaves'}"
             sid = f"s{n}"
             G.add_node(sid, label=f"{head}\n{what}", role="summary")
             G.add_edge(n, sid)
