@@ -143,9 +143,6 @@ class Component:
     def _repr_html_(self) -> str:
         return _table_html([self], None)
 
-    def __getstate__(self):
-        return {k: v for k, v in self.__dict__.items() if k != "_numeric"}
-
     def lambdify(self, variables=None, parameters=None):
         """The equations as one numpy function of the variables.
 
@@ -236,6 +233,7 @@ class Locus:
         return _table_html(self.components, self)
 
     def __getstate__(self):
+        # the numeric equations cached by contains() hold lambdified functions
         return {k: v for k, v in self.__dict__.items() if k != "_numeric"}
 
     def contains(self, q, *, rtol: float = LOCUS_CONTAINS_RTOL) -> bool:

@@ -24,8 +24,11 @@ MAX_LOCUS_COMPONENTS = 1000
 #: The largest rank drop a locus file may state (a 100 x 100 matrix losing all its rank).
 MAX_RANK_DROP = 100
 
-#: The most entries of any list or mapping of one component (directions, samples, ...).
+#: The most entries of any list or mapping of one component (samples, solved values, ...).
 MAX_ITEMS = 10_000
+
+#: The most entries of one lost direction (a row or column count of the matrix).
+MAX_VECTOR = 1000
 
 
 def _names(data, key, where=None) -> list:
@@ -113,9 +116,10 @@ def _component(c, where, symbols, schema_1, special):
     direction = c.get("direction", [])
     at_sample = c.get("direction_at_sample", [])
     for field, vecs in (("direction", direction), ("direction_at_sample", at_sample)):
-        if not isinstance(vecs, list) or len(vecs) > MAX_ITEMS or not all(
-                isinstance(v, list) and len(v) <= MAX_ITEMS for v in vecs):
-            raise ModelError("must be a list of lists", field=f"{where}.{field}")
+        if not isinstance(vecs, list) or len(vecs) > MAX_RANK_DROP or not all(
+                isinstance(v, list) and len(v) <= MAX_VECTOR for v in vecs):
+            raise ModelError(f"must be at most {MAX_RANK_DROP} lists of at most {MAX_VECTOR} "
+                             "entries", field=f"{where}.{field}")
     kind = c.get("kind")
     if kind not in (None, "kinematic", "algorithmic", "mixed"):
         raise ModelError(f"kind {str(kind)[:20]!r} is not kinematic, algorithmic or mixed",

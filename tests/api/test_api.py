@@ -136,3 +136,13 @@ def test_check_and_is_singular():
         rankloci.is_singular("planar2r", {"q1": 0.3}, locus=L)
     with pytest.raises(ValueError, match="3 values"):
         L.contains([0.1, 0.2, 0.3])
+
+
+def test_report_builds_and_writes(tmp_path):
+    built, paths = rankloci.report("planar2r", tmp_path / "out", samples=3)
+    assert [p.name for p in paths if p.suffix == ".md"] == ["planar2r.md"]
+    assert "sin(q2)" in (tmp_path / "out" / "planar2r.md").read_text()   # the component
+    assert any(p.suffix == ".png" for p in paths)
+    assert built.locus is not None and len(built.locus.components) == 1
+    with pytest.raises(ValueError, match="'docx' is not one of"):
+        rankloci.report("planar2r", tmp_path, formats=("docx",))

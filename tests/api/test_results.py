@@ -147,3 +147,10 @@ def test_from_dict_names_the_bad_field(puma, change, field):
     with pytest.raises(ModelError) as err:
         Locus.from_dict(data)
     assert err.value.field == field
+
+
+def test_from_dict_bounds_directions(puma):
+    data = puma.to_dict()
+    data["components"][0] = data["components"][0] | {"direction": [["1"] * 1001]}
+    with pytest.raises(ModelError, match="at most 100 lists of at most 1000 entries"):
+        Locus.from_dict(data)
