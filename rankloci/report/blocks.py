@@ -73,6 +73,7 @@ class Figure:
     label: str
     tall: bool = False
     alt: str = ""         # a short plain-text description (Markdown's image text)
+    turned: bool = False  # LaTeX: a page of its own, turned a quarter (a wide figure)
 
 
 @dataclass(frozen=True)

@@ -25,7 +25,7 @@ READING_POINTS = 3
 SUMMARY_CHARS = 110
 
 #: A geometric reading longer than this is shortened to its name in the summary table.
-SUMMARY_READING_CHARS = 320
+SUMMARY_READING_CHARS = 420
 
 #: An equation a reading names is written out when its width (in
 #: :func:`~rankloci.report.mathfmt.math_width` units) is at most this, else named by its order.

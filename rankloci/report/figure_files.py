@@ -285,14 +285,16 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot, views=()) -> t
         leaves = component_leaves(locus.tree, points, nm.variables, params)
         summary = tree_summary(locus.tree, components=leaves)
         cut = (f" The tree has {summary.total_nodes} nodes; drawn are the paths to one leaf of "
-               f"each component, the other {summary.collapsed} branches are counted in dashed "
-               "boxes." if summary.collapsed else "")
+               f"each component, the other {summary.collapsed} branches are left out (the "
+               "table above counts the stop reasons of all leaves)." if summary.collapsed
+               else "")
         found = sorted(set(leaves.values()))
         missing = [idx for idx, _ in comps if idx not in found]
         miss = (f" No leaf matches {numbered('component', missing)}: the final merge of "
                 "the leaves formed it." if missing else "")
         caption = (f"Branch tree of the {locus.method} method, top-down; each node shows its "
-                   "branch condition (in half-angle coordinates). Green leaves are branches "
+                   "branch condition (in half-angle coordinates, cut after three lines) and the "
+                   "columns and k of its level. Green leaves are branches "
                    "that give a component of the model, labelled with its number (their "
                    "conditions vanish at its points); grey leaves stop for the reason in "
                    "brackets, among them branches that exist only for special parameter "

@@ -9,6 +9,8 @@ puts them between the model and the appendix.  Everything here is pure.
 
 from __future__ import annotations
 
+import struct
+
 import sympy as sp
 
 from ..methods import method_for
@@ -20,6 +22,10 @@ from .mathfmt import LINE_WIDTH, broken_lines, latex, value_latex
 
 #: A drawn branch tree with more boxes than this is set on a page of its own.
 TALL_TREE_BOXES = 12
+
+#: A drawn branch tree wider than this (pixels) and 1.5 times wider than high is turned a
+#: quarter on its page: at the line width it would be scaled below 6 pt text.
+TURNED_TREE_PIXELS = 1300
 
 __all__ = ["findings_blocks", "appendix_findings", "plain_equations", "disagreement_verdict",
            "figure_labels", "component_figures"]
@@ -258,8 +264,12 @@ def _tree_section(report):
     out.append(Table(("stop reason of the leaves", "leaves"), rows, "lr"))
     for f in figs:
         # a tree of more than a dozen boxes gets a page of its own, where it can be read
+        width, height = struct.unpack(">II", f.png[16:24])
+        # a tree much wider than high reads better turned on a page of its own
+        turned = width > TURNED_TREE_PIXELS and width > 1.5 * height
         out.append(Figure(f.name, f.caption, block_label(report, "fig", "tree"),
-                          tall=f.boxes > TALL_TREE_BOXES, alt=f.title))
+                          tall=f.boxes > TALL_TREE_BOXES and not turned, alt=f.title,
+                          turned=turned))
     return out
 
 

@@ -311,7 +311,7 @@ def component_reading(model, equations, labels, points, factor_points, rng, para
         s = _sentences(f, meets)[:2]
         if s:
             factors.append((k, "; ".join(t for _, _, t in s)))
-            brief.append(f"where {labels[k]}, {s[0][2]}")
+            brief.append(f"where {_holds(labels[k])}, {s[0][2]}")
             names.append(_name(model, s[0][0], s[0][1], meets))
             used += s
     joint = together[:2] if per else whole_s[:2]
@@ -331,7 +331,7 @@ def component_reading(model, equations, labels, points, factor_points, rng, para
         name = names[0] if len(uniq) == 1 else f"{_and(uniq)} singularities at once"
     joint_text = "; ".join(t for _, _, t in joint)
     if per:
-        parts = [f"where {labels[k]}, {text}" for k, text in factors]
+        parts = [f"where {_holds(labels[k])}, {text}" for k, text in factors]
         missing = [labels[k] for k, f in per if not _sentences(f, meets)]
         if joint_text:
             parts.append(("together, " if parts else "") + joint_text)
@@ -388,6 +388,11 @@ def component_reading(model, equations, labels, points, factor_points, rng, para
     short = head + (short if head else short[0].upper() + short[1:])
     return Reading(name, text, tuple(factors), joint_text, lost, len(points), _named_axes(used),
                    lost_axis, short)
+
+
+def _holds(label: str) -> str:
+    """``$e = 0$`` as it is; a named equation ("the second equation") with "holds"."""
+    return label if label.startswith("$") else f"{label} holds"
 
 
 def _named_axes(sentences) -> tuple:

@@ -111,12 +111,14 @@ def blocks_latex(blocks, *, wide_matrix: bool = False, top: int = 1,
                        + "\n\\end{itemize}")
         elif isinstance(b, Figure):
             size = ("width=\\linewidth,height=0.78\\textheight,keepaspectratio" if b.tall
-                    else "width=0.92\\linewidth")
-            page = "\\clearpage\n" if b.tall else ""
+                    else "width=0.85\\linewidth")
+            if b.turned:
+                size = "angle=90,width=\\linewidth,height=0.85\\textheight,keepaspectratio"
+            page = "\\clearpage\n" if b.tall or b.turned else ""
             out.append(page + f"\\begin{{figure}}[{placement}]\n\\centering\n"
                        f"\\includegraphics[{size}]{{{b.file}}}\n"
                        f"\\caption{{{rich_tex(b.caption)}}}\\label{{{b.label}}}\n\\end{{figure}}"
-                       + ("\n\\clearpage" if b.tall else ""))
+                       + ("\n\\clearpage" if b.tall or b.turned else ""))
         elif isinstance(b, Appendix):
             out.append("\\appendix" if appendix else "% appendix")
         elif isinstance(b, Code):

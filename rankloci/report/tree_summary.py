@@ -181,6 +181,8 @@ def tree_summary(tree: nx.DiGraph, max_nodes: int = 30, components=None) -> Tree
                              if tree.out_degree(m) == 0)
             found = sum(1 for m in sub if tree.out_degree(m) == 0 and role(m) == "component")
             collapsed += len(sub)
+            if components is not None:
+                continue  # only the paths to the components are drawn; the rest is counted
             what = "\n".join(f"{v} x {k}" for k, v in sorted(leaves.items()))
             head = f"{len(sub)} more {'branch' if len(sub) == 1 else 'branches'}"
             if found:
@@ -191,7 +193,7 @@ def tree_summary(tree: nx.DiGraph, max_nodes: int = 30, components=None) -> Tree
     return TreeSummary(G, tree.number_of_nodes(), collapsed, dict(outcomes))
 
 
-def _wrapped(text: str, width: int = 30, lines: int = 4) -> str:
+def _wrapped(text: str, width: int = 26, lines: int = 3) -> str:
     """``text`` wrapped at ``width`` characters, at most ``lines`` lines (then cut with ...)."""
     import textwrap
 
