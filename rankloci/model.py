@@ -118,6 +118,14 @@ class Joint:
     limits: tuple[float, float] | None = None
     mimic: Mimic | None = None  # set when the joint follows another joint's variable
 
+    def __repr__(self) -> str:
+        motion = "about" if self.kind == "revolute" else "along"
+        dh = (f", {self.dh.convention} a={self.dh.a} alpha={self.dh.alpha} d={self.dh.d} "
+              f"theta={self.dh.theta}") if self.dh is not None else ""
+        mimic = f", follows joint {self.mimic.joint + 1}" if self.mimic is not None else ""
+        return (f"<Joint {self.name!r}: {self.kind} {motion} "
+                f"({', '.join(str(c) for c in self.axis)}){dh}{mimic}>")
+
     def __post_init__(self):
         if self.kind not in ("revolute", "prismatic"):
             raise ValueError(f"joint kind {self.kind!r} is not 'revolute' or 'prismatic'")

@@ -35,6 +35,8 @@ def test_reprs_are_short_and_name_the_equations(puma):
     assert repr(model) == "<RobotModel 'puma560': 6 revolute joints, standard DH, " \
                           "parameters a2, a3, d3, d4>"
     assert "Matrix" not in repr(model) and len(repr(model)) < 100
+    assert repr(model.joints[2]) == "<Joint 'joint3': revolute about (0, 0, 1), dh a=a3 " \
+                                    "alpha=-pi/2 d=d3 theta=0>"
     m = rankloci.load_model(sp.Matrix([[sp.cos(X), 2]]))
     assert repr(m) == "<MatrixModel 'matrix': 1x2 in x>"
 
