@@ -17,7 +17,12 @@ a local cluster of 1 worker and once on 2, and writes ``benchmarks/sweep.md`` an
 
 Usage::
 
-    python benchmarks/sweep.py [--timeout SECONDS] [--workers 1,2] [--render]
+    python benchmarks/sweep.py [--timeout SECONDS] [--workers 1,2] [--revision COMMIT]
+                               [--output PATH] [--render]
+
+The rankloci it runs is the one ``python`` imports: to measure a commit while the working
+tree changes, export it (``git archive COMMIT | tar -x -C DIR``) and run with
+``PYTHONPATH=DIR`` and ``--revision COMMIT``.
 """
 
 from __future__ import annotations
@@ -82,7 +87,8 @@ def uptime() -> str:
 
 def run(spec: Path, out: Path, workers: int) -> dict:
     """One ``rankloci sweep`` on a local cluster of ``workers``; its wall time and records."""
-    cmd = [str(REPO / ".venv" / "bin" / "rankloci"), "sweep", str(spec), "-o", str(out),
+    cmd = [sys.executable, "-c", "import sys; from rankloci.cli import main; "
+           "sys.exit(main(sys.argv[1:]))", "sweep", str(spec), "-o", str(out),
            "--workers", str(workers)]
     before = uptime()
     t0 = time.monotonic()
@@ -147,7 +153,9 @@ def render(data) -> str:
         f"{meta['example_robot_data']} (the chains of `benchmarks/corpus.py`; tip position up "
         "to 3 joints, full task otherwise; parameters substituted; the self-check on), on a "
         "local Dask cluster of single-threaded worker processes, Python "
-        f"{meta['python']} on {meta['machine']} with {meta['cores']} cores. **The time limit "
+        f"{meta['python']} on {meta['machine']} with {meta['cores']} cores"
+        + (f", rankloci at commit {meta['revision'][:10]}" if meta.get("revision") else "")
+        + ". **The time limit "
         f"is {meta['timeout_s']:g} s per case** (the child is killed 1 s after it), so that "
         "the benchmark finishes in reasonable time; the cases that run out of it are the "
         "long pole of the sweep.",
@@ -228,6 +236,7 @@ def main(argv=None) -> int:
     ap.add_argument("--timeout", type=float, default=20.0, help="seconds per case (default 20)")
     ap.add_argument("--workers", default="1,2", help="comma list of worker counts (default 1,2)")
     ap.add_argument("--output", default=str(HERE / "sweep"))
+    ap.add_argument("--revision", default="", help="the commit measured, for the record")
     ap.add_argument("--render", action="store_true",
                     help="only write OUTPUT.md again from OUTPUT.json")
     args = ap.parse_args(argv)
@@ -254,7 +263,8 @@ def main(argv=None) -> int:
     data = {"meta": {"python": platform.python_version(), "machine": platform.machine(),
                      "cores": len(os.sched_getaffinity(0)), "timeout_s": args.timeout,
                      "example_robot_data": version("example-robot-data"),
-                     "dask": version("dask"), "distributed": version("distributed")},
+                     "dask": version("dask"), "distributed": version("distributed"),
+                     "revision": args.revision},
             "runs": runs}
     data["estimate"] = estimate(runs[0]["records"])
     data["reading"] = reading(data)
