@@ -350,9 +350,11 @@ def cmd_report(args) -> int:
             paths, failure, no_locus, check_ok = run_limited(
                 work, timeout=limit, memory_mb=args.memory, progress=progress)
         except LimitExceeded as e:
+            clear_status()
             print(f"rankloci: error: {model.name}: the report {e}", file=sys.stderr)
             status = EXIT_FAILED
             continue
+        clear_status()
         if paths is None:
             print(f"rankloci: error: {model.name}: {failure}", file=sys.stderr)
             status = EXIT_FAILED
@@ -366,6 +368,7 @@ def cmd_report(args) -> int:
             status = EXIT_FAILED
         if progress:
             progress(f"{model.name}: report written to {out} in {time.perf_counter() - t0:.1f} s")
+        clear_status()
         for p in paths:
             if p.suffix in (".md", ".tex", ".pdf"):
                 print(p)
