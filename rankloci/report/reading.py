@@ -1,11 +1,9 @@
-"""Plain-language readings of a singularity, each verified numerically.
+"""Plain-language readings of a lost direction, verified numerically, and the joint axes.
 
-Two kinds of statement are made about a component of the locus:
+:func:`axis_lines` gives the joint axes at a configuration (the geometric
+readings of :mod:`~rankloci.report.interpret` are made of them).  The lost
+direction is read here:
 
-- **geometry** (robots only): at points of the component, joint axes become
-  collinear, parallel or intersecting, or the task point falls on an axis or
-  into the plane of two parallel axes, where that does *not* hold at random
-  configurations (so it is a property of the singularity, not of the design);
 - **the lost direction**: ``u^T J = 0`` at the sample point, read as "the
   task point cannot translate along ...", "the end-effector cannot rotate
   about ..." or, for a mixed direction, the linear relation every achievable
@@ -13,13 +11,11 @@ Two kinds of statement are made about a component of the locus:
   joint torques).
 
 A statement is returned only when it holds numerically at the component's
-sample point (and, for geometry, at the other points of the component it is
-tested on) within the tolerances below.
+sample point within the tolerances below.
 """
 
 from __future__ import annotations
 
-import itertools
 from dataclasses import dataclass
 
 import numpy as np
@@ -27,8 +23,8 @@ import sympy as sp
 
 from ..model import RobotModel
 
-__all__ = ["AxisLine", "axis_lines", "geometry_readings", "direction_readings", "lost_motion",
-           "GEOMETRY_RTOL", "DIRECTION_RTOL"]
+__all__ = ["AxisLine", "axis_lines", "direction_readings", "lost_motion", "GEOMETRY_RTOL",
+           "DIRECTION_RTOL"]
 
 #: Two unit axis directions count as parallel, and distances as zero relative to the size of
 #: the arm, below this.  Points on a component are accurate to ~1e-12 (ROOT_XTOL); random
@@ -40,8 +36,6 @@ GEOMETRY_RTOL = 1e-7
 #: point: rank decisions use RANK_RTOL = 1e-8 on sigma_min/sigma_max, and the direction is
 #: printed to 3 decimals, so 1e-6 is checked on the unrounded vector.
 DIRECTION_RTOL = 1e-6
-
-_RANDOM_CONFIGURATIONS = 4
 
 
 @dataclass(frozen=True)
@@ -72,185 +66,6 @@ def axis_lines(model: RobotModel, q: dict, params=None):
         d = T[:3, :3] @ axis
         lines.append(AxisLine(i + 1, j.kind, T[:3, 3].copy(), d / np.linalg.norm(d)))
     return lines, poses[-1][:3, 3].copy()
-
-
-# --- geometric predicates ---------------------------------------------------------------------
-
-def _parallel(a: AxisLine, b: AxisLine) -> bool:
-    return np.linalg.norm(np.cross(a.direction, b.direction)) <= GEOMETRY_RTOL
-
-
-def _distance_to_line(p, line: AxisLine) -> float:
-    r = p - line.point
-    return float(np.linalg.norm(r - (r @ line.direction) * line.direction))
-
-
-def _facts(lines, tool, scale):
-    """Every geometric fact that holds at this configuration, as hashable keys.
-
-    ``("plane", members)``: parallel revolute axes (and ``"P"``, the task point)
-    that lie in one plane, at least three members.
-    """
-    tol = GEOMETRY_RTOL * scale
-    rev = [ln for ln in lines if ln.kind == "revolute"]
-    facts = set()
-    on_axis = {a.joint for a in rev if _distance_to_line(tool, a) <= tol}
-    for j in on_axis:
-        facts.add(("point-on-axis", j))
-    for a, b in itertools.permutations(rev, 2):
-        # the task point in the plane through axis a parallel to the (non-parallel) axis b
-        if a.joint in on_axis or _parallel(a, b):
-            continue
-        n = np.cross(a.direction, b.direction)
-        n /= np.linalg.norm(n)
-        if abs((tool - a.point) @ n) <= tol:
-            facts.add(("point-in-plane-parallel", a.joint, b.joint))
-    for a, b in itertools.combinations(rev, 2):
-        if _parallel(a, b):
-            if _distance_to_line(b.point, a) <= tol:
-                facts.add(("collinear", a.joint, b.joint))
-                continue
-            facts.add(("parallel", a.joint, b.joint))
-            n = np.cross(a.direction, b.point - a.point)
-            n /= np.linalg.norm(n)
-            members = {a.joint, b.joint}
-            members |= {c.joint for c in rev if c.joint not in members and _parallel(a, c)
-                        and abs((c.point - a.point) @ n) <= tol}
-            # the task point counts only when it is not on one of the axes (then it adds nothing)
-            if abs((tool - a.point) @ n) <= tol and not (members & on_axis):
-                members.add("P")
-            if len(members) >= 3:
-                facts.add(("plane", frozenset(members)))
-        else:
-            n = np.cross(a.direction, b.direction)
-            if abs((b.point - a.point) @ n) / np.linalg.norm(n) <= tol:
-                facts.add(("intersect", a.joint, b.joint))
-    pris = [ln for ln in lines if ln.kind == "prismatic"]
-    for a, b in itertools.combinations(pris, 2):
-        if _parallel(a, b):
-            facts.add(("parallel-prismatic", a.joint, b.joint))
-    return facts
-
-
-def _scale(lines, tool) -> float:
-    pts = [ln.point for ln in lines] + [tool]
-    return max(max(float(np.linalg.norm(p - q)) for p in pts for q in pts), 1e-9)
-
-
-def _facts_at(model, q, params):
-    lines, tool = axis_lines(model, q, params)
-    return _facts(lines, tool, _scale(lines, tool))
-
-
-#: At most this many geometric sentences per component: the most telling ones.
-MAX_GEOMETRY_SENTENCES = 3
-
-
-def _phrase_groups(facts) -> list[str]:
-    """Sentences for the most telling facts.
-
-    Collinear axes, the task point on an axis and coplanar parallel axes come
-    first; then axes that become parallel; the task point in a plane through an
-    axis only when none of those holds, and intersecting axes only when nothing
-    else does (they mostly follow from the others).
-    """
-    tier1 = []
-    for a, b in sorted(f[1:] for f in facts if f[0] == "collinear"):
-        tier1.append(("collinear", a, b, f"axes {a} and {b} are collinear"))
-    on_axis = sorted(f[1] for f in facts if f[0] == "point-on-axis")
-    if on_axis:
-        word = "axis" if len(on_axis) == 1 else "axes"
-        tier1.append(("on-axis", on_axis[0], None,
-                      f"the task point lies on {word} {_and(on_axis)}"))
-    planes = [f[1] for f in facts if f[0] == "plane"]
-    # keep the largest planes only (a plane of 2, 3, 4 also yields one of 2, 3)
-    planes = [p for p in planes if not any(p < q for q in planes)]
-    for members in sorted(planes, key=lambda m: sorted(str(x) for x in m)):
-        axes = sorted(x for x in members if x != "P")
-        if "P" in members and len(axes) == 2:
-            text = (f"axes {axes[0]} and {axes[1]} are parallel and the task point lies in "
-                    "the plane they span")
-        elif "P" in members:
-            text = f"axes {_and(axes)} are parallel and the task point lies in their common plane"
-        else:
-            text = f"axes {_and(axes)} are parallel and lie in one plane"
-        tier1.append(("plane", axes[0], axes[1] if len(axes) == 2 and "P" in members else None,
-                      text))
-    if tier1:
-        return [t[3] for t in tier1][:MAX_GEOMETRY_SENTENCES]
-    pairs = {tuple(f[1:]) for f in facts if f[0] == "parallel"}
-    out = []
-    while pairs:
-        count: dict = {}
-        for a, b in pairs:
-            count[a] = count.get(a, 0) + 1
-            count[b] = count.get(b, 0) + 1
-        axis = min(count, key=lambda k: (-count[k], k))
-        partners = sorted(b if a == axis else a for a, b in pairs if axis in (a, b))
-        out.append(f"axes {axis} and {partners[0]} are parallel" if len(partners) == 1
-                   else f"axis {axis} is parallel to axes {_and(partners)}")
-        pairs = {p for p in pairs if axis not in p}
-    if out:
-        return out[:MAX_GEOMETRY_SENTENCES]
-    through: dict = {}
-    for f in sorted(f for f in facts if f[0] == "point-in-plane-parallel"):
-        through.setdefault(f[1], []).append(f[2])
-    if through:
-        a = min(through)
-        bs = through[a]
-        word = "axis" if len(bs) == 1 else "axes"
-        return [f"the task point lies in the plane through axis {a} parallel to {word} "
-                f"{_and(bs)}"]
-    out = [f"axes {a} and {b} intersect" for a, b in
-           sorted(f[1:] for f in facts if f[0] == "intersect")]
-    out += [f"the prismatic axes {a} and {b} are parallel" for a, b in
-            sorted(f[1:] for f in facts if f[0] == "parallel-prismatic")]
-    return out[:MAX_GEOMETRY_SENTENCES]
-
-
-def _and(items) -> str:
-    items = [str(x) for x in items]
-    return items[0] if len(items) == 1 else ", ".join(items[:-1]) + " and " + items[-1]
-
-
-def geometry_readings(model, points, rng, params=None) -> list[str]:
-    """Geometric facts that hold at every one of ``points`` and at no random configuration.
-
-    Parameters
-    ----------
-    model : RobotModel
-        A :class:`~rankloci.model.MatrixModel` gives no reading.
-    points : sequence of dict
-        Points of one component (variable name -> value); the first is its sample.
-    rng : numpy.random.Generator
-        Draws the random configurations that tell design facts from singular ones.
-    params : dict, optional
-        Parameter values (default: the model's).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from rankloci.io import load_model
-    >>> puma = load_model("puma560")
-    >>> geometry_readings(puma, [{"q1": 0.3, "q2": 0.2, "q3": -0.4, "q4": 0.5, "q5": 0.0,
-    ...                           "q6": 0.1}], np.random.default_rng(0))
-    ['axes 4 and 6 are collinear']
-    """
-    if not isinstance(model, RobotModel) or not points:
-        return []
-    common = None
-    for q in points:
-        f = _facts_at(model, q, params)
-        common = f if common is None else common & f
-    if not common:
-        return []
-    for _ in range(_RANDOM_CONFIGURATIONS):
-        q = {str(v): (rng.uniform(-np.pi, np.pi) if j.kind == "revolute" else rng.normal())
-             for v, j in zip(model.variables, model.joints)}
-        common -= _facts_at(model, q, params)
-        if not common:
-            return []
-    return _phrase_groups(common)
 
 
 # --- lost directions ---------------------------------------------------------------------------

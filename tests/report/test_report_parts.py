@@ -20,7 +20,8 @@ from rankloci.report.tree_summary import tree_summary
 from rankloci.report.markdown import render_markdown
 from rankloci.report.mathfmt import LINE_WIDTH, broken_lines, latex, math_width
 from rankloci.report.matrixfmt import jacobian_display
-from rankloci.report.reading import direction_readings, geometry_readings
+from rankloci.report.interpret import component_reading
+from rankloci.report.reading import direction_readings
 
 SEED = 5
 
@@ -31,23 +32,25 @@ def _q(**kw):
 
 # --- readings -----------------------------------------------------------------------------------
 
-def test_puma_wrist_shoulder_and_elbow_readings():
+def test_puma_wrist_and_elbow_readings():
     puma = load_model("puma560")
     rng = np.random.default_rng(SEED)
-    wrist = geometry_readings(puma, [{"q1": 0.3, "q2": 0.2, "q3": -0.4, "q4": 0.5, "q5": 0.0,
-                                      "q6": 0.1}], rng)
-    assert wrist == ["axes 4 and 6 are collinear"]
+    wrist = component_reading(puma, [sp.sin(sp.Symbol("q5"))], ["$s_5 = 0$"],
+                              [_q(**{"1": 0.3, "2": 0.2, "3": -0.4, "4": 0.5, "5": 0.0, "6": 0.1})], [[]], rng)
+    assert wrist.text == "Wrist singularity: axes 4 and 6 are collinear"
     # elbow: a3 sin q3 + d4 cos q3 = 0
     q3 = float(sp.atan2(-0.4318, 0.0203))
-    elbow = geometry_readings(puma, [{"q1": 0.3, "q2": 0.7, "q3": q3, "q4": 0.5, "q5": 0.9,
-                                      "q6": 0.1}], rng)
-    assert elbow == ["axes 2 and 3 are parallel and the task point lies in the plane they span"]
+    elbow = component_reading(puma, [sp.Symbol("e")], ["$e = 0$"],
+                              [_q(**{"1": 0.3, "2": 0.7, "3": q3, "4": 0.5, "5": 0.9, "6": 0.1})], [[]], rng)
+    assert elbow.text == ("Elbow singularity (the arm is stretched out or folded back): axes 2 "
+                          "and 3 are parallel and the task point lies in their plane")
 
 
 def test_no_geometric_claim_at_a_regular_configuration():
     puma = load_model("puma560")
-    assert geometry_readings(puma, [{"q1": 0.3, "q2": 0.7, "q3": 0.2, "q4": 0.5, "q5": 0.9,
-                                     "q6": 0.1}], np.random.default_rng(SEED)) == []
+    assert component_reading(puma, [sp.Symbol("e")], ["$e = 0$"],
+                             [_q(**{"1": 0.3, "2": 0.7, "3": 0.2, "4": 0.5, "5": 0.9, "6": 0.1})], [[]],
+                             np.random.default_rng(SEED)) is None
 
 
 def test_direction_reading_needs_a_real_null_vector():
