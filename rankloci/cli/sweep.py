@@ -183,7 +183,10 @@ def _output_dir(text: str) -> Path:
 
 
 def _settings(spec, timeout, memory) -> str:
-    task = spec.task if spec.task is not None else "each model's own"
+    task = spec.task if spec.task is not None else (
+        "as each entry sets it, else the model's own" if any(e.task is not None
+                                                            for e in spec.entries)
+        else "each model's own")
     return (f"Spec `{spec.file}`: task {task}, method {spec.method or 'the default for the shape'}"
             f", parameters {'substituted' if spec.numeric else 'symbolic'}, seed {spec.seed}, "
             f"self-check {'on' if spec.verify else 'off'}; at most "
