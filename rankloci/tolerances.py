@@ -22,6 +22,13 @@ far above it.
 #: sigma_min / sigma_max at or below which a matrix counts as rank deficient.
 RANK_RTOL = 1e-8
 
+#: ``Locus.contains(q)``: q is on a component when each of its equations, divided by the sum
+#: of the absolute values of its coefficients, is at most this at q.  Scaled trigonometric
+#: equations change by at most their degree per radian, so this admits points within ~1e-9
+#: rad of a component, where sigma_min/sigma_max is ~1e-9, below RANK_RTOL: points the SVD
+#: also calls singular.  Exact points give ~1e-16, computed ones ON_COMPONENT_RESIDUAL.
+LOCUS_CONTAINS_RTOL = 1e-9
+
 #: Residual (relative to the scale of the equations) accepted from the root
 #: finder when sampling points on an implicit locus component.
 ROOT_XTOL = 1e-12
@@ -134,6 +141,14 @@ EXCLUSION_RTOL = 1e-4
 #: where convergence is quadratic.  A branch with no real point keeps a
 #: residual of order 1e-2 and up.
 NEAR_MISS_RTOL = 1e-4
+
+#: Step (radians, or units of a polynomial variable) across a sample point of an equation
+#: whose gradient looks critical, to see whether the equation changes sign there.  Sample
+#: points are within ~1e-6 of a critical zero set (the linear convergence above) and within
+#: ~1e-12 of a regular one, so 1e-4 steps beyond both while staying local: a regular zero
+#: with a relative gradient of 1e-6 changes the value by ~1e-10 of the term size, far above
+#: ZERO_RTOL, and a sum of squares stays positive on both sides.
+SIGN_STEP = 1e-4
 
 # ---------------------------------------------------------------------------
 # Forming components from the leaves (rankloci.methods.finalize)
@@ -249,3 +264,14 @@ FLAT_RTOL = 10 * RANK_RTOL
 #: command line carry 6 or more significant digits; a start solved by least squares
 #: reaches ~1e-12.
 IK_START_RTOL = 1e-6
+
+#: Report branch trees: a leaf's branch condition counts as vanishing at a point of a
+#: component when it is at most LEAF_MATCH_RTOL relative to the sum of the absolute
+#: values of its terms there.  Points on a component are accurate to ~1e-12 (ROOT_XTOL);
+#: conditions that do not hold stay of order 1e-3 and above at generic points.
+LEAF_MATCH_RTOL = 1e-7
+
+#: Report heat maps: a joint along which log10(sigma_min/sigma_max), floored at
+#: REGULAR_MIN_RATIO, spreads by less than SENSITIVITY_MIN is one the ratio does not
+#: depend on (a base rotation); joints it depends on spread by order 1 and more.
+SENSITIVITY_MIN = 1e-3

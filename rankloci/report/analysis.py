@@ -18,7 +18,7 @@ import numpy as np
 import sympy as sp
 
 from ..numeric.equations import Equations, NumericMatrix, points_on
-from ..tolerances import REGULAR_MIN_RATIO
+from ..tolerances import REGULAR_MIN_RATIO, SENSITIVITY_MIN
 
 __all__ = ["SliceData", "PathData", "slice_grid", "slice_joints", "path_through",
            "model_components", "sigma_ratios", "component_points", "component_equations",
@@ -30,9 +30,12 @@ GRID = 181
 #: Points along a manipulability path.
 PATH_POINTS = 401
 
-#: A joint along which log10 sigma_min/sigma_max spreads by less than this is one the ratio
-#: does not depend on (the spread of a joint it depends on is of order 1 and above).
-SENSITIVITY_MIN = 1e-3
+
+#: A local minimum of sigma_min/sigma_max along a path is refined (and kept if it reaches
+#: ON_LOCUS_RTOL) only when it is at most this: a grid point next to a crossing lies within
+#: one step (1/200 of the path) of it, where the ratio is of order 1e-3, while the minima of
+#: near misses of a regular path stay of order 0.1 and above.
+ZERO_CANDIDATE_RATIO = 0.05
 
 #: How far (rad or m) a joint the equations use is moved to probe the ratio off the locus.
 PROBE_STEP = 0.5
@@ -399,7 +402,7 @@ def _zeros_along(nm, point, d, t, ratio) -> tuple:
     out = []
     for k in range(len(t)):
         lo, hi = max(k - 1, 0), min(k + 1, len(t) - 1)
-        if ratio[k] > ratio[lo] or ratio[k] > ratio[hi] or ratio[k] > 0.05:
+        if ratio[k] > ratio[lo] or ratio[k] > ratio[hi] or ratio[k] > ZERO_CANDIDATE_RATIO:
             continue
         res = minimize_scalar(lambda s: float(sigma_ratios(nm(point + s * d)[None])[0]),
                               bounds=(t[lo], t[hi]), method="bounded",

@@ -8,15 +8,10 @@ from dataclasses import dataclass, field
 import networkx as nx
 
 from ..locus import Outcome
+from ..tolerances import LEAF_MATCH_RTOL
 
-__all__ = ["TreeSummary", "tree_summary", "node_outcome", "is_component_leaf", "component_leaves",
-           "LEAF_MATCH_RTOL"]
+__all__ = ["TreeSummary", "tree_summary", "node_outcome", "is_component_leaf", "component_leaves"]
 
-#: A leaf's branch conditions count as vanishing at a point of a component when each is at
-#: most this relative to the sum of the absolute values of its terms there: points on a
-#: component are accurate to ~1e-12 (ROOT_XTOL), conditions that do not hold stay of order
-#: 1e-3 and above at generic points.
-LEAF_MATCH_RTOL = 1e-7
 
 
 def node_outcome(data) -> Outcome | None:
