@@ -379,15 +379,16 @@ def _table_html(components, locus) -> str:
                    else "") + f", {locus.seconds:.2f} s"
                 + {True: ", self-check passed", False: ", <b>INCOMPLETE</b>",
                    None: ""}[locus.complete] + "</p>")
+    kinds = any(c.kind for c in components)   # only an augmented matrix's components have one
     rows = []
     for k, c in enumerate(components, 1):
         solved = "; ".join(f"{v} &isin; {{{', '.join(escape(sp.sstr(x)) for x in vals)}}}"
                            for v, vals in c.solved.items())
         cells = [str(k), escape(_equations_text(c)), solved, str(c.dimension), str(c.rank_drop),
-                 escape(" ".join(str(v) for v in c.free)), escape(c.kind or "")]
+                 escape(" ".join(str(v) for v in c.free))] + [escape(c.kind or "")] * kinds
         rows.append("<tr>" + "".join(f"<td>{x}</td>" for x in cells) + "</tr>")
     header = "".join(f"<th>{h}</th>" for h in ("#", "equations", "solved", "dimension",
-                                                 "rank drop", "free", "kind"))
+                                                 "rank drop", "free") + ("kind",) * kinds)
     return f"{head}<table><tr>{header}</tr>{''.join(rows)}</table>"
 
 

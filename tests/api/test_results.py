@@ -49,7 +49,8 @@ def test_latex_and_html_show_every_component(puma, augmented):
     html = puma._repr_html_()
     assert html.count("<tr>") == 4 and "sin(q5) = 0" in html and "q5 &isin; {0, pi}" in html
     assert "(+1 for special parameter values)" in html
-    assert "<td>mixed</td>" in augmented._repr_html_()
+    assert "<th>kind</th>" not in html      # only an augmented locus has kinds
+    assert "<th>kind</th>" in augmented._repr_html_() and "<td>mixed</td>" in augmented._repr_html_()
     excl = Component((X * Y,), excluding=(X,))
     assert excl._repr_latex_() == r"$\displaystyle x y = 0,\quad x \neq 0$"
     assert "x*y = 0 where x != 0" in excl._repr_html_()
