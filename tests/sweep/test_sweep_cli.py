@@ -147,14 +147,21 @@ def test_a_sweep_killed_midway_resumes_where_it_stopped(serial, tmp_path):
     assert not [p for p in (out / "cases").iterdir() if not p.name.endswith(".json")]
 
 
+#: A planar arm of eight unit links: its locus takes minutes (over 30 s here), planar2r's
+#: about a second.
+PLANAR8R = ('name = "planar8r"\ntask = "planar"\n'
+            + '[[joint]]\nkind = "revolute"\na = 1\n' * 8)
+
+
 def test_a_case_over_its_time_or_memory_is_reported_and_the_rest_still_run(tmp_path, capsys):
+    (tmp_path / "planar8r.toml").write_text(PLANAR8R)
     spec = tmp_path / "spec.toml"
-    spec.write_text('models = ["ssrms", "planar2r"]\ntimeout = 1\n')
+    spec.write_text('models = ["planar8r.toml", "planar2r"]\ntimeout = 3\n')
     code = main(["sweep", str(spec), "-o", str(tmp_path / "t"), "--serial"])
     assert code == 1
     rows = _rows(tmp_path / "t" / "summary.csv")
     assert [(r["case"], r["status"], r["note"]) for r in rows] == [
-        ("ssrms", "timeout", "over 1 s"), ("planar2r", "done", "")]
+        ("planar8r.toml", "timeout", "over 3 s"), ("planar2r", "done", "")]
     assert "1 out of time" in (tmp_path / "t" / "summary.md").read_text()
     # 100 MiB of address space: the child (which has numpy and sympy mapped already) cannot
     # allocate the model's matrix
@@ -165,8 +172,9 @@ def test_a_case_over_its_time_or_memory_is_reported_and_the_rest_still_run(tmp_p
     rows = _rows(tmp_path / "m" / "summary.csv")
     assert [(r["status"], r["note"]) for r in rows] == [("memory", "over 100 MiB")] * 2
     # resuming with a larger limit computes the timed-out case again, the finished one not
-    code = main(["sweep", str(spec), "-o", str(tmp_path / "t"), "--serial", "--timeout", "2"])
-    assert "1 finished before, 1 to run" in capsys.readouterr().err
+    code = main(["sweep", str(spec), "-o", str(tmp_path / "t"), "--serial", "--timeout", "3.5"])
+    assert code == 1 and "1 finished before, 1 to run" in capsys.readouterr().err
+    assert _rows(tmp_path / "t" / "summary.csv")[0]["note"] == "over 3.5 s"
 
 
 @pytest.mark.parametrize("spec, args, message", [
