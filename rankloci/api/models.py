@@ -41,7 +41,8 @@ def matrix_model(matrix, *, variables=None, parameters=None, name: str = "matrix
 
     The matrix goes through the parser of raw-matrix model files, so it is
     validated as a file would be: floats become the exact rationals of their
-    shortest decimal form, only ``sin cos tan sqrt ...`` are accepted, and the
+    shortest decimal form, only ``sin cos tan sqrt ...`` are accepted, an entry
+    may have up to 2000 characters (:data:`rankloci.expr.MAX_LENGTH`), and the
     symbols come back as real symbols of the same names.
 
     Parameters
