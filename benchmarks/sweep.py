@@ -158,7 +158,7 @@ def render(data) -> str:
         + ". **The time limit "
         f"is {meta['timeout_s']:g} s per case** (the child is killed 1 s after it), so that "
         "the benchmark finishes in reasonable time; the cases that run out of it are the "
-        "long pole of the sweep.",
+        "longest of the sweep.",
         "",
         "The machine is shared with other work, so each run's load is given (`uptime` just "
         "before and just after).",
@@ -207,6 +207,34 @@ def render(data) -> str:
                      f"{e['total_over_workers_s']:.1f} | {e['longest_case_s']:.1f} | "
                      f"{e['speed_up']:.1f}x | {e['longest_case_s'] / e['makespan_s']:.0%} |")
     lines += ["", data["reading"], ""]
+    timeouts = [float(r["seconds"]) for r in recs if r["status"] == "timeout"] or [0.0]
+    done = sorted(float(r["seconds"]) for r in recs if r["status"] == "done") or [0.0]
+    two = next((r for r in runs if r["workers"] == 2), None)
+    bound = [e["workers"] for e in data["estimate"]
+             if e["longest_case_s"] >= 0.9 * e["makespan_s"]]
+    free = [e["workers"] for e in data["estimate"] if e["workers"] not in bound]
+    at_two = (f" On 2 workers the sweep took {two['wall_s']:.0f} s, "
+              f"{two['wall_s'] / max(timeouts):.0f} times the longest case: no single case is "
+              "its long pole" + (f", nor at {' or '.join(map(str, free))} workers in the "
+                                 "estimate." if free else ".") if two else "")
+    where = (f"Where the longest case does bound the makespan (at least 90 % of it: "
+             f"{' and '.join(map(str, bound))} workers above), it is " if bound
+             else "The longest case is ")
+    lines += [
+        "## One locus across workers",
+        "",
+        "The branch tree of one case is not split across Dask tasks. Measured here: the "
+        f"longest case that finished took {done[-1]:.1f} s, and the cases stopped by the limit "
+        f"{min(timeouts):.1f} to {max(timeouts):.1f} s each (the limit, plus starting the "
+        f"child and stopping it).{at_two} {where}a case stopped by the limit, whose tree is "
+        "unknown: "
+        "there is no measurement that splitting it would pay. Nor would the result stay "
+        "identical to the serial one: a branch is pruned when it lies inside a component "
+        "found on the branches explored before it, and the sample points come from one "
+        "seeded generator consumed along the tree, so subtrees explored apart would prune "
+        "differently and draw other points.",
+    ]
+    lines.append("")
     return "\n".join(lines)
 
 
