@@ -146,9 +146,16 @@ def as_model(model, *, variables=None, parameters=None, tip=None, base_link=None
         raise ValueError("variables= and parameters= apply to a sympy matrix only, not to "
                          f"{type(model).__name__}")
     if isinstance(model, (RobotModel, MatrixModel)):
+        if tip is not None or base_link is not None:
+            raise ValueError("tip= and base_link= apply to URDF files and Pinocchio models, "
+                             f"not to a loaded {type(model).__name__}")
         return model
     if isinstance(model, (str, os.PathLike)):
-        return load(os.fspath(model), base_link=base_link, tip_link=tip)
+        spec = os.fspath(model)
+        if (tip is not None or base_link is not None) and not spec.lower().endswith(".urdf"):
+            raise ValueError(f"tip= and base_link= apply to URDF files and Pinocchio models; "
+                             f"{spec!r} is neither")
+        return load(spec, base_link=base_link, tip_link=tip)
     if isinstance(model, sp.MatrixBase):
         return matrix_model(model, variables=variables, parameters=parameters)
     if isinstance(model, TaskMatrix):

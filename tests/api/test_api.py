@@ -76,6 +76,8 @@ def test_matrix_symbols_without_values_are_refused_by_name():
         rankloci.locus("planar2r", parameters={"k": 1})
     with pytest.raises(TypeError, match="cannot use a builtins.dict as a model"):
         rankloci.locus({"not": "a model"})
+    with pytest.raises(ValueError, match="'puma560' is neither"):
+        rankloci.locus("puma560", tip="link6")
 
 
 def test_matrix_floats_become_exact():
