@@ -129,8 +129,9 @@ def test_check_and_is_singular():
     L = rankloci.locus("planar2r", numeric=True)
     bad = rankloci.locus(sp.Matrix([[1, 0], [0, sp.cos(sp.Symbol("q2"))]]),
                          variables=sp.symbols("q1 q2"))
-    assert not rankloci.check("planar2r", bad.__class__.from_dict(
-        bad.to_dict() | {"model": "planar2r"}), samples=3).ok
+    planar2r = rankloci.load_model("planar2r")
+    wrong = rankloci.Locus.from_dict(bad.to_dict(), planar2r)     # cos(q2) = 0: not its locus
+    assert not rankloci.check(planar2r, wrong, samples=3).ok
     assert rankloci.is_singular("planar2r", [0.3, 0.0])
     assert rankloci.is_singular("planar2r", {"q1": 0.3, "q2": 3.141592653589793})
     assert not rankloci.is_singular("planar2r", [0.3, 1.0], locus=L)
