@@ -330,7 +330,7 @@ def _component_views(model, model_tm, locus, nm, params, rng, jac):
                 named, lost_axis = reading.axes, reading.lost_axis
                 geometry = [reading.text] + ([reading.lost_rotation]
                                              if reading.lost_rotation else [])
-                first = reading.short
+                first = reading.short or reading.text
                 summary = first if len(first) <= SUMMARY_READING_CHARS else (
                     (reading.name[0].upper() + reading.name[1:] + "; " if reading.name else "")
                     + "see the component's subsection")

@@ -294,8 +294,9 @@ def component_reading(model, equations, labels, points, factor_points, rng, para
     if not whole:
         if not dependent:
             return None
-        return Reading("", dependent[0].upper() + dependent[1:], (), dependent, "", len(points),
-                       tuple(int(c) for c in cols))
+        text = dependent[0].upper() + dependent[1:]
+        return Reading("", text, (), dependent, "", len(points), tuple(int(c) for c in cols),
+                       (), text)
     per = []
     if len(equations) > 1:
         per = [(k, _common(model, qs, params, meets, random_facts) if qs else set())
