@@ -87,7 +87,12 @@ def _robot_figures(model, model_tm, comps, views, nm, params, paths, stem) -> li
         arrow, what = None, ""
         view = by_view.get(idx)
         if view is not None and view.lost_axis:
-            arrow, what = np.array(view.lost_axis), "axis of the rotation the joints between the collinear axes lose"
+            joints = next((m.groups() for r in view.readings
+                           if (m := re.match(r"Joints (\d+) to (\d+) together cannot rotate", r))),
+                          None)
+            arrow = np.array(view.lost_axis)
+            what = (f"axis of the rotation joints {joints[0]} to {joints[1]} lose" if joints
+                    else "axis of the lost rotation")
         elif c.direction_at_sample and not tall:
             u = np.asarray(c.direction_at_sample[0], dtype=float)
             a = _vector3(labels, u, ("vx", "vy", "vz"))
