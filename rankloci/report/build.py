@@ -142,8 +142,9 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
     >>> report = build_report(load_model("planar2r"), samples=2, exact=False)
     >>> [str(v.component.equations[0]) for v in report.components if not v.special]
     ['sin(q2)']
-    >>> [f.name for f in report.figures]
-    ['planar2r-sigma-1.png', 'planar2r-manipulability.png', 'planar2r-tree.png']
+    >>> [f.name for f in report.figures]  # doctest: +NORMALIZE_WHITESPACE
+    ['planar2r-sigma-1.png', 'planar2r-manipulability.png', 'planar2r-robot-1.png',
+     'planar2r-tree.png']
     """
     from ..augmented import augmented_locus
     from ..errors import LocusTimeout
