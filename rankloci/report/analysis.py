@@ -167,7 +167,8 @@ def _window_centres(nm: NumericMatrix, axes, point, R):
 
     An angle's window is a full turn, so it may start anywhere: the start whose
     edge line has the largest mean log ratio (the edge runs along no valley) is
-    taken, the centred one on ties.  The slice point stays inside the window.  ``R`` is the ratio on the centred window (rows: y).
+    taken, the centred one on ties.  The slice point stays inside the window.
+    ``R`` is the ratio on the centred window (rows: y).
     """
     logr = np.log10(np.maximum(R, REGULAR_MIN_RATIO))
     out = []

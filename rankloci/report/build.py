@@ -174,7 +174,8 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
         return lambda: clock() > end
 
     say(f"{model.name}: building the symbolic matrix")
-    tm = timed("symbolic J (locus frame)", lambda: task_matrix(model, frame="auto", numeric=numeric))
+    tm = timed("symbolic J (locus frame)",
+               lambda: task_matrix(model, frame="auto", numeric=numeric))
     model_tm = timed("symbolic J (model frame)", lambda: task_matrix(model))
     jac = timed("J for display", lambda: jacobian_display(tm.matrix, tm.variables,
                                                            tm.parameters, tm.row_labels))
@@ -273,8 +274,9 @@ def component_views(model, locus, *, seed: int = 0) -> tuple:
     >>> from rankloci.methods import compute_locus
     >>> arm = load_model("planar2r")
     >>> locus = compute_locus(task_matrix(arm), "determinant", rng=np.random.default_rng(0))
-    >>> component_views(arm, locus)[0].summary
-    'All links aligned (the arm is stretched out or folded back): axes 1 and 2 are parallel and the task point lies in their plane'
+    >>> print(component_views(arm, locus)[0].summary)  # doctest: +NORMALIZE_WHITESPACE
+    All links aligned (the arm is stretched out or folded back): axes 1 and 2 are parallel
+    and the task point lies in their plane
     """
     from ..jacobian import task_matrix
     from ..numeric.equations import NumericMatrix

@@ -227,11 +227,13 @@ def _offset_remark(model, points, params, x, axis) -> str:
             p = 0.5 * (m[0] + m[1])
         dists.append(distance_to_line(p, lines[axis - 1]))
     scale = max(dists)
-    if scale <= 0 or max(dists) - min(dists) > 1e-6 * max(scale, 1.0):
+    # the same distance at every point (to GEOMETRY_RTOL of it): an offset of the design
+    if scale <= 0 or max(dists) - min(dists) > GEOMETRY_RTOL * scale:
         return ""
-    return (f"{_point_name(x, ())} keeps a distance of {dists[0]:.4g} length units from axis {axis} at every "
-            "point of the component (a lateral offset of the design), so it can never lie on "
-            f"axis {axis}; the plane through axis {axis} is the general form of the "
+    return (f"{_point_name(x, ())} keeps a distance of {dists[0]:.4g} length units from axis "
+            f"{axis} at every point of the component (a lateral offset of the design), so it "
+            f"can never lie on axis {axis}; the plane through axis {axis} is the general form "
+            "of the "
             f"classical condition '{_point_name(x, ())} on axis {axis}', to which it reduces "
             "when that offset is zero")
 

@@ -26,22 +26,22 @@ from rankloci.report.reading import direction_readings
 SEED = 5
 
 
-def _q(**kw):
-    return {f"q{k}": v for k, v in kw.items()}
-
-
 # --- readings -----------------------------------------------------------------------------------
+
+_Q0 = {"q1": 0.3, "q2": 0.2, "q3": -0.4, "q4": 0.5, "q5": 0.0, "q6": 0.1}
+_Q1 = {"q1": 0.3, "q2": 0.7, "q3": 0.2, "q4": 0.5, "q5": 0.9, "q6": 0.1}
+
 
 def test_puma_wrist_and_elbow_readings():
     puma = load_model("puma560")
     rng = np.random.default_rng(SEED)
     wrist = component_reading(puma, [sp.sin(sp.Symbol("q5"))], ["$s_5 = 0$"],
-                              [_q(**{"1": 0.3, "2": 0.2, "3": -0.4, "4": 0.5, "5": 0.0, "6": 0.1})], [[]], rng)
+                              [_Q0], [[]], rng)
     assert wrist.text == "Wrist singularity: axes 4 and 6 are collinear"
     # elbow: a3 sin q3 + d4 cos q3 = 0
     q3 = float(sp.atan2(-0.4318, 0.0203))
     elbow = component_reading(puma, [sp.Symbol("e")], ["$e = 0$"],
-                              [_q(**{"1": 0.3, "2": 0.7, "3": q3, "4": 0.5, "5": 0.9, "6": 0.1})], [[]], rng)
+                              [dict(_Q1, q3=q3)], [[]], rng)
     assert elbow.text == ("Elbow singularity (the arm is stretched out or folded back): axes 2 "
                           "and 3 are parallel and the task point lies in their plane")
 
@@ -49,7 +49,7 @@ def test_puma_wrist_and_elbow_readings():
 def test_no_geometric_claim_at_a_regular_configuration():
     puma = load_model("puma560")
     assert component_reading(puma, [sp.Symbol("e")], ["$e = 0$"],
-                             [_q(**{"1": 0.3, "2": 0.7, "3": 0.2, "4": 0.5, "5": 0.9, "6": 0.1})], [[]],
+                             [_Q1], [[]],
                              np.random.default_rng(SEED)) is None
 
 
