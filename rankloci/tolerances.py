@@ -30,8 +30,15 @@ RANK_RTOL = 1e-8
 LOCUS_CONTAINS_RTOL = 1e-9
 
 #: Residual (relative to the scale of the equations) accepted from the root
-#: finder when sampling points on an implicit locus component.
-ROOT_XTOL = 1e-12
+#: finder when sampling points on an implicit locus component.  Gauss-Newton
+#: reaches 1e-14 on well-scaled equations, but stalls at 1.4e-12 to 1e-11 on
+#: near-degenerate ones, whose terms cancel to one part in 1e6 (a 7R arm with
+#: 0.5 mm joint offsets: coefficients 512000000 and -511999200), while an
+#: equation whose real zeros are all critical (x**2 + y**2) stalls at 1e-8 to
+#: 1e-6 (NEAR_MISS_RTOL); 1e-10 accepts the first and not the second.  Rank and
+#: zero decisions on branches are exact where the branch has points modulo a
+#: prime (rankloci.tree.modular), so these points decide only the rest.
+ROOT_XTOL = 1e-10
 
 #: Distance in sigma_min/sigma_max a configuration must keep from RANK_RTOL to
 #: count as clearly regular in off-locus sampling.

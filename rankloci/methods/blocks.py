@@ -34,18 +34,22 @@ MAX_BLOCKS = 400
 def _regular(ctx: "Context", M, points, size: int, branch):
     """A test ``(rows, cols) -> bool``: is that block of ``M`` regular on the branch?
 
-    Exact (modulo a prime) where the branch allows it, else numeric at the
-    points.  Only points where ``M`` itself has rank ``size`` count: a
-    sample point may lie on a smaller subset where more is singular.
+    Regular at a point where ``M`` itself has rank ``size`` (a sample point
+    may lie on a smaller subset where more is singular): exactly at the
+    branch's points modulo a prime, where it has them, or numerically at its
+    real points (which can lie on pieces the former miss, see Context.rank).
     """
     exact = ctx.modular.values(M, branch) if branch is not None else None
-    if exact is not None:
-        exact = [E for E in exact if E.rank() == size]
-        return lambda rl, cl: any(block_rank(E, rl, cl) == size for E in exact)
+    exact = [E for E in exact if E.rank() == size] if exact is not None else []
     evaluated = [ctx.probe.evaluated(M, g) for g in points]
     evaluated = [(A, S) for A, S in evaluated if numeric_rank(A, S) == size]
-    return lambda rl, cl: any(numeric_rank(A[np.ix_(rl, cl)], S[np.ix_(rl, cl)]) == size
-                              for A, S in evaluated)
+
+    def regular(rl, cl):
+        if any(block_rank(E, rl, cl) == size for E in exact):
+            return True
+        return any(numeric_rank(A[np.ix_(rl, cl)], S[np.ix_(rl, cl)]) == size
+                   for A, S in evaluated)
+    return regular
 
 
 def choose_columns(ctx: "Context", M, points, candidates: int = 12, *, branch=None):

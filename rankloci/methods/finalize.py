@@ -28,6 +28,7 @@ from ..tolerances import (CONTAINED_EXCLUSION_RTOL, CONTAINED_RTOL, DIMENSION_RT
 from ..tree import prune
 from ..tree.branch import Branch
 from ..tree.context import Context
+from ..tree.modular import evaluate
 from ..tree.cover import children
 from .null_vectors import left_null_vectors
 from .readable import readable_equations
@@ -324,6 +325,26 @@ def _coefficient_size(e):
     return total if total != 0 else sp.Integer(1)
 
 
+def _inside_exactly(ctx: Context, cand: _Candidate, others) -> bool:
+    """Is every point of ``cand``'s branch modulo a prime on one of ``others``' branches?
+
+    Exact where both branches are known and the other has no excluded set
+    (a component's zero set is then its closure); False where undecided.
+    Near-degenerate geometry makes the numeric test below undecidable: an
+    equation of the larger component can stay 1e-6 of its coefficients' size
+    on the smaller one although it vanishes there exactly.
+    """
+    if cand.branch is None:
+        return False
+    got = ctx.modular.points(cand.branch)
+    if got is None:
+        return False
+    P, pts = got
+    hosts = [k.branch for k in others if k.branch is not None and not k.branch.nonzero]
+    return bool(hosts) and all(
+        any(all(evaluate(c, g, P) == 0 for c in h.conditions) for h in hosts) for g in pts)
+
+
 def _remove_contained(ctx: Context, cands: list[_Candidate]) -> list[_Candidate]:
     """Drop duplicates and components contained in another one."""
     tm, ring = ctx.tm, ctx.ring
@@ -385,11 +406,11 @@ def _remove_contained(ctx: Context, cands: list[_Candidate]) -> list[_Candidate]
         # leaf may be reducible, its pieces inside different components)
         others = [k for k in keep
                   if not (k.comp.parameter_conditions and not c.parameter_conditions)]
-        contained = bool(others) and all(
+        contained = bool(others) and (_inside_exactly(ctx, cands[i], others) or all(
             any(_vanish_at(functions(k), [x], len(tm.variables), ctx.rng)
                 if k.comp.equations else True
                 for k in others)
-            for x in probe(cands[i]))
+            for x in probe(cands[i])))
         if not contained:
             keep.append(cands[i])
     return keep

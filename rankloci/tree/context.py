@@ -173,16 +173,23 @@ class Context:
     def rank(self, M, branch: Branch, points) -> int:
         """Rank of ``M`` (substituted for ``branch``) on ``branch``.
 
-        Exact (modulo a large prime, see :mod:`.modular`) where the branch
-        allows it; otherwise the largest numeric rank at its sample points.
+        The larger of the exact rank at points modulo a prime (see
+        :mod:`.modular`), where the branch has such points, and the numeric
+        rank at its real sample points.  The exact rank corrects a numeric
+        rank that near-degenerate geometry pushes below the tolerance; the
+        real points reach pieces of a reducible branch that the points
+        modulo the prime, each solved for one chosen generator, can miss.
         """
+        numeric = self.probe.generic_rank(M, points)
         exact = self.modular.rank(M, branch)
-        return exact if exact is not None else self.probe.generic_rank(M, points)
+        return numeric if exact is None else max(exact, numeric)
 
     def vanishes(self, p, branch: Branch, points) -> bool:
-        """Does ``p`` vanish on ``branch``?  Exact where the branch allows it."""
+        """Does ``p`` vanish on ``branch``?  Both at the real points and, where possible, exactly."""
+        if not self.probe.vanishes(p, points):
+            return False
         exact = self.modular.vanishes(p, branch)
-        return exact if exact is not None else self.probe.vanishes(p, points)
+        return True if exact is None else exact
 
     # --- algebra with notes -----------------------------------------------------------------
 

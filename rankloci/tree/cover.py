@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 
 import sympy as sp
 
-from ..tolerances import NEAR_MISS_RTOL
+from ..tolerances import NEAR_MISS_RTOL, SIGN_STEP
 from .branch import Branch
 
 if TYPE_CHECKING:
@@ -61,13 +61,20 @@ def _critical_only(ctx: "Context", child: Branch) -> bool:
 
     Either the sampler came close without converging (see
     BranchSampler.near_miss), or every sample point has a gradient that
-    vanishes relative to the size of its terms (NEAR_MISS_RTOL): points
-    of a genuine hypersurface have gradients of order one.
+    vanishes relative to the size of its terms (NEAR_MISS_RTOL) and the
+    equation keeps one sign around every sample point (SIGN_STEP).
     """
     pts = ctx.sampler.points(child)
     if not pts:
         return ctx.sampler.near_miss(child)
-    return ctx.probe.gradient_vanishes(child.implicit[-1], pts, NEAR_MISS_RTOL)
+    f = child.implicit[-1]
+    if not ctx.probe.gradient_vanishes(f, pts, NEAR_MISS_RTOL):
+        return False
+    # a gradient small against the size of its terms can also come from terms that nearly
+    # cancel (near-degenerate geometry: coefficients 512000000 and -511999200): a regular
+    # zero still has f changing sign across it, a critical one does not
+    angles, others, _ = ctx.sampler.unknowns(child)
+    return not ctx.probe.changes_sign(f, pts, angles, others, ctx.rng, step=SIGN_STEP)
 
 
 def cover(ctx: "Context", branch: Branch, conditions) -> list[Branch]:

@@ -104,6 +104,56 @@ class Probe:
         return bool(np.all(np.abs(val(G)[:, 0])
                            <= ZERO_RTOL * np.maximum(scale(np.abs(G))[:, 0], 1e-300)))
 
+    def changes_sign(self, p, points, angles, others, rng, *, step: float, directions: int = 6) -> bool:
+        """Does ``p`` take both signs within ``step`` of some point, along a few directions?
+
+        At a regular point of a real hypersurface p changes sign across it;
+        at a real zero that is a local extremum of p (a zero of x**2 + y**2)
+        it does not.  ``angles`` (angle numbers) and ``others`` (generator
+        indices) are the free unknowns; the directions are the gradient's
+        and random ones.  Values within ZERO_RTOL of the term size count as
+        no sign.
+        """
+        val = self.ring.compile([p])
+        size = self.ring.compile([abs_poly(p, self.ring)])
+        grad = [self.ring.compile([d]) for d in self.ring.gradient(p)]
+        n = len(angles) + len(others)
+        if n == 0:
+            return False
+        for g in points:
+            g = np.asarray(g, dtype=float)
+            # the gradient in the free unknowns (ring.gradient: angles first, then the others)
+            dg = np.array([f(g[None, :])[0, 0] for f in grad])
+            na = self.ring.n_angles
+            u0 = [dg[i] for i in angles] + [dg[na + j - 2 * na] for j in others]
+            dirs = [np.asarray(u0, dtype=float)] + [rng.normal(size=n) for _ in range(directions)]
+            for u in dirs:
+                norm = np.linalg.norm(u)
+                if not norm > 0:
+                    continue
+                u = u / norm
+                G = np.array([self._moved(g, angles, others, s * step * u) for s in (1.0, -1.0)])
+                v = val(G)[:, 0]
+                tol = ZERO_RTOL * np.maximum(size(np.abs(G))[:, 0], 1e-300)
+                if np.all(np.abs(v) > tol) and v[0] * v[1] < 0:
+                    return True
+        return False
+
+    @staticmethod
+    def _moved(g, angles, others, delta):
+        """The generator vector ``g`` with the free unknowns moved by ``delta``."""
+        out = g.copy()
+        k = 0
+        for i in angles:
+            c, s = np.cos(delta[k] / 2), np.sin(delta[k] / 2)
+            C, S = g[2 * i], g[2 * i + 1]
+            out[2 * i], out[2 * i + 1] = c * C - s * S, s * C + c * S
+            k += 1
+        for j in others:
+            out[j] = g[j] + delta[k]
+            k += 1
+        return out
+
     def gradient_vanishes(self, p, points, rtol: float) -> bool:
         """Does the gradient of ``p`` vanish at every point, relative to its terms' size?"""
         grad = [d for d in self.ring.gradient(p) if not d.is_zero()]

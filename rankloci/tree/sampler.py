@@ -64,7 +64,7 @@ class BranchSampler:
         key = branch.key + (count,)
         return self.closest.get(key, np.inf) <= NEAR_MISS_RTOL
 
-    def _unknowns(self, branch: Branch):
+    def unknowns(self, branch: Branch):
         """Which angles, other variables and parameters are free to vary."""
         ring = self.ring
         na = ring.n_angles
@@ -124,7 +124,7 @@ class BranchSampler:
     def _solve(self, branch: Branch, count: int):
         from ..tolerances import EXCLUSION_RTOL, ROOT_XTOL
 
-        angles, others, params = self._unknowns(branch)
+        angles, others, params = self.unknowns(branch)
         eqs = list(branch.implicit)
         ev = self.ring.compile(eqs) if eqs else None
         scale_ev = self.ring.compile([abs_poly(e, self.ring) for e in eqs]) if eqs else None
