@@ -88,7 +88,7 @@ def _robot_figures(model, model_tm, comps, views, nm, params, paths, stem) -> li
         view = by_view.get(idx)
         if view is not None and view.lost_axis:
             joints = next((m.groups() for r in view.readings
-                           if (m := re.match(r"Joints (\d+) to (\d+) together cannot rotate", r))),
+                           if (m := re.match(r"joints (\d+) to (\d+) together cannot rotate", r, re.I))),
                           None)
             arrow = np.array(view.lost_axis)
             what = (f"axis of the rotation joints {joints[0]} to {joints[1]} lose" if joints
