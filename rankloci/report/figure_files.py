@@ -87,9 +87,8 @@ def _robot_figures(model, model_tm, comps, views, nm, params, paths, stem) -> li
         arrow, what = None, ""
         view = by_view.get(idx)
         if view is not None and view.lost_axis:
-            joints = next((m.groups() for r in view.readings
-                           if (m := re.match(r"joints (\d+) to (\d+) together cannot rotate", r, re.I))),
-                          None)
+            pattern = re.compile(r"joints (\d+) to (\d+) together cannot rotate", re.I)
+            joints = next((m.groups() for r in view.readings if (m := pattern.match(r))), None)
             arrow = np.array(view.lost_axis)
             what = (f"axis of the rotation joints {joints[0]} to {joints[1]} lose" if joints
                     else "axis of the lost rotation")
