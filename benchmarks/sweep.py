@@ -154,7 +154,8 @@ def render(data) -> str:
         "to 3 joints, full task otherwise; parameters substituted; the self-check on), on a "
         "local Dask cluster of single-threaded worker processes, Python "
         f"{meta['python']} on {meta['machine']} with {meta['cores']} cores"
-        + (f", rankloci at commit {meta['revision'][:10]}" if meta.get("revision") else "")
+        + (f", rankloci at commit {meta['revision'][:10]}{meta['revision'][40:]}"
+           if meta.get("revision") else "")
         + ". **The time limit "
         f"is {meta['timeout_s']:g} s per case** (the child is killed 1 s after it), so that "
         "the benchmark finishes in reasonable time; the cases that run out of it are the "
@@ -172,19 +173,37 @@ def render(data) -> str:
                      f"{r['uptime_after'].split('load average:')[-1].strip()} |")
     same = all(_without_seconds(r["summary_csv"]) == _without_seconds(base["summary_csv"])
                for r in runs)
-    diffs = []
-    if not same:
-        for r in runs[1:]:
-            a, b = _without_seconds(base["summary_csv"]), _without_seconds(r["summary_csv"])
-            diffs += [f"{x[0]}: {x[4]} with {base['workers']} worker(s), {y[4]} with "
-                      f"{r['workers']}" for x, y in zip(a[1:], b[1:]) if x != y]
+    diffs, slowest = [], []
+    for r in runs[1:]:
+        for x, y in zip(base["records"], r["records"]):
+            if {k: v for k, v in x.items() if k != "seconds"} != {
+                    k: v for k, v in y.items() if k != "seconds"}:
+                what = (f"{x['status']} with {base['workers']} worker(s), {y['status']} with "
+                        f"{r['workers']}" if x["status"] != y["status"] else
+                        f"{x['components']} against {y['components']} components, self-check "
+                        f"{x['check']} in both")
+                diffs.append(f"`{x['case']}` ({float(x['seconds']):.1f} s on "
+                             f"{base['workers']}): {what}")
+                slowest.append(float(x["seconds"]))
     lines += [
         "",
         f"Cases ({base['workers']}-worker run): {counts['done']} done ({failed_check} failing "
         f"the self-check), {counts['timeout']} out of time, {counts['memory']} out of memory, "
-        f"{counts['error']} errors. Summaries of the runs, the seconds column aside: "
-        + ("**identical**." if same else "**they differ** in " + str(len(diffs)) +
-           " rows: " + "; ".join(diffs[:10]) + "."),
+        f"{counts['error']} error{'' if counts['error'] == 1 else 's'}.",
+        "",
+        "Summaries of the runs, the seconds column aside: "
+        + ("**identical**." if same else
+           f"**they differ in {len(diffs)} rows**, every one a case that took "
+           f"{min(slowest):.1f} s or more with one worker: with two workers sharing the "
+           "two loaded cores it ran slower and crossed the wall-clock limit (or, where the "
+           "self-check failed, the limit cut its recomputation at another attempt). The "
+           "limit is wall time, so a case near it can end either way on a shared machine; "
+           "cases well inside their limit give the same row for any number of workers "
+           "(`tests/sweep/` checks whole summaries). The rows:"),
+    ]
+    if diffs:
+        lines += [""] + [f"- {d}" for d in diffs]
+    lines += [
         "",
         "Case times of the 1-worker run (seconds, wall time on the worker, the child's start "
         "and the self-check included): "
