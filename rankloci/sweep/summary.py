@@ -127,16 +127,15 @@ def render_figure(records):
     grid, one panel per model and constraint option (at most 6), cells that did
     not finish marked.  Otherwise: the seconds of each case against its joints.
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    # a Figure of its own (no pyplot): the user's backend is left as it is
+    from matplotlib.figure import Figure
 
     if not records:
         return None
     grids = _two_parameter_grids(records)[:6]
     if grids:
-        fig, axes = plt.subplots(1, len(grids), figsize=(4.2 * len(grids), 3.8), squeeze=False)
+        fig = Figure(figsize=(4.2 * len(grids), 3.8))
+        axes = fig.subplots(1, len(grids), squeeze=False)
         for ax, (title, names, xs, ys, cells) in zip(axes[0], grids):
             for i, x in enumerate(xs):
                 for j, y in enumerate(ys):
@@ -159,7 +158,8 @@ def render_figure(records):
                    "(T: out of time, M: out of memory, E: error).")
         name = "components.png"
     else:
-        fig, ax = plt.subplots(figsize=(6, 4))
+        fig = Figure(figsize=(6, 4))
+        ax = fig.subplots()
         for status, colour, marker in (("done", "#4c72b0", "o"), ("timeout", "#dd8452", "x"),
                                        ("memory", "#c44e52", "s"), ("error", "#8c8c8c", "^")):
             pts = [(r["joints"], r["seconds"]) for r in records
@@ -175,5 +175,4 @@ def render_figure(records):
     fig.tight_layout()
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=100, metadata={"Software": None})
-    plt.close(fig)
     return name, caption, buf.getvalue()
