@@ -127,10 +127,35 @@ def run_limited(work, *, timeout: float | None, memory_mb: int | None, progress=
         receive.close()
 
 
+def _die_with_parent():
+    """On Linux, have the kernel kill this child when its parent dies (even by SIGKILL).
+
+    Otherwise a parent killed outright (a sweep worker, a shell's ``kill -9``)
+    leaves the child computing until its own time limit.  Elsewhere the child
+    still ends at its limit.
+    """
+    if not sys.platform.startswith("linux"):
+        return
+    import ctypes
+
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+    except (OSError, AttributeError):
+        return
+    if os.getppid() == 1:          # the parent died before the call
+        os._exit(1)
+
+
+#: prctl option: the signal the kernel sends when the parent thread ends (linux/prctl.h).
+PR_SET_PDEATHSIG = 1
+
+
 def _child(work, send, memory_mb):
     from .parser import UsageError
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)       # the parent handles Ctrl-C
+    _die_with_parent()
     if memory_mb:
         limit = int(memory_mb) * 2 ** 20
         resource.setrlimit(resource.RLIMIT_AS, (limit, limit))

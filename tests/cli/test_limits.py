@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+import signal
+import sys
 import time
 
 import pytest
@@ -66,3 +69,40 @@ def test_results_progress_and_errors_come_back():
 
     with pytest.raises(ChildFailed, match="ZeroDivisionError"):
         run_limited(bug, timeout=60, memory_mb=0)
+
+
+def _child_state(pid: int) -> str:
+    """'gone', or the state letter of /proc/PID/status (Z: dead, not yet reaped)."""
+    try:
+        with open(f"/proc/{pid}/status") as f:
+            return next(line.split()[1] for line in f if line.startswith("State:"))
+    except FileNotFoundError:
+        return "gone"
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="PR_SET_PDEATHSIG is Linux's")
+def test_the_child_dies_with_a_parent_killed_outright(tmp_path):
+    # a parent killed by SIGKILL cannot kill its child; the kernel does (a sweep worker, kill -9)
+    pidfile = tmp_path / "child.pid"
+
+    def work(progress):
+        pidfile.write_text(str(os.getpid()))
+        time.sleep(60)
+
+    parent = os.fork()
+    if parent == 0:
+        try:
+            run_limited(work, timeout=100, memory_mb=0)
+        finally:
+            os._exit(0)
+    deadline = time.monotonic() + 30
+    while not pidfile.exists() or not pidfile.read_text():
+        assert time.monotonic() < deadline, "the child did not start"
+        time.sleep(0.05)
+    child = int(pidfile.read_text())
+    assert _child_state(child) not in ("gone", "Z")
+    os.kill(parent, signal.SIGKILL)
+    os.waitpid(parent, 0)
+    while _child_state(child) not in ("gone", "Z"):
+        assert time.monotonic() < deadline, "the child outlived its parent"
+        time.sleep(0.05)
