@@ -12,7 +12,7 @@ from rankloci.cli import main
 from rankloci.tolerances import ZERO_RTOL
 
 #: An equation string "vanishes" at a component's sample when |e| / (sum of |coefficients|) is
-#: at most the package's ZERO_RTOL (samples are accurate to ROOT_XTOL = 1e-12).
+#: at most the package's ZERO_RTOL (samples are accurate to ROOT_XTOL = 1e-10).
 EQ_RTOL = ZERO_RTOL
 
 DEGENERATE = 'variables = ["x", "y"]\nmatrix = [["x", "x"], ["y", "y"]]\n'

@@ -1,0 +1,72 @@
+"""A 7R arm with 0.5 mm joint offsets (as KUKA's LBR descriptions carry): near-degenerate geometry.
+
+The offsets make the straight-elbow configurations nearly, not exactly, singular: on
+800 sin q4 + cos q4 = 0 the maximal minors are ~4e-8 of their size, and sigma_min/sigma_max
+has positive local minima down to ~1e-12 nearby.  Decisions that rest on a numeric tolerance
+alone miss components there; the locus must still pass its own self-check.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from rankloci.cli import main
+from rankloci.io import load_model
+from rankloci.jacobian import task_matrix
+from rankloci.verify import dimension_bound
+
+JOINT = ('<joint name="j{k}" type="revolute"><parent link="link_{p}"/><child link="link_{k}"/>'
+         '<origin rpy="0 0 0" xyz="{xyz}"/><axis xyz="{axis}"/>'
+         '<limit lower="-3" upper="3" effort="1" velocity="1"/></joint>')
+#: origin and axis of joints 1 to 7
+JOINTS = [("0 0 0", "0 0 1"), ("-0.0005 0 0.34", "0 1 0"), ("0 0 0", "0 0 1"),
+          ("0.0005 0 0.4", "0 -1 0"), ("0 0 0", "0 0 1"), ("0 0 0.4", "0 1 0"), ("0 0 0", "0 0 1")]
+
+
+def urdf_text() -> str:
+    links = "".join(f'<link name="link_{k}"/>' for k in range(8))
+    joints = "".join(JOINT.format(k=k + 1, p=k, xyz=xyz, axis=axis)
+                     for k, (xyz, axis) in enumerate(JOINTS))
+    return f'<?xml version="1.0"?><robot name="iiwa_offsets">{links}{joints}</robot>'
+
+
+@pytest.fixture(scope="module")
+def urdf(tmp_path_factory):
+    path = tmp_path_factory.mktemp("offsets") / "iiwa_offsets.urdf"
+    path.write_text(urdf_text())
+    return path
+
+
+@pytest.mark.slow
+def test_offset_arm_locus_passes_its_self_check(urdf, capsys):
+    code = main(["locus", str(urdf), "--tip", "link_7", "--format", "json", "--quiet"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0
+    assert out["complete"] is True
+    assert not any(n.startswith("INCOMPLETE") for n in out["notes"])
+    # the elbow of the offset arm: a component on the near-straight elbow 800 sin q4 + cos q4 = 0
+    assert any(c["equations"][0] == "800*sin(q4) + cos(q4)" for c in out["components"])
+    bound = dimension_bound((6, 7), 7, 1)
+    assert any(c["dimension"] == bound for c in out["components"])
+    # a component below the bound is never passed over in silence
+    low = [i + 1 for i, c in enumerate(out["components"]) if c["dimension"] < bound]
+    for i in low:
+        assert any(n.startswith(f"component {i} has dimension") for n in out["notes"])
+
+
+def test_the_straight_elbow_alone_is_not_singular(urdf):
+    # sigma_min/sigma_max ~1e-7 on 800 sin q4 + cos q4 = 0: near the tolerance, but regular
+    tm = task_matrix(load_model(str(urdf), tip_link="link_7"), numeric=True)
+    f = sp.lambdify(tm.variables, tm.matrix, "numpy")
+    rng = np.random.default_rng(1)
+    q4 = -np.arctan2(1.0, 800.0)                  # tan q4 = -1/800
+    assert abs(800 * np.sin(q4) + np.cos(q4)) < 1e-12
+    for _ in range(5):
+        q = rng.uniform(-np.pi, np.pi, 7)
+        q[3] = q4
+        s = np.linalg.svd(np.array(f(*q), dtype=float), compute_uv=False)
+        assert 1e-9 < s[-1] / s[0] < 1e-5
