@@ -203,7 +203,7 @@ NEAR_ADMITTED_EXCLUSION_RTOL = 1e-6
 
 #: A point counts as on a component when every equation, divided by the sum of the absolute
 #: values of its coefficients (a trig polynomial is then at most 1), is at most this.  Root
-#: finding reaches ~1e-15; ROOT_XTOL (1e-12) is the package's accuracy goal; one order above it.
+#: finding reaches ~1e-15 on a component's equations; 1e-11 leaves four orders of margin.
 ON_COMPONENT_RESIDUAL = 1e-11
 
 #: On-locus points must have sigma_min/sigma_max at most this: the package's RANK_RTOL, >= 3
@@ -274,7 +274,7 @@ IK_START_RTOL = 1e-6
 
 #: Report branch trees: a leaf's branch condition counts as vanishing at a point of a
 #: component when it is at most LEAF_MATCH_RTOL relative to the sum of the absolute
-#: values of its terms there.  Points on a component are accurate to ~1e-12 (ROOT_XTOL);
+#: values of its terms there.  Points on a component are accurate to 1e-10 (ROOT_XTOL) or better;
 #: conditions that do not hold stay of order 1e-3 and above at generic points.
 LEAF_MATCH_RTOL = 1e-7
 

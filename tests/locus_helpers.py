@@ -20,8 +20,7 @@ from rankloci.tolerances import EXCLUSION_RTOL, RANK_RTOL
 
 #: A point found by least squares counts as on a component when every equation, divided by the
 #: sum of the absolute values of its coefficients (so a trig polynomial is at most 1 on the
-#: torus), is at most this.  Newton-type solves reach ~1e-15; ROOT_XTOL (1e-12) is the package's
-#: own accuracy goal for points on a locus, and this is one order above it.
+#: torus), is at most this.  Newton-type solves reach ~1e-15; this leaves four orders of margin.
 ROOT_RESIDUAL = 1e-11
 
 

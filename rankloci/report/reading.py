@@ -27,7 +27,7 @@ __all__ = ["AxisLine", "axis_lines", "direction_readings", "lost_motion", "GEOME
            "DIRECTION_RTOL"]
 
 #: Two unit axis directions count as parallel, and distances as zero relative to the size of
-#: the arm, below this.  Points on a component are accurate to ~1e-12 (ROOT_XTOL); random
+#: the arm, below this.  Points on a component are accurate to 1e-10 (ROOT_XTOL); random
 #: configurations keep these quantities of order 1e-2 and above, so 1e-7 separates them
 #: with five orders of margin on either side.
 GEOMETRY_RTOL = 1e-7

@@ -28,7 +28,7 @@ from rankloci.tolerances import RANK_RTOL, ZERO_RTOL
 ON_LOCUS_RTOL = RANK_RTOL
 
 #: An equation "vanishes" at a point when |e| / (sum of |coefficients| of e) <= EQ_RTOL: the
-#: package's ZERO_RTOL, two orders above what points accurate to ROOT_XTOL (1e-12) give.
+#: package's ZERO_RTOL, one order above what points accurate to ROOT_XTOL (1e-10) give.
 EQ_RTOL = ZERO_RTOL
 
 #: Completeness: a point with sigma_min/sigma_max <= RANK_RTOL found by minimisation lies within
