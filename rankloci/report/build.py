@@ -77,6 +77,7 @@ class Report:
     notes: tuple = ()
     model_notes: str = ""     # the free-text notes of the model file
     stamp: str = ""           # a date and time to print, only when asked for
+    near: object = None       # near_section.NearData: manipulability and rates near the locus
 
     @property
     def name(self) -> str:
@@ -144,7 +145,7 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
     ['sin(q2)']
     >>> [f.name for f in report.figures]  # doctest: +NORMALIZE_WHITESPACE
     ['planar2r-sigma-1.png', 'planar2r-manipulability.png', 'planar2r-robot-1.png',
-     'planar2r-tree.png']
+     'planar2r-tree.png', 'planar2r-near-manipulability.png', 'planar2r-near-path.png']
     """
     from ..augmented import augmented_locus
     from ..errors import LocusTimeout
@@ -154,7 +155,9 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
     from ..numeric.equations import NumericMatrix
     from .comparison import compare_loci
     from .tree_summary import tree_summary
+    from .escape import file_stem
     from .figure_files import report_figures
+    from .near_section import near_data
     from .matrixfmt import jacobian_display
 
     say = progress or (lambda msg: None)
@@ -242,6 +245,10 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
     say(f"{model.name}: figures")
     figures = timed("figures", lambda: report_figures(model, model_tm, locus, nm, params,
                                                       seed, dot, views))
+    near = timed("near the locus", lambda: near_data(model, locus, nm, params, seed,
+                                                      file_stem(model.name)))
+    if near is not None:
+        figures = tuple(figures) + near.figures
     tree = tree_summary(locus.tree) if locus is not None and locus.tree is not None else None
     notes = ()
     if locus is not None and tm.frame is not None and (tm.frame, tm.point) != (
@@ -257,7 +264,8 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
                   second_status=second_status, comparison=comparison, check=check,
                   exact=exact_result, tree=tree, figures=figures, timings=tuple(timings),
                   seed=seed, samples=samples, timeout=timeout, numeric=numeric,
-                  augmented=augmented, notes=notes, model_notes=model_notes, stamp=stamp)
+                  augmented=augmented, notes=notes, model_notes=model_notes, stamp=stamp,
+                  near=near)
 
 
 def component_views(model, locus, *, seed: int = 0) -> tuple:

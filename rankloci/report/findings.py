@@ -19,6 +19,7 @@ from .blocks import (SIGMA, Bullets, Code, Figure, Heading, Math, Para, Table, b
                      counted, plural, variables_text)
 from .escape import literal, ref
 from .mathfmt import LINE_WIDTH, broken_lines, latex, value_latex
+from .near_section import near_blocks
 
 #: A drawn branch tree with more boxes than this is set on a page of its own.
 TALL_TREE_BOXES = 12
@@ -35,6 +36,7 @@ def findings_blocks(report) -> list:
     """The sections from the locus to the algorithmic singularities, in order."""
     out = _locus_section(report)
     out += _figure_section(report)
+    out += near_blocks(report)
     out += _check_section(report)
     out += _comparison_section(report)
     out += _augmented_section(report)
