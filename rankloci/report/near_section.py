@@ -216,7 +216,10 @@ def near_blocks(report) -> list:
         f"{rows}{reason} is given by its volume. Both are evaluated at the best conditioned "
         f"of 50 random configurations (seed {report.seed}) and {NEAR_OFFSET:g} rad from the "
         "sample point of each component, across it; the distance is the joint-space distance "
-        "to the component found numerically."))
+        "to the component found numerically."
+        + (" They are those of the task rows alone, without the constraint rows: the "
+           "locus is the augmented $J$'s, so near a component of it $w$ need not be small."
+           if getattr(report.model, "augment", ()) else "")))
     table = []
     for p in data.poses:
         where = "regular pose" if p.component == 0 else f"near component {p.component}"
