@@ -40,10 +40,8 @@ import argparse
 import json
 import math
 import platform
-import site
 import subprocess
 import sys
-import sysconfig
 import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import asdict, dataclass
@@ -114,13 +112,9 @@ GRADING_ALLOWANCE_S = 120.0
 
 def robots_dir() -> Path | None:
     """The ``robots`` directory of the installed example-robot-data, or None."""
-    roots = list(site.getsitepackages()) + [site.getusersitepackages(),
-                                            sysconfig.get_paths()["purelib"]]
-    for root in roots:
-        d = Path(root) / "cmeel.prefix" / "share" / "example-robot-data" / "robots"
-        if d.is_dir():
-            return d
-    return None
+    from rankloci.io.urdf_chains import example_robot_data_dir
+
+    return example_robot_data_dir()
 
 
 @dataclass(frozen=True)

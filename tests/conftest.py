@@ -30,24 +30,12 @@ if _TESTS_DIR not in _sys.path:
     _sys.path.insert(0, _TESTS_DIR)
 
 
-def robots_dir() -> Path | None:
-    """The ``robots`` folder of the installed example-robot-data, or None."""
-    import site
-    import sysconfig
-
-    roots = list(site.getsitepackages()) + [site.getusersitepackages(),
-                                            sysconfig.get_paths()["purelib"]]
-    for root in roots:
-        d = Path(root) / "cmeel.prefix" / "share" / "example-robot-data" / "robots"
-        if d.is_dir():
-            return d
-    return None
-
-
 @pytest.fixture(scope="module")
 def robots() -> Path:
     """example-robot-data's robots folder: real URDF files written by others."""
-    d = robots_dir()
+    from rankloci.io.urdf_chains import example_robot_data_dir
+
+    d = example_robot_data_dir()
     if d is None:
         pytest.fail("example-robot-data is not installed; it is a declared test dependency "
                     "(its URDFs are the test data)")

@@ -11,8 +11,9 @@ origins and axes are kept once.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 
-__all__ = ["UrdfChain", "urdf_chains"]
+__all__ = ["UrdfChain", "urdf_chains", "example_robot_data_dir"]
 
 
 @dataclass(frozen=True)
@@ -122,3 +123,17 @@ def urdf_chains(text, *, file: str = "", min_joints: int = 1,
         others = tuple(leaf for leaf in leaves if leaf != chain.tip)
         out.append(UrdfChain(chain.base, chain.tip, chain.joints, others))
     return out, outside
+
+
+def example_robot_data_dir() -> Path | None:
+    """The ``robots`` directory of an installed example-robot-data package, or None."""
+    import site
+    import sysconfig
+
+    roots = list(site.getsitepackages()) + [site.getusersitepackages(),
+                                            sysconfig.get_paths()["purelib"]]
+    for root in roots:
+        d = Path(root) / "cmeel.prefix" / "share" / "example-robot-data" / "robots"
+        if d.is_dir():
+            return d
+    return None
