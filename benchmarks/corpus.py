@@ -229,7 +229,7 @@ def snapped_urdf(text) -> str:
     import defusedxml.ElementTree as SafeET
 
     root = SafeET.fromstring(text)
-    for joint in root.iter("joint"):
+    for joint in root.findall("joint"):
         origin = joint.find("origin")
         if origin is not None and origin.get("rpy"):
             rpy = [_snapped_angle(float(x)) for x in origin.get("rpy").split()]
@@ -246,10 +246,12 @@ class PinocchioJacobian:
 
     ``q`` holds one value per chain joint without a ``<mimic>``, in chain order (rankloci's
     q1..qn).  A joint that mimics another (through any number of mimics) is set to
-    ``multiplier * q + offset`` of the joint it ends at, which must be on the chain, and its
-    column is added, times the multiplier, to that joint's column.  Every other joint of the
-    robot stays at Pinocchio's neutral configuration (it cannot move the tip).  The rows are
-    (vx, vy, vz, wx, wy, wz), or the first three for the position task.
+    ``multiplier * q + offset`` of the joint it ends at, the leader, and its column is added,
+    times the multiplier, to the leader's column.  A leader off the chain has its variable in
+    the place of its first follower on the chain with multiplier 1 or -1 (see
+    :func:`_chain_leaders` for a leader without one).  Every other joint of the robot stays at
+    Pinocchio's neutral configuration (it cannot move the tip).  The rows are (vx, vy, vz, wx,
+    wy, wz), or the first three for the position task.
     """
 
     def __init__(self, urdf_text: str, joints, tip: str, task: str):
@@ -264,9 +266,13 @@ class PinocchioJacobian:
         if not self.model.existFrame(tip, pin.FrameType.BODY):
             raise ValueError(f"Pinocchio has no body frame {tip!r}")
         self.frame = self.model.getFrameId(tip, pin.FrameType.BODY)
-        elements = {j.get("name"): j for j in SafeET.fromstring(text).iter("joint")}
-        leaders = {name: _followed(name, elements) for name in joints}
-        free = [name for name in joints if leaders[name][0] == name]
+        # the robot's joints only: a <transmission> names joints in <joint> elements of its own
+        elements = {j.get("name"): j for j in SafeET.fromstring(text).findall("joint")}
+        leaders = _chain_leaders(joints, elements)
+        free = []   # the variables: joints without a mimic, leaders off the chain
+        for name, (leader, mult, _) in leaders.items():
+            if leader == name or (leader not in joints and leader not in free and abs(mult) == 1):
+                free.append(leader)
         #: "revolute" or "prismatic" per variable
         self.kinds = tuple("prismatic" if elements[n].get("type") == "prismatic" else "revolute"
                            for n in free)
@@ -275,8 +281,6 @@ class PinocchioJacobian:
             if not self.model.existJointName(name):
                 raise ValueError(f"Pinocchio has no joint {name!r}")
             leader, mult, off = leaders[name]
-            if leader not in free:
-                raise ValueError(f"joint {name!r} mimics {leader!r}, which is not on the chain")
             jm = self.model.joints[self.model.getJointId(name)]
             self.joints.append((jm.idx_q, jm.nq, jm.idx_v, free.index(leader), mult, off))
         self.rows = slice(0, 3) if task == "position" else slice(0, 6)
@@ -335,6 +339,27 @@ def _followed(name: str, elements) -> tuple[str, float, float]:
     if off and elements[follower].get("type") != "prismatic":
         off = _snapped_angle(off)
     return name, mult, off
+
+
+def _chain_leaders(joints, elements) -> dict[str, tuple[str, float, float]]:
+    """``(leader, multiplier, offset)`` of each chain joint (:func:`_followed`), in chain order.
+
+    A leader off the chain followed by no chain joint with multiplier 1 or -1 cannot give its
+    variable to one of them: its one follower is then a joint of its own (``(name, 1, 0)``: its
+    variable is its own position, as rankloci reads it).
+    """
+    leaders = {name: _followed(name, elements) for name in joints}
+    off_chain: dict[str, list[str]] = {}
+    for name, (leader, _, _) in leaders.items():
+        if leader not in joints:
+            off_chain.setdefault(leader, []).append(name)
+    for leader, followers in off_chain.items():
+        if all(abs(leaders[f][1]) != 1 for f in followers):
+            if len(followers) > 1:
+                raise ValueError(f"joints {followers} follow {leader!r}, which is off the chain, "
+                                 f"none with multiplier 1 or -1")
+            leaders[followers[0]] = (followers[0], 1.0, 0.0)
+    return leaders
 
 
 def sigma_ratio(J) -> float:

@@ -27,13 +27,22 @@ Conventions
   (:class:`~rankloci.model.Mimic`); its offset is a constant motion folded
   into its ``pre``, and the Jacobian column of ``q_J`` gets ``m`` times its
   twist.  A mimic of a mimic is followed (multipliers and offsets compose) to
-  a joint that mimics nothing, which must be a movable joint of the chain,
-  before or after the follower; intermediate joints may lie off the chain.
-  Every joint on the way must be of the follower's kind (revolute or
-  prismatic), and a revolute follower's composed multiplier must be an
-  integer, so the kinematics stay polynomial in the cosines and sines of the
-  variables.  Multipliers are read as the rational of their shortest decimal
-  form, offsets as rpy angles (revolute) or lengths (prismatic).
+  a joint that mimics nothing, the leader, before or after the follower;
+  intermediate joints may lie off the chain.  Every joint on the way must be
+  of the follower's kind (revolute or prismatic), and a revolute follower's
+  composed multiplier must be an integer, so the kinematics stay polynomial
+  in the cosines and sines of the variables.  Multipliers are read as the
+  rational of their shortest decimal form, offsets as rpy angles (revolute)
+  or lengths (prismatic).
+- A leader off the chain (a gripper's other finger) moves nothing on the
+  chain but its followers.  The first of them with multiplier 1 or -1 carries
+  the leader's variable: it has no :class:`~rankloci.model.Mimic`, its offset
+  is folded into its ``pre``, its axis is multiplied by the multiplier, and
+  its limits are the leader's, so its variable is ``q_J``; the leader's other
+  followers on the chain follow it.  When no follower has multiplier 1 or -1,
+  a single follower moves by a variable of its own (its own position ``m *
+  q_J + o``: a change of variable that keeps the rank), and several are
+  refused.
 - Joint variables are ``q1..qn`` in chain order for the joints without a
   mimic, whatever the URDF joint names (kept as :attr:`Joint.name`).
 
@@ -196,17 +205,7 @@ def parse_urdf(text: str, *, name: str, file: str = "", base_link: str | None = 
     chain_text = f"{base_link} -> {tip_link}"
     followed = {j.name: _followed_joint(j, joints, index, chain_text, where)
                 for j in chain if j.name in index and j.element.find("mimic") is not None}
-    off_chain = {}
-    for follower, (leader, _, _) in followed.items():
-        if leader not in index:
-            off_chain.setdefault(leader, []).append(follower)
-    for leader, followers in off_chain.items():
-        if len(followers) > 1:
-            raise ModelError(f"joints {', '.join(map(repr, followers))} all follow joint "
-                             f"{leader!r}, which is not on the chain {chain_text}; choose a "
-                             f"chain through it with --base-link and --tip", file=where,
-                             joint=index[followers[-1]], field="mimic")
-        del followed[followers[0]]  # the one follower moves as a joint of its own
+    carried = _carried_leaders(followed, joints, index, chain_text, where)
 
     model_joints = []
     fixed = sp.eye(4)  # fixed transforms accumulated since the last movable joint
@@ -217,19 +216,23 @@ def parse_urdf(text: str, *, name: str, file: str = "", base_link: str | None = 
             continue
         kind = JOINT_KINDS[j.type]
         axis = exact_axis(axis_floats(j, i, where))
-        mimic = None
+        mimic, limits = None, joint_limits(j, i, where)
         if j.name in followed:
             leader, multiplier, offset = followed[j.name]
-            mimic = Mimic(joint=index[leader] - 1, multiplier=multiplier)
             if offset != 0:
                 fixed = expanded_product(fixed, exact_motion(kind, axis, offset))
+            if j.name in carried:  # the variable is the leader's: the motion is +-q
+                axis = tuple(multiplier * a for a in axis)
+                limits = joint_limits(joints[leader], i, where)
+            else:
+                mimic = Mimic(joint=index[leader] - 1, multiplier=multiplier)
         model_joints.append(Joint(
             kind=kind,
             axis=axis,
             pre=sp.ImmutableMatrix(fixed),
             post=sp.ImmutableMatrix(sp.eye(4)),
             name=j.name,
-            limits=joint_limits(j, i, where),
+            limits=limits,
             mimic=mimic,
         ))
         fixed = sp.eye(4)
@@ -293,15 +296,59 @@ def _followed_joint(j: UrdfJoint, joints: dict[str, UrdfJoint], index: dict[str,
         path.append(name)
         current = leader
     if current.name not in index:
-        # the followed joint moves nothing else on this chain: the follower's own angle is
-        # a variable of the chain (q_j = m q + o is a change of variable that keeps the rank)
-        return current.name, multiplier, offset
+        return current.name, multiplier, offset  # off the chain: see _carried_leaders
+    _check_multiplier(kind, j.name, current.name, multiplier, i, where)
+    return current.name, multiplier, offset
+
+
+def _check_multiplier(kind: str, follower: str, leader: str, multiplier: sp.Expr, i,
+                      where) -> None:
+    """Refuse a revolute coupling whose multiplier is not an integer."""
     if kind == "revolute" and not multiplier.is_integer:
-        raise ModelError(f"joint {j.name!r} follows joint {current.name!r} with multiplier "
+        raise ModelError(f"joint {follower!r} follows joint {leader!r} with multiplier "
                          f"{multiplier}; a revolute mimic joint needs an integer multiplier "
                          f"(the kinematics must stay polynomial in cos and sin of the "
                          f"variables)", file=where, joint=i, field="mimic multiplier")
-    return current.name, multiplier, offset
+
+
+def _carried_leaders(followed: dict, joints: dict[str, UrdfJoint], index: dict[str, int],
+                     chain_text: str, where) -> set[str]:
+    """The chain joints that carry the variable of a leader off the chain; ``followed`` updated.
+
+    ``followed`` maps each follower on the chain to ``(leader, multiplier, offset)``.  For each
+    leader off the chain, the first of its followers with multiplier +-1 carries the leader's
+    variable (its motion is +-q plus the offset) and stays in ``followed``; the leader's other
+    followers then follow that joint, whose variable is ``q`` (revolute ones with an integer
+    multiplier).  A leader whose followers all have
+    other multipliers has no joint to carry its variable: its one follower moves by a variable
+    of its own (``q_follower = m q + o`` is a change of variable that keeps the rank) and leaves
+    ``followed``; several such followers are refused.
+    """
+    off_chain: dict[str, list[str]] = {}
+    for follower, (leader, _, _) in followed.items():
+        if leader not in index:
+            off_chain.setdefault(leader, []).append(follower)
+    carried = set()
+    for leader, followers in off_chain.items():
+        carrier = next((f for f in followers if abs(followed[f][1]) == 1), None)
+        if carrier is None:
+            if len(followers) > 1:
+                raise ModelError(
+                    f"joints {', '.join(map(repr, followers))} all follow joint {leader!r}, "
+                    f"which is not on the chain {chain_text}, none with multiplier 1 or -1, so "
+                    f"that no joint of the chain moves by its variable alone; choose a chain "
+                    f"through it with --base-link and --tip", file=where,
+                    joint=index[followers[-1]], field="mimic")
+            del followed[followers[0]]
+            continue
+        carried.add(carrier)
+        for f in followers:
+            if f != carrier:
+                _, multiplier, offset = followed[f]
+                _check_multiplier(JOINT_KINDS[joints[f].type], f, leader, multiplier, index[f],
+                                  where)
+                followed[f] = (carrier, multiplier, offset)
+    return carried
 
 
 def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None) -> RobotModel:

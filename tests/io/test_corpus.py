@@ -89,6 +89,8 @@ CASES = [
     ("b1_description/urdf/b1.urdf", "FL_calf"),  # b1-z1's arm is the z1 below
     ("baxter_description/urdf/baxter.urdf", "left_upper_forearm"),
     ("baxter_description/urdf/baxter.urdf", "left_lower_elbow"),  # no singularity at all
+    # the right finger moves by the left finger's variable, off the chain
+    slow("baxter_description/urdf/baxter.urdf", "l_gripper_r_finger"),
     ("bolt_description/robots/bolt.urdf", "FL_LOWER_LEG"),
     ("borinot_description/urdf/borinot_flying_arm_2.urdf", "flying_arm_2__link2"),
     ("centauro_description/urdf/centauro.urdf", "wheel_1"),  # the 7-joint arms time out
@@ -189,6 +191,34 @@ def test_reference_jacobian_follows_mimic_joints():
     q = 0.7
     expected = np.array([[-np.sin(q)], [np.cos(q)], [0], [0], [0], [3]])
     np.testing.assert_allclose(ref([q]), expected, atol=1e-14)
+
+
+def test_reference_jacobian_of_a_leader_off_the_chain_is_pinocchios_mimic_column(robots, chains):
+    """Baxter's right finger follows the left one (multiplier -1), which is on another branch:
+    the chain's last variable is the left finger's position, and the reference's column for it
+    is the one Pinocchio's own mimic joints give."""
+    import pinocchio as pin
+
+    file, tip = "baxter_description/urdf/baxter.urdf", "l_gripper_r_finger"
+    chain = chains[(file, tip)]
+    text = (robots / file).read_text(encoding="utf-8")
+    ref = corpus.PinocchioJacobian(text, chain.joints, tip, chain.task)
+    assert ref.kinds == ("revolute",) * 7 + ("prismatic",)
+    model = pin.buildModelFromXML(corpus.snapped_urdf(text), mimic=True)
+    data = model.createData()
+    frame = model.getFrameId(tip, pin.FrameType.BODY)
+    leaders = [model.joints[model.getJointId(name)]
+               for name in chain.joints[:-1] + ("l_gripper_l_finger_joint",)]
+    assert all(jm.nq == 1 for jm in leaders)
+    for q in corpus.random_configurations(ref.kinds, np.random.default_rng(SEED), 3):
+        x = pin.neutral(model)
+        for jm, v in zip(leaders, q):
+            x[jm.idx_q] = v
+        pin.computeJointJacobians(model, data, x)
+        pin.updateFramePlacement(model, data, frame)
+        J = pin.getFrameJacobian(model, data, frame, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)
+        np.testing.assert_allclose(ref(q), J[:, [jm.idx_v for jm in leaders]], rtol=0,
+                                   atol=1e-12)
 
 
 # --- the grading has teeth ------------------------------------------------------------------

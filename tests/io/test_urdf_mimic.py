@@ -56,6 +56,7 @@ def _mimic(leader, multiplier=None, offset=None) -> str:
 
 
 TIP = _joint("flange", "fixed", "d", "e", '<origin xyz="0.05 0 0.02" rpy="0 0.3 0"/>')
+LIMITS = '<limit lower="-0.5" upper="0.7" effort="1" velocity="1"/>'
 
 # case -> (document, tip link, number of variables, expected joint coordinates as strings)
 DOCS = {
@@ -99,6 +100,25 @@ DOCS = {
                      '<origin xyz="0.3 0 0"/><axis xyz="0 0 1"/>' + _mimic("j1", 2)),
               TIP),
         "e", 1, ["q1", "q1", "2*q1"]),
+    "two fingers follow a leader off the chain": (
+        _urdf(_joint("j1", "revolute", "a", "b", '<origin xyz="0 0 0.3"/><axis xyz="0 0 1"/>'),
+              _joint("s1", "revolute", "b", "x", '<axis xyz="0 1 0"/>' + LIMITS),
+              _joint("j2", "revolute", "b", "c",
+                     '<origin xyz="0.4 0 0"/><axis xyz="0 1 0"/>' + _mimic("s1", -1, 0.2)),
+              _joint("j3", "revolute", "c", "d",
+                     '<origin xyz="0.3 0 0"/><axis xyz="1 0 0"/>' + _mimic("s1", 2, -0.1)),
+              TIP),
+        "e", 2, ["q1", "q2", "2*q2"]),
+    "the second follower of a leader off the chain carries its variable": (
+        _urdf(_joint("j1", "revolute", "a", "b", '<origin xyz="0 0 0.3"/><axis xyz="0 0 1"/>'),
+              _joint("s1", "prismatic", "b", "x", '<axis xyz="0 1 0"/>' + LIMITS),
+              _joint("j2", "prismatic", "b", "c",
+                     '<origin xyz="0.4 0 0"/><axis xyz="0 1 0"/>' + _mimic("s1", 0.5, 0.01)),
+              _joint("j3", "prismatic", "c", "d",
+                     '<origin xyz="0.3 0 0" rpy="0.3 0 0"/><axis xyz="0 0 1"/>'
+                     + _mimic("s1", -1, -0.02)),
+              TIP),
+        "e", 2, ["q1", "q2/2", "q2"]),
 }
 
 
@@ -133,8 +153,17 @@ class CoupledChain:
             chain.append(by_child[link])
             link = chain[-1].find("parent").get("link")
         self.chain = chain[::-1]
-        self.free = [j.get("name") for j in self.chain
-                     if j.get("type") != "fixed" and j.find("mimic") is None]
+        # the variables: joints without a mimic, and each leader off the chain in the place of
+        # its first follower with multiplier 1 or -1
+        names = [j.get("name") for j in self.chain]
+        self.free = []
+        for name in names:
+            leader, multiplier = name, 1.0
+            while (m := self.joints[leader].find("mimic")) is not None:
+                leader, multiplier = m.get("joint"), multiplier * float(m.get("multiplier", "1"))
+            if self.joints[name].get("type") != "fixed" and (leader == name or (
+                    leader not in names and leader not in self.free and abs(multiplier) == 1)):
+                self.free.append(leader)
 
     def _value(self, name: str, q: dict) -> float:
         if name in q:
@@ -310,9 +339,13 @@ REFUSED = {
     "no joint attribute": (_two('<mimic multiplier="1"/>'), "c", ["'j2'", "'joint'"], 2, "mimic"),
     "unknown leader": (_two(_mimic("j9")), "c", ["'j2'", "'j9'", "not a joint of this robot"], 2,
                        "mimic"),
-    "two followers of a leader off the chain": (
-        _two(_mimic("s1"), _mimic("s1"), "revolute", "revolute", SIDE), "c",
-        ["'j1', 'j2'", "'s1'", "not on the chain a -> c", "--tip"], 2, "mimic"),
+    "two followers of a leader off the chain, neither with multiplier +-1": (
+        _two(_mimic("s1", 2), _mimic("s1", 3), "revolute", "revolute", SIDE), "c",
+        ["'j1', 'j2'", "'s1'", "not on the chain a -> c", "multiplier 1 or -1", "--tip"], 2,
+        "mimic"),
+    "second follower of a leader off the chain, fractional multiplier": (
+        _two(_mimic("s1", 0.5), _mimic("s1", -1), "revolute", "revolute", SIDE), "c",
+        ["'j2'", "'s1'", "1/2", "integer"], 2, "mimic multiplier"),
     "leader is fixed": (_two(_mimic("j1"), "", "fixed"), "c", ["'j2'", "'j1'", "fixed"], 1,
                         "mimic"),
     "mimics itself": (_two(_mimic("j2")), "c", ["cycle", "'j2' -> 'j2'"], 2, "mimic"),
@@ -383,14 +416,29 @@ def test_pr2_chain_matches_the_coupled_composition(robots, pr2):
         np.testing.assert_allclose(jac(q), ref.jacobian_fd(q), rtol=0, atol=FD_ATOL)
 
 
-def test_pr2_chain_matches_pinocchio_mimic_joints(robots, pr2):
+# the right finger tip follows the left finger, which is on the chain; on the chain to the
+# right finger tip, the right finger and its tip both follow the left finger, off the chain
+PR2_LEADERS = {
+    "r_gripper_l_finger_tip_link": ("r_wrist_flex_joint", "r_wrist_roll_joint",
+                                    "r_gripper_l_finger_joint"),
+    "r_gripper_r_finger_tip_link": ("r_wrist_flex_joint", "r_wrist_roll_joint",
+                                    "r_gripper_l_finger_joint"),
+}
+
+
+@pytest.mark.parametrize("tip", list(PR2_LEADERS))
+def test_pr2_chain_matches_pinocchio_mimic_joints(robots, tip):
+    """Pinocchio's own mimic joints give the column of each leader, on the chain or not."""
     pin = pytest.importorskip("pinocchio", reason="Pinocchio (PyPI package 'pin', in the test "
                                                   "extra) is the reference")
+    pr2 = read_urdf(robots / PR2, base_link=PR2_CHAIN[0], tip_link=tip)
     model = pin.buildModelFromXML((robots / PR2).read_text(encoding="utf-8"), mimic=True)
     data = model.createData()
-    tip = model.getFrameId(PR2_CHAIN[1], pin.FrameType.BODY)
+    leaders = PR2_LEADERS[tip]
+    tip = model.getFrameId(tip, pin.FrameType.BODY)
     base = model.getFrameId(PR2_CHAIN[0], pin.FrameType.BODY)
-    joints = [model.joints[model.getJointId(j.name)] for j in pr2.joints if j.mimic is None]
+    joints = [model.joints[model.getJointId(name)] for name in leaders]
+    assert len(joints) == len(pr2.variables)
     _, jac = _numeric(pr2)
     for q in _configurations(3, seed=SEED + 4):
         x = pin.neutral(model)
@@ -407,11 +455,20 @@ def test_pr2_chain_matches_pinocchio_mimic_joints(robots, pr2):
         np.testing.assert_allclose(jac(q), np.kron(np.eye(2), Rb.T) @ J, rtol=0, atol=FK_ATOL)
 
 
+def test_pr2_right_finger_carries_the_left_fingers_variable(robots):
+    """Both joints of the right finger follow the left finger, which is on another branch: the
+    right finger moves by the left finger's variable, its tip follows the right finger."""
+    pr2 = read_urdf(robots / PR2, base_link=PR2_CHAIN[0], tip_link="r_gripper_r_finger_tip_link")
+    assert [j.name for j in pr2.joints] == ["r_wrist_flex_joint", "r_wrist_roll_joint",
+                                            "r_gripper_r_finger_joint",
+                                            "r_gripper_r_finger_tip_joint"]
+    assert pr2.joints[2].mimic is None and pr2.joints[3].mimic == Mimic(joint=2, multiplier=1)
+    assert len(pr2.variables) == 3
+    leader = read_urdf(robots / PR2, base_link=PR2_CHAIN[0], tip_link=PR2_CHAIN[1])
+    assert pr2.joints[2].limits == leader.joints[2].limits
+
+
 def test_real_mimics_that_cannot_be_followed(robots):
-    # the right finger tip follows the left finger, which is on another branch
-    with pytest.raises(ModelError, match="not on the chain") as info:
-        read_urdf(robots / PR2, base_link="r_forearm_link", tip_link="r_gripper_r_finger_tip_link")
-    assert info.value.field == "mimic" and info.value.file == "pr2.urdf"
     # the hand's mimic elements name joints the file does not define ("index_q1")
     with pytest.raises(ModelError, match="'index_q1', which is not a joint"):
         read_urdf(robots / "alex_description/urdf/alex_psyonic_hands.urdf",
