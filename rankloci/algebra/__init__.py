@@ -5,7 +5,7 @@ the conversions between sympy expressions and its polynomials;
 :mod:`~rankloci.algebra.polys` the determinants and factorisations done in it.
 """
 
-from .polys import abs_poly, irreducible_factors, laplace_det, transpose
+from .polys import PolyMemo, abs_poly, irreducible_factors, laplace_det, transpose
 from .ring import PolyRing
 
-__all__ = ["PolyRing", "laplace_det", "irreducible_factors", "abs_poly", "transpose"]
+__all__ = ["PolyRing", "PolyMemo", "laplace_det", "irreducible_factors", "abs_poly", "transpose"]

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from .ring import PolyRing
 
-__all__ = ["laplace_det", "irreducible_factors", "abs_poly", "transpose"]
+__all__ = ["laplace_det", "irreducible_factors", "abs_poly", "transpose", "PolyMemo"]
 
 
 def laplace_det(M, ring: PolyRing | None = None):
@@ -96,3 +96,57 @@ def abs_poly(p, ring: PolyRing):
 def transpose(M):
     """The transpose of a matrix given as a list of rows."""
     return [list(col) for col in zip(*M)]
+
+
+class PolyMemo:
+    """Values computed from tuples of polynomials, kept while their size allows.
+
+    Polynomials are not hashable: a key is bucketed by the number of terms of
+    each polynomial, and found by exact comparison within its bucket.  The
+    oldest entries are dropped once the stored polynomials (keys and values)
+    hold more than ``max_terms`` terms in all.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> ring = PolyRing((), (sp.Symbol("x"),), ())
+    >>> x = ring.gens[0]
+    >>> memo = PolyMemo(1000)
+    >>> calls = []
+    >>> det = lambda key: calls.append(key) or key[0] * key[1]
+    >>> memo.get((x + 1, x), det), memo.get((x + 1, x), det), len(calls)
+    (x^2 + x, x^2 + x, 1)
+    """
+
+    def __init__(self, max_terms: int):
+        self.max_terms = max_terms
+        self._entries: dict = {}
+        self._terms = 0
+
+    @staticmethod
+    def _size(value) -> int:
+        if isinstance(value, (list, tuple)):
+            return sum(PolyMemo._size(v) for v in value)
+        return len(value) if hasattr(value, "monoms") else 1
+
+    def get(self, key: tuple, compute):
+        """``compute(key)``, or its value from an earlier call with an equal key."""
+        finger = tuple(len(p) for p in key)
+        bucket = self._entries.get(finger)
+        if bucket is not None:
+            for k, v in bucket:
+                if all(a == b for a, b in zip(k, key)):
+                    return v
+        value = compute(key)
+        size = sum(finger) + self._size(value)
+        if size > self.max_terms:
+            return value
+        self._entries.setdefault(finger, []).append((key, value))
+        self._terms += size
+        while self._terms > self.max_terms:
+            oldest = next(iter(self._entries))
+            k, v = self._entries[oldest].pop(0)
+            self._terms -= sum(len(p) for p in k) + self._size(v)
+            if not self._entries[oldest]:
+                del self._entries[oldest]
+        return value

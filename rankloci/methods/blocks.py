@@ -15,7 +15,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..algebra import laplace_det
 from ..errors import LocusError
 from ..tree.modular import block_rank
 from ..tree.probe import numeric_rank
@@ -74,7 +73,7 @@ def choose_columns(ctx: "Context", M, points, candidates: int = 12, *, branch=No
             continue
         sub = [[row[c] for c in cols] for row in M]
         ctx.tick()
-        D = laplace_det(sub, ctx.ring)
+        D = ctx.det(sub)
         if best is None or len(D) < len(best[1]):
             best = (list(cols), D)
         tried += 1
@@ -114,7 +113,7 @@ def choose_block(ctx: "Context", A, r, points, candidates: int = 24, *, branch=N
         return rows, cols
 
     def score(rl, cl, most=None):
-        d = laplace_det([[A[i][j] for j in cl] for i in rl], ctx.ring)
+        d = ctx.det([[A[i][j] for j in cl] for i in rl])
         if most is not None and len(d) > most:
             return None
         if d.is_constant() or ctx.parameter_only(d):

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from ..algebra import laplace_det
 from .blocks import choose_block
 
 if TYPE_CHECKING:
@@ -29,7 +28,7 @@ def left_null_vectors(ctx: "Context", A, rank, points, *, branch=None):
     n = len(A)
     rows, cols = choose_block(ctx, A, rank, points, branch=branch)
     block = [[A[i][j] for j in cols] for i in rows]
-    d = laplace_det(block, ctx.ring) if rank else ctx.ring.ctx.constant(1)
+    d = ctx.det(block) if rank else ctx.ring.ctx.constant(1)
     vectors = []
     zero = ctx.ring.ctx.constant(0)
     for i in range(n):
@@ -40,7 +39,7 @@ def left_null_vectors(ctx: "Context", A, rank, points, *, branch=None):
         for t, r in enumerate(order):
             rest = [order[s] for s in range(len(order)) if s != t]
             if rest:
-                minor = laplace_det([[A[x][j] for j in cols] for x in rest], ctx.ring)
+                minor = ctx.det([[A[x][j] for j in cols] for x in rest])
             else:
                 minor = ctx.ring.ctx.constant(1)
             u[r] = minor if t % 2 == 0 else -minor

@@ -14,7 +14,7 @@ import networkx as nx
 import numpy as np
 import sympy as sp
 
-from ..algebra import PolyRing, irreducible_factors
+from ..algebra import PolyMemo, PolyRing, irreducible_factors, laplace_det
 from ..algebra.ring import square_root_primes
 from ..errors import LocusError, LocusTimeout
 from ..locus import Outcome
@@ -25,6 +25,10 @@ from .probe import Probe
 from .sampler import BranchSampler
 
 __all__ = ["Context"]
+
+#: Terms of polynomials (keys and values) kept by each of a computation's memos of
+#: determinants and factorisations: ~30 bytes a term, so about 150 MB each at most.
+MEMO_MAX_TERMS = 5_000_000
 
 
 class Context:
@@ -75,6 +79,9 @@ class Context:
         # its own random stream, so that the numeric samples do not depend on it
         self.modular = ModularProbe(self.ring, rng.spawn(1)[0])
         self.substituted = SubstitutedMatrices(self.ring)
+        # sibling branches often substitute into a block without changing it
+        self._dets = PolyMemo(MEMO_MAX_TERMS)
+        self._factors = PolyMemo(MEMO_MAX_TERMS)
         self.tree = nx.DiGraph()
         self.leaves: list[tuple[Branch, int]] = []
         self.notes: list[str] = []
@@ -199,7 +206,14 @@ class Context:
 
     def factors(self, p):
         """The irreducible factors of ``p`` that can vanish on the circle."""
-        return irreducible_factors(p, self.ring)
+        return list(self._factors.get((p,), lambda key: irreducible_factors(key[0], self.ring)))
+
+    def det(self, block):
+        """The determinant of a square block (a list of rows), reduced (:meth:`PolyRing.normal`)."""
+        n = len(block)
+        flat = tuple(x for row in block for x in row)
+        return self._dets.get(flat, lambda key: laplace_det(
+            [list(key[i * n:(i + 1) * n]) for i in range(n)], self.ring))
 
     def parameter_only(self, f) -> bool:
         """Does ``f`` involve parameters only (no joint variable)?"""
