@@ -188,6 +188,12 @@ def _with_exclusions(ctx: Context, cand: _Candidate) -> _Candidate:
 
 
 MAX_DIRECTION_TERMS = 400
+#: The cofactors a symbolic direction is built from are abandoned beyond this many terms.  Their
+#: common factor divides out at the end (PUMA 560's shoulder: 4312 terms -> 169), so this is far
+#: above MAX_DIRECTION_TERMS: on the built-in models the largest is 58208 (SSRMS, 1366 after the
+#: division); URDF chains with rotations that do not snap reach 200000-280000 terms (centauro's
+#: arm, 2-4 s each) and never come under MAX_DIRECTION_TERMS.
+MAX_DIRECTION_COFACTOR_TERMS = 60_000
 
 
 def _with_direction(ctx: Context, cand: _Candidate) -> Component:
@@ -206,7 +212,7 @@ def _symbolic_direction(ctx, branch, pts, drop):
     if len(M) > len(M[0]):
         M = transpose(M)
     n = len(M)
-    vecs, _ = left_null_vectors(ctx, M, n - 1, pts)
+    vecs, _ = left_null_vectors(ctx, M, n - 1, pts, max_terms=MAX_DIRECTION_COFACTOR_TERMS)
     if not vecs:
         return ()
     u = vecs[0]

@@ -19,11 +19,13 @@ if TYPE_CHECKING:
 __all__ = ["left_null_vectors"]
 
 
-def left_null_vectors(ctx: "Context", A, rank, points, *, branch=None):
+def left_null_vectors(ctx: "Context", A, rank, points, *, branch=None, max_terms=None):
     """Left null vectors of ``A`` (n x n, rank ``rank`` on the branch), fraction free.
 
     Returns the vectors and the polynomial ``d`` (the determinant of the
-    regular block used): the vectors are independent wherever d != 0.
+    regular block used): the vectors are independent wherever d != 0.  With
+    ``max_terms``, no vectors are returned (and the remaining cofactors are
+    not formed) once the cofactors formed hold more terms than that.
     """
     n = len(A)
     rows, cols = choose_block(ctx, A, rank, points, branch=branch)
@@ -31,6 +33,7 @@ def left_null_vectors(ctx: "Context", A, rank, points, *, branch=None):
     d = ctx.det(block) if rank else ctx.ring.ctx.constant(1)
     vectors = []
     zero = ctx.ring.ctx.constant(0)
+    terms = 0
     for i in range(n):
         if i in rows:
             continue
@@ -43,5 +46,8 @@ def left_null_vectors(ctx: "Context", A, rank, points, *, branch=None):
             else:
                 minor = ctx.ring.ctx.constant(1)
             u[r] = minor if t % 2 == 0 else -minor
+            terms += len(minor)
+            if max_terms is not None and terms > max_terms:
+                return [], d
         vectors.append(u)
     return vectors, d
