@@ -139,6 +139,17 @@ ZERO_RTOL = 1e-9
 #: so they are left to the excluded set's own branch.
 EXCLUSION_RTOL = 1e-4
 
+#: Below EXCLUSION_RTOL and above EXCLUSION_CERTIFY_RTOL times the size of its terms, an
+#: excluded polynomial decides nothing by its value: a point near a component on which it
+#: vanishes identically gives up to ~1e-8 (ROOT_XTOL times the gradient of near-degenerate
+#: terms), while near-degenerate geometry can keep it at 1e-6 of its term size on a whole
+#: component (romeo_laas_small's elbow, coefficients of 300 digits that nearly cancel).  Such
+#: a point is accepted only when ball arithmetic proves an exact point of the branch next to
+#: it with the polynomial nonzero (rankloci.tree.certify); the bound is only the rounding
+#: of evaluating a polynomial of a few thousand terms in double precision (~1e-15 of the
+#: term size each), below which no later numeric test could tell the value from 0.
+EXCLUSION_CERTIFY_RTOL = 1e-12
+
 #: A branch without sample points whose best Gauss-Newton residual (relative
 #: to the size of the terms) is at most NEAR_MISS_RTOL probably has real
 #: points where its last equation and that equation's gradient vanish

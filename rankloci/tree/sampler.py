@@ -5,7 +5,10 @@ generic rank of a matrix on it, does a polynomial vanish on it) asks a
 :class:`BranchSampler`: real points found by least squares from random
 starts.  A point is accepted when every condition is below ``ROOT_XTOL``
 relative to the size of its terms, and every excluded polynomial is above
-``EXCLUSION_RTOL``.
+``EXCLUSION_RTOL``, or above ``EXCLUSION_CERTIFY_RTOL`` with an exact point
+of the branch next to it at which the exclusions are nonzero by proof
+(:mod:`.certify`): on near-degenerate geometry an exclusion can be 1e-6 of
+its term size on a whole component.
 """
 
 from __future__ import annotations
@@ -17,8 +20,13 @@ import numpy as np
 from ..algebra import PolyRing, abs_poly
 from ..numeric.gauss_newton import gauss_newton_rows
 from .branch import Branch
+from .certify import certified_point
 
 __all__ = ["BranchSampler"]
+
+#: Rows of one batch whose tiny exclusion is put to the proof of .certify: a branch needs a
+#: few points, and a row in an excluded set costs a failed proof.
+CERTIFY_ROWS = 4
 
 
 @dataclass
@@ -35,6 +43,8 @@ class BranchSampler:
     #: sampler with the model's own parameter values, asked when these values give no point
     fallback: "BranchSampler | None" = None
     fell_back: set = field(default_factory=set)
+    #: keys of branches with a point accepted by proof (see .certify) despite a tiny exclusion
+    certified: set = field(default_factory=set)
 
     def points(self, branch: Branch, count: int = 3) -> list[np.ndarray]:
         """Up to ``count`` generator vectors of real points of ``branch``."""
@@ -121,8 +131,20 @@ class BranchSampler:
                     G[:, 2 * sub.index + 1] = np.where(norm > 0, vals[:, 1] / norm, np.nan)
         return G
 
+    def _certified(self, branch: Branch, g, angles, others, params):
+        """The generator row of a proved point of ``branch`` next to ``g`` (see .certify), or None."""
+        movable = [k for i in angles for k in (2 * i, 2 * i + 1)] + list(others) + list(params)
+        got = certified_point(self.ring, branch, g, movable)
+        if got is None:
+            return None
+        x = [2 * np.arctan2(got[2 * i + 1], got[2 * i]) for i in angles]
+        x += [got[j] for j in others] + [got[j] for j in params]
+        row = self.generators_batch(branch, angles, others, params, np.array([x]))[0]
+        self.certified.add(branch.key)
+        return None if np.isnan(row).any() else row
+
     def _solve(self, branch: Branch, count: int):
-        from ..tolerances import EXCLUSION_RTOL, ROOT_XTOL
+        from ..tolerances import EXCLUSION_CERTIFY_RTOL, EXCLUSION_RTOL, ROOT_XTOL
 
         angles, others, params = self.unknowns(branch)
         eqs = list(branch.implicit)
@@ -158,7 +180,15 @@ class BranchSampler:
                 R = ev(G) / np.maximum(scale_ev(np.abs(G)), 1e-300)
                 bad |= ~(np.max(np.abs(R), axis=1) <= ROOT_XTOL)
             if nz:
-                bad |= ~(np.min(np.abs(relative_nonzero(G)), axis=1) > EXCLUSION_RTOL)
+                near = np.min(np.abs(relative_nonzero(G)), axis=1)
+                small = ~bad & (near > EXCLUSION_CERTIFY_RTOL) & ~(near > EXCLUSION_RTOL)
+                bad |= ~(near > EXCLUSION_RTOL)
+                for r in np.flatnonzero(small)[:CERTIFY_ROWS]:
+                    # an exclusion small against its terms: accepted when an exact point of
+                    # the branch next to this one provably keeps it nonzero
+                    got = self._certified(branch, G[r], angles, others, params)
+                    if got is not None:
+                        G[r], bad[r] = got, False
             G[bad] = np.nan
             return G
 
