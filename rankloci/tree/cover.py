@@ -11,6 +11,7 @@ points asked for.
 
 from __future__ import annotations
 
+from fractions import Fraction
 from typing import TYPE_CHECKING
 
 import sympy as sp
@@ -21,7 +22,11 @@ from .branch import Branch
 if TYPE_CHECKING:
     from .context import Context
 
-__all__ = ["children", "cover"]
+__all__ = ["children", "cover", "reduced_exclusion"]
+
+#: An exclusion is replaced by its difference with a multiple of an equation of the branch
+#: when the difference's coefficients sum to at most this fraction of its own.
+EXCLUSION_REDUCTION = Fraction(1, 10)
 
 
 def children(ctx: "Context", branch: Branch, f) -> list[Branch]:
@@ -125,7 +130,16 @@ def _settle(ctx: "Context", parent: Branch, child: Branch) -> list[Branch]:
     constant excludes nothing.
     """
     if len(child.substitutions) == len(parent.substitutions):
-        return [child]
+        if len(child.implicit) == len(parent.implicit) or not child.nonzero:
+            return [child]
+        nonzero = []
+        for e in child.nonzero:
+            r = reduced_exclusion(ctx.ring, e, child.implicit[-1])
+            if r.is_zero():
+                return []
+            if not ctx.ring.is_number(r):
+                nonzero.append(r)
+        return [Branch(child.conditions, child.substitutions, child.implicit, tuple(nonzero))]
     ring = ctx.ring
     nonzero = []
     for e in child.nonzero:
@@ -160,3 +174,34 @@ def _settle(ctx: "Context", parent: Branch, child: Branch) -> list[Branch]:
                 fs.append(f)
         out = [b for o in out for f in fs for b in cover(ctx, o, [f])]
     return out
+
+
+def reduced_exclusion(ring, p, e):
+    """``p`` or ``p - c*e`` (``c`` rational), whichever has the smaller coefficients.
+
+    On a branch where ``e`` vanishes both exclude the same points, exactly.
+    On near-degenerate geometry the determinant that guards a level's null
+    vectors can agree with an equation of the branch to one part in 1e4
+    (romeo_laas_small's elbow): on the component it is then 1e-6 of the
+    size of its terms, too small for the numeric tests of exclusions
+    (EXCLUSION_RTOL and those of rankloci.methods.finalize), while the
+    difference is of the order of its own terms.  ``c`` cancels the term of
+    ``e`` with the largest coefficient; both must have the same degree in
+    each angle pair (homogeneous polynomials of the same degrees).
+    """
+    if e.is_zero() or ring.pair_degrees(p) != ring.pair_degrees(e):
+        return p
+    mons = e.monoms()
+    coeffs = e.coeffs()
+    k = max(range(len(coeffs)), key=lambda i: abs(coeffs[i]))
+    c = dict(zip(p.monoms(), p.coeffs())).get(mons[k], 0)
+    if c == 0:
+        return p
+    r = ring.normal(p - (c / coeffs[k]) * e)
+    if _coefficient_sum(r) * EXCLUSION_REDUCTION.denominator <= EXCLUSION_REDUCTION.numerator * _coefficient_sum(p):
+        return r
+    return p
+
+
+def _coefficient_sum(p):
+    return sum((abs(c) for c in p.coeffs()), 0)
