@@ -239,6 +239,12 @@ PROBE_SINGULAR_RTOL = RANK_RTOL
 #: has them at 9e-13 to 8e-10 (the one at 1.7e-10 is regular when evaluated with 40 digits).
 PROBE_DESCENT_RTOL = 1e-13
 
+#: dJ/dq by the complex step (rankloci.numeric.equations.NumericMatrix) and by the symbolic
+#: derivative agree to this, relative to the largest |dJ/dq_k| entry at the same q.  Both are
+#: exact up to rounding (the complex step subtracts nothing); on the built-in arms they differ
+#: by <= 6e-16, and 1e-12 leaves room for the cancellation among the ~100 terms of an entry.
+DERIVATIVE_RTOL = 1e-12
+
 #: A singular probe point is covered when some component's scaled equations are all at most this.
 #: A minimiser stops within ~ratio/|grad ratio| (~1e-8 rad) of a smooth locus, ~1e-6 rad near
 #: tangential intersections; scaled trig equations change by at most their degree (<= 8) per
