@@ -196,6 +196,7 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
         return e.subs({s: params_by_name[s.name] for s in e.free_symbols if s.name in params_by_name})
 
     checked, findings = [], []
+    all_eqs = []                  # every checked component's equations (residuals only)
     skipped = [tuple(sp.sstr(e) for e in comp.equations) for comp in locus.special]
     for i, comp in enumerate(locus.components, start=1):
         eq_text = tuple(sp.sstr(e) for e in comp.equations)
@@ -204,6 +205,7 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
             continue
         eqs = Equations([prepared(e) for e in comp.equations], nm.variables, {},
                          [prepared(e) for e in comp.excluding])
+        all_eqs.append(eqs)
         pts = [_point(nm, q) for q in points_on(eqs, nm, rng, samples)]
         fails = tuple(p for p in pts if p.sigma_ratio > ON_LOCUS_RTOL)
         for p in pts:
@@ -220,9 +222,6 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
         else:
             msg, ok = "", True
         checked.append(ComponentCheck(i, eq_text, tuple(pts), fails, ok, msg))
-    all_eqs = [c for c in (Equations([prepared(e) for e in comp.equations], nm.variables, {})
-                           for comp in locus.components
-                           if comp.exists_for_model)]
 
     # off-locus
     off = []
