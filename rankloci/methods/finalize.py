@@ -414,6 +414,7 @@ def _remove_contained(ctx: Context, cands: list[_Candidate]) -> list[_Candidate]
                   if not (k.comp.parameter_conditions and not c.parameter_conditions)]
         contained = bool(others) and (_inside_exactly(ctx, cands[i], others) or all(
             any(_vanish_at(functions(k), [x], len(tm.variables), ctx.rng)
+                or (k.branch is not None and prune.on_leaf(ctx, k.branch, x))
                 if k.comp.equations else True
                 for k in others)
             for x in probe(cands[i])))

@@ -27,6 +27,8 @@ caller rejects it as before.
 
 from __future__ import annotations
 
+import itertools
+
 import flint
 import numpy as np
 import scipy.linalg
@@ -34,7 +36,7 @@ import scipy.linalg
 from ..algebra import PolyRing
 from .branch import Branch
 
-__all__ = ["certified_point"]
+__all__ = ["certified_point", "admitted_near"]
 
 #: Working precision of the ball arithmetic: coefficients of several hundred digits are exact
 #: balls, and 256 bits leave ~70 digits after cancellations of one part in 1e6 and more.
@@ -49,9 +51,12 @@ BOX_RTOL = 2.0 ** -100
 #: Pivot columns whose smallest singular value is below this times the largest are no chart
 #: of the branch at the point (a point where components meet); the point stays undecided.
 PIVOT_RTOL = 1e-12
+#: Choices of pivots tried from one start by :func:`admitted_near`.
+PIVOT_CHOICES = 6
 
 
-def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable) -> np.ndarray | None:
+def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable,
+                    pivots=None) -> np.ndarray | None:
     """``g`` moved onto a proved point of ``branch`` at which every exclusion is nonzero.
 
     Parameters
@@ -63,6 +68,9 @@ def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable) -> n
     movable : iterable of int
         Generators that may move (those the sampler solved for); the others
         stay at their values in ``g``.
+    pivots : sequence of int, optional
+        The generators to solve for, one per implicit equation (default: the
+        best conditioned ones at ``g``).
 
     Returns
     -------
@@ -81,7 +89,10 @@ def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable) -> n
     cand = _coordinates(ring, g, set(movable) - solved)
     if len(eqs) > len(cand):
         return None
-    cols = _pivots(ring, eqs, cand, g) if eqs else []
+    if pivots is not None:
+        cols = list(pivots) if len(pivots) == len(eqs) and set(pivots) <= set(cand) else None
+    else:
+        cols = _pivots(ring, eqs, cand, g) if eqs else []
     if cols is None:
         return None
     with flint.ctx.workprec(PRECISION_BITS):
@@ -182,3 +193,64 @@ def _krawczyk(eqs, cols, vals) -> list | None:
     if not all((K[i, 0]).abs_upper() < radii[i] for i in range(k)):
         return None
     return box
+
+
+def admitted_near(ring: PolyRing, branch: Branch, g: np.ndarray, movable, rng, *,
+                  step: float, radius: float, tries: int = 4) -> bool:
+    """Is there a proved point of ``branch``, every exclusion nonzero, within ``radius`` of ``g``?
+
+    ``g`` is a point of the branch's equations at which an exclusion
+    vanishes.  It lies in the closure of the branch when it lies on a
+    component of the equations on which no exclusion vanishes identically:
+    then points next to it on that component keep every exclusion nonzero,
+    and :func:`certified_point`, started from ``g`` moved by ``step`` in the
+    movable angles and variables, proves one.  On a component where an
+    exclusion vanishes identically no start is ever proved.
+    """
+    movable = list(movable)
+    angles = [i for i in range(ring.n_angles) if 2 * i in movable and 2 * i + 1 in movable]
+    rest = [j for j in movable if j >= 2 * ring.n_angles]
+    theta = 2 * np.arctan2(g[[2 * i + 1 for i in angles]], g[[2 * i for i in angles]])
+    for _ in range(tries):
+        start = np.array(g, dtype=float)
+        t = theta + step * rng.standard_normal(len(angles))
+        start[[2 * i for i in angles]] = np.cos(t / 2)
+        start[[2 * i + 1 for i in angles]] = np.sin(t / 2)
+        start[rest] = start[rest] + step * rng.standard_normal(len(rest))
+        for cols in _pivot_choices(ring, branch, start, movable):
+            got = certified_point(ring, branch, start, movable, pivots=cols)
+            if got is None:
+                continue
+            back = 2 * np.arctan2(got[[2 * i + 1 for i in angles]], got[[2 * i for i in angles]])
+            moved = np.abs((back - theta + np.pi) % (2 * np.pi) - np.pi)
+            if np.all(moved <= radius) and np.all(np.abs(got[rest] - g[rest]) <= radius):
+                return True
+    return False
+
+
+def _pivot_choices(ring: PolyRing, branch: Branch, g, movable) -> list:
+    """Every regular choice of pivots at ``g``, the best conditioned first.
+
+    Near a point where two components of the equations cross, solving for
+    one generator leads to one component and solving for another to the
+    other: each is tried.
+    """
+    solved = _substituted(ring, branch)
+    eqs = [q for q in (branch.reduce(e, ring) for e in branch.implicit) if not q.is_zero()]
+    cand = _coordinates(ring, g, set(movable) - solved)
+    if not eqs:
+        return [[]]
+    if len(eqs) > len(cand):
+        return []
+    grads = [q.derivative(j) for q in eqs for j in cand]
+    J = ring.compile(grads)(np.asarray(g, dtype=float)).reshape(len(eqs), len(cand))
+    norms = np.linalg.norm(J, axis=1)
+    if not np.all(np.isfinite(J)) or not np.all(norms > 0):
+        return []
+    J = J / norms[:, None]
+    scored = []
+    for combo in itertools.combinations(range(len(cand)), len(eqs)):
+        s = np.linalg.svd(J[:, list(combo)], compute_uv=False)
+        if s[-1] > PIVOT_RTOL * s[0]:
+            scored.append((-s[-1] / s[0], [cand[k] for k in combo]))
+    return [cols for _, cols in sorted(scored, key=lambda t: t[0])][:PIVOT_CHOICES]

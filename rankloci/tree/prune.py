@@ -3,19 +3,25 @@
 A branch all of whose points lie on a component found before needs no
 analysis: whatever it holds is already in the locus.  The leaves of the
 tree are tried newest condition sets first; the test is symbolic where the
-conditions decide it, numeric (at the branch's sample points) otherwise.
+conditions decide it, numeric (at the branch's sample points) otherwise; a
+point where an exclusion of the component vanishes is in its closure when
+exact points of the component next to it are proved to keep every exclusion
+nonzero (:mod:`.certify`).
 """
 
 from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from .branch import Branch
+from .certify import admitted_near
 
 if TYPE_CHECKING:
     from .context import Context
 
-__all__ = ["known", "known_symbolically", "dense"]
+__all__ = ["known", "known_symbolically", "dense", "in_closure", "on_leaf"]
 
 
 def known_symbolically(ctx: "Context", branch: Branch) -> bool:
@@ -46,16 +52,44 @@ def known(ctx: "Context", branch: Branch) -> bool:
     if not pts:
         return False
     vanishes = ctx.probe.vanishes
-    for leaf, _ in ctx.leaves:
-        if leaf is branch or not leaf.conditions:
-            continue
-        if len(leaf.conditions) > len(branch.conditions):
-            continue
+    leaves = [leaf for leaf, _ in ctx.leaves
+              if leaf is not branch and leaf.conditions
+              and len(leaf.conditions) <= len(branch.conditions)]
+    for leaf in leaves:
         if all(vanishes(c, pts) for c in leaf.conditions) and (
                 dense(ctx, leaf)
                 or not any(vanishes(e, [g]) for e in leaf.nonzero for g in pts)):
             return True
-    return False
+
+    def on(leaf, k, g):
+        if not all(vanishes(c, [g]) for c in leaf.conditions):
+            return False
+        if dense(ctx, leaf) or not any(vanishes(e, [g]) for e in leaf.nonzero):
+            return True
+        return in_closure(ctx, leaf, g, k)
+
+    # a reducible branch: each point on a component, in its closure where an exclusion
+    # of that component vanishes
+    return all(any(on(leaf, k, g) for leaf in leaves) for k, g in enumerate(pts))
+
+
+def in_closure(ctx: "Context", leaf: Branch, g, k: int = 0) -> bool:
+    """Is the point ``g`` of ``leaf``'s equations in the closure of ``leaf``?
+
+    Decided by proof where it can be (:func:`.certify.admitted_near`): exact
+    points of the leaf with every exclusion nonzero next to ``g``.  An
+    exclusion that vanishes at ``g`` can be tiny on the whole component
+    through it (near-degenerate geometry), where no threshold on its value
+    tells that component from one on which it vanishes identically.  The
+    random moves use their own fixed stream (seed ``k``), not the
+    computation's.
+    """
+    from ..tolerances import NEAR_ADMITTED_RADIUS, NEAR_ADMITTED_STEP
+
+    angles, others, params = ctx.sampler.unknowns(leaf)
+    movable = [j for i in angles for j in (2 * i, 2 * i + 1)] + list(others) + list(params)
+    return admitted_near(ctx.ring, leaf, g, movable, np.random.default_rng(k),
+                         step=NEAR_ADMITTED_STEP, radius=NEAR_ADMITTED_RADIUS)
 
 
 def dense(ctx: "Context", leaf: Branch) -> bool:
@@ -75,3 +109,27 @@ def dense(ctx: "Context", leaf: Branch) -> bool:
     if leaf.implicit or any(s.kind == "pair" for s in leaf.substitutions):
         return False
     return bool(ctx.sampler.points(leaf))
+
+
+def on_leaf(ctx: "Context", leaf: Branch, x, k: int = 0) -> bool:
+    """Is the configuration ``x`` in the closure of ``leaf``, by proof?
+
+    ``x`` holds the values of the matrix's variables, then of the ring's
+    parameters.  True when the leaf's conditions vanish at ``x`` and exact
+    points of the leaf with every exclusion nonzero are proved next to it
+    (:func:`in_closure`); False where that is not proved.
+    """
+    ring = ctx.ring
+    names = list(ctx.tm.variables)
+    g = ctx.model_point()
+    for i, q in enumerate(ring.angles):
+        v = float(x[names.index(q)])
+        g[2 * i], g[2 * i + 1] = np.cos(v / 2), np.sin(v / 2)
+    base = 2 * ring.n_angles
+    for j, v in enumerate(ring.others):
+        g[base + j] = float(x[names.index(v)])
+    for j in range(len(ring.params)):
+        g[base + len(ring.others) + j] = float(x[len(names) + j])
+    if not all(ctx.probe.vanishes(c, [g]) for c in leaf.conditions):
+        return False
+    return in_closure(ctx, leaf, g, k)
