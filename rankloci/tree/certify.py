@@ -10,7 +10,7 @@ point that is accurate to ``ROOT_XTOL`` does not tell them apart.
 
 Interval arithmetic does.  The generators that no substitution solves are
 split, at the numeric point, into one pivot per implicit equation (the
-columns of the equations' Jacobian that column-pivoted QR picks; of an angle
+columns of the equations' Jacobian best conditioned together; of an angle
 pair the component of smaller magnitude, the other one staying fixed, which
 is a chart of the pair since every polynomial is homogeneous in it) and the
 rest, fixed at their double values (exact binary rationals).  The square
@@ -31,9 +31,9 @@ import itertools
 
 import flint
 import numpy as np
-import scipy.linalg
 
-from ..algebra import PolyRing
+from ..algebra import PolyRing, abs_poly
+from ..tolerances import EXCLUSION_CERTIFY_RTOL, ROOT_XTOL
 from .branch import Branch
 
 __all__ = ["certified_point", "admitted_near"]
@@ -41,9 +41,11 @@ __all__ = ["certified_point", "admitted_near"]
 #: Working precision of the ball arithmetic: coefficients of several hundred digits are exact
 #: balls, and 256 bits leave ~70 digits after cancellations of one part in 1e6 and more.
 PRECISION_BITS = 256
-#: Newton steps from a double precision point: quadratic convergence from 1e-10 passes
-#: 2**-200 in four steps; the rest is margin for ill-conditioned pivots.
-NEWTON_STEPS = 10
+#: Newton steps in doubles from a start 1e-3 off the equations (admitted_near), to within
+#: rounding of the zero; then in ball arithmetic, where quadratic convergence from 1e-15
+#: passes 2**-200 in four steps (the rest is margin for ill-conditioned pivots).
+FLOAT_NEWTON_STEPS = 8
+NEWTON_STEPS = 4
 #: Radius of the Krawczyk box, relative to max(1, |pivot|): far above the Newton residual
 #: (2**-200), far below any distance at which two zeros of a regular system could be told
 #: apart in double precision.
@@ -56,7 +58,7 @@ PIVOT_CHOICES = 6
 
 
 def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable,
-                    pivots=None) -> np.ndarray | None:
+                    pivots=None, cache: dict | None = None) -> np.ndarray | None:
     """``g`` moved onto a proved point of ``branch`` at which every exclusion is nonzero.
 
     Parameters
@@ -71,6 +73,9 @@ def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable,
     pivots : sequence of int, optional
         The generators to solve for, one per implicit equation (default: the
         best conditioned ones at ``g``).
+    cache : dict, optional
+        Numeric evaluators compiled for ``branch``, kept between calls on the
+        same branch.
 
     Returns
     -------
@@ -89,11 +94,15 @@ def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable,
     cand = _coordinates(ring, g, set(movable) - solved)
     if len(eqs) > len(cand):
         return None
+    cache = {} if cache is None else cache
     if pivots is not None:
         cols = list(pivots) if len(pivots) == len(eqs) and set(pivots) <= set(cand) else None
     else:
-        cols = _pivots(ring, eqs, cand, g) if eqs else []
+        cols = _pivots(ring, eqs, cand, g, cache) if eqs else []
     if cols is None:
+        return None
+    g = _float_newton(ring, eqs, cols, g, cache) if eqs else np.asarray(g, dtype=float)
+    if g is None or not _worth_proving(ring, excl, g, cache):
         return None
     with flint.ctx.workprec(PRECISION_BITS):
         vals = [flint.arb(float(x)) for x in g]
@@ -111,6 +120,51 @@ def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable,
         for j in cols:
             out[j] = float(box[j].mid())
         return out
+
+
+def _compiled(ring: PolyRing, cache: dict, key, polys):
+    """``ring.compile(polys())`` under ``key`` in ``cache``."""
+    if key not in cache:
+        cache[key] = ring.compile(polys())
+    return cache[key]
+
+
+def _float_newton(ring: PolyRing, eqs, cols, g, cache: dict) -> np.ndarray | None:
+    """``g`` with the pivots ``cols`` moved onto the equations by Newton's method in doubles.
+
+    The ball arithmetic then starts within rounding of the zero; None when
+    Newton does not settle (no zero next to ``g`` along these pivots).
+    """
+    k = len(eqs)
+    F = _compiled(ring, cache, "F", lambda: eqs)
+    J = _compiled(ring, cache, ("J",) + tuple(cols),
+                  lambda: [q.derivative(j) for q in eqs for j in cols])
+    size = _compiled(ring, cache, "F size", lambda: [abs_poly(q, ring) for q in eqs])
+    x = np.array(g, dtype=float)
+    for _ in range(FLOAT_NEWTON_STEPS):
+        try:
+            step = np.linalg.solve(J(x).reshape(k, k), F(x))
+        except np.linalg.LinAlgError:
+            return None
+        x[cols] -= step
+        if not np.all(np.isfinite(x)):
+            return None
+    resid = np.abs(F(x)) / np.maximum(size(np.abs(x)), 1e-300)
+    return x if np.all(resid <= ROOT_XTOL) else None
+
+
+def _worth_proving(ring: PolyRing, excl, g, cache: dict) -> bool:
+    """Are the exclusions above rounding (EXCLUSION_CERTIFY_RTOL of their terms) at ``g``?
+
+    Where one is not, no later numeric test could tell it from 0, and on a
+    component on which it vanishes identically it is always there: the
+    proof is not attempted.
+    """
+    if not excl:
+        return True
+    vals = np.abs(_compiled(ring, cache, "excl", lambda: excl)(g))
+    sizes = _compiled(ring, cache, "excl size", lambda: [abs_poly(p, ring) for p in excl])(np.abs(g))
+    return bool(np.all(vals > EXCLUSION_CERTIFY_RTOL * sizes))
 
 
 def _substituted(ring: PolyRing, branch: Branch) -> set[int]:
@@ -132,18 +186,27 @@ def _coordinates(ring: PolyRing, g, movable: set[int]) -> list[int]:
     return out
 
 
-def _pivots(ring: PolyRing, eqs, cand, g) -> list[int] | None:
+def _pivots(ring: PolyRing, eqs, cand, g, cache: dict) -> list[int] | None:
     """One generator per equation, where the equations' Jacobian is best conditioned."""
-    grads = [q.derivative(j) for q in eqs for j in cand]
-    J = ring.compile(grads)(np.asarray(g, dtype=float)).reshape(len(eqs), len(cand))
+    choices = _regular_choices(ring, eqs, cand, g, cache)
+    return choices[0] if choices else None
+
+
+def _regular_choices(ring: PolyRing, eqs, cand, g, cache: dict) -> list:
+    """Pivot sets (one generator per equation) with a regular Jacobian at ``g``, best first."""
+    J = _compiled(ring, cache, ("J",) + tuple(cand),
+                  lambda: [q.derivative(j) for q in eqs for j in cand])
+    J = J(np.asarray(g, dtype=float)).reshape(len(eqs), len(cand))
     norms = np.linalg.norm(J, axis=1)
     if not np.all(np.isfinite(J)) or not np.all(norms > 0):
-        return None
+        return []
     J = J / norms[:, None]
-    _, _, order = scipy.linalg.qr(J, pivoting=True, mode="economic")
-    cols = [cand[k] for k in order[:len(eqs)]]
-    s = np.linalg.svd(J[:, order[:len(eqs)]], compute_uv=False)
-    return cols if s[-1] > PIVOT_RTOL * s[0] else None
+    scored = []
+    for combo in itertools.combinations(range(len(cand)), len(eqs)):
+        s = np.linalg.svd(J[:, list(combo)], compute_uv=False)
+        if s[-1] > PIVOT_RTOL * s[0]:
+            scored.append((-s[-1] / s[0], [cand[k] for k in combo]))
+    return [cols for _, cols in sorted(scored, key=lambda t: t[0])]
 
 
 def _value(p, vals):
@@ -211,14 +274,15 @@ def admitted_near(ring: PolyRing, branch: Branch, g: np.ndarray, movable, rng, *
     angles = [i for i in range(ring.n_angles) if 2 * i in movable and 2 * i + 1 in movable]
     rest = [j for j in movable if j >= 2 * ring.n_angles]
     theta = 2 * np.arctan2(g[[2 * i + 1 for i in angles]], g[[2 * i for i in angles]])
+    cache: dict = {}
     for _ in range(tries):
         start = np.array(g, dtype=float)
         t = theta + step * rng.standard_normal(len(angles))
         start[[2 * i for i in angles]] = np.cos(t / 2)
         start[[2 * i + 1 for i in angles]] = np.sin(t / 2)
         start[rest] = start[rest] + step * rng.standard_normal(len(rest))
-        for cols in _pivot_choices(ring, branch, start, movable):
-            got = certified_point(ring, branch, start, movable, pivots=cols)
+        for cols in _pivot_choices(ring, branch, start, movable, cache):
+            got = certified_point(ring, branch, start, movable, pivots=cols, cache=cache)
             if got is None:
                 continue
             back = 2 * np.arctan2(got[[2 * i + 1 for i in angles]], got[[2 * i for i in angles]])
@@ -228,8 +292,8 @@ def admitted_near(ring: PolyRing, branch: Branch, g: np.ndarray, movable, rng, *
     return False
 
 
-def _pivot_choices(ring: PolyRing, branch: Branch, g, movable) -> list:
-    """Every regular choice of pivots at ``g``, the best conditioned first.
+def _pivot_choices(ring: PolyRing, branch: Branch, g, movable, cache: dict) -> list:
+    """Every regular choice of pivots at ``g``, the best conditioned first (at most PIVOT_CHOICES).
 
     Near a point where two components of the equations cross, solving for
     one generator leads to one component and solving for another to the
@@ -242,15 +306,4 @@ def _pivot_choices(ring: PolyRing, branch: Branch, g, movable) -> list:
         return [[]]
     if len(eqs) > len(cand):
         return []
-    grads = [q.derivative(j) for q in eqs for j in cand]
-    J = ring.compile(grads)(np.asarray(g, dtype=float)).reshape(len(eqs), len(cand))
-    norms = np.linalg.norm(J, axis=1)
-    if not np.all(np.isfinite(J)) or not np.all(norms > 0):
-        return []
-    J = J / norms[:, None]
-    scored = []
-    for combo in itertools.combinations(range(len(cand)), len(eqs)):
-        s = np.linalg.svd(J[:, list(combo)], compute_uv=False)
-        if s[-1] > PIVOT_RTOL * s[0]:
-            scored.append((-s[-1] / s[0], [cand[k] for k in combo]))
-    return [cols for _, cols in sorted(scored, key=lambda t: t[0])][:PIVOT_CHOICES]
+    return _regular_choices(ring, eqs, cand, g, cache)[:PIVOT_CHOICES]
