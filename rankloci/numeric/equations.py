@@ -228,7 +228,8 @@ def _stall_guard():
             state["ref"], state["at"] = cost, state["it"]
         fun = intermediate_result.fun
         above = fun.size and float(np.max(np.abs(fun))) > ON_COMPONENT_RESIDUAL
-        return bool(above and state["it"] - state["at"] >= STALL_ITERATIONS)
+        if above and state["it"] - state["at"] >= STALL_ITERATIONS:
+            raise StopIteration     # scipy ends the run and returns the current point
 
     return callback
 
