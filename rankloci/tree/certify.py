@@ -33,7 +33,7 @@ import flint
 import numpy as np
 
 from ..algebra import PolyRing, abs_poly
-from ..tolerances import EXCLUSION_CERTIFY_RTOL, ROOT_XTOL
+from ..tolerances import EXCLUSION_CERTIFY_RTOL, EXCLUSION_RTOL, ROOT_XTOL
 from .branch import Branch
 
 __all__ = ["certified_point", "admitted_near"]
@@ -58,7 +58,8 @@ PIVOT_CHOICES = 6
 
 
 def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable,
-                    pivots=None, cache: dict | None = None) -> np.ndarray | None:
+                    pivots=None, cache: dict | None = None, *,
+                    numeric_above: float | None = None) -> np.ndarray | None:
     """``g`` moved onto a proved point of ``branch`` at which every exclusion is nonzero.
 
     Parameters
@@ -76,6 +77,10 @@ def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable,
     cache : dict, optional
         Numeric evaluators compiled for ``branch``, kept between calls on the
         same branch.
+    numeric_above : float, optional
+        Where every exclusion at the point solved in doubles is above this
+        times the size of its terms, that point is returned without a proof
+        (the standard a branch's samples are held to, EXCLUSION_RTOL).
 
     Returns
     -------
@@ -104,6 +109,8 @@ def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable,
     g = _float_newton(ring, eqs, cols, g, cache) if eqs else np.asarray(g, dtype=float)
     if g is None or not _worth_proving(ring, excl, g, cache):
         return None
+    if numeric_above is not None and _worth_proving(ring, excl, g, cache, numeric_above):
+        return np.asarray(g, dtype=float)
     with flint.ctx.workprec(PRECISION_BITS):
         vals = [flint.arb(float(x)) for x in g]
         for j, prime in enumerate(ring.surds):
@@ -153,8 +160,8 @@ def _float_newton(ring: PolyRing, eqs, cols, g, cache: dict) -> np.ndarray | Non
     return x if np.all(resid <= ROOT_XTOL) else None
 
 
-def _worth_proving(ring: PolyRing, excl, g, cache: dict) -> bool:
-    """Are the exclusions above rounding (EXCLUSION_CERTIFY_RTOL of their terms) at ``g``?
+def _worth_proving(ring: PolyRing, excl, g, cache: dict, rtol: float = EXCLUSION_CERTIFY_RTOL) -> bool:
+    """Are the exclusions above rounding (``rtol`` of their terms) at ``g``?
 
     Where one is not, no later numeric test could tell it from 0, and on a
     component on which it vanishes identically it is always there: the
@@ -164,7 +171,7 @@ def _worth_proving(ring: PolyRing, excl, g, cache: dict) -> bool:
         return True
     vals = np.abs(_compiled(ring, cache, "excl", lambda: excl)(g))
     sizes = _compiled(ring, cache, "excl size", lambda: [abs_poly(p, ring) for p in excl])(np.abs(g))
-    return bool(np.all(vals > EXCLUSION_CERTIFY_RTOL * sizes))
+    return bool(np.all(vals > rtol * sizes))
 
 
 def _substituted(ring: PolyRing, branch: Branch) -> set[int]:
@@ -209,16 +216,46 @@ def _regular_choices(ring: PolyRing, eqs, cand, g, cache: dict) -> list:
     return [cols for _, cols in sorted(scored, key=lambda t: t[0])]
 
 
-def _value(p, vals):
-    """Ball enclosure of the polynomial ``p`` at the balls ``vals``."""
-    total = flint.arb(0)
-    for mon, c in zip(p.monoms(), p.coeffs()):
-        term = flint.arb(c)
-        for j, e in enumerate(mon):
-            if e:
-                term *= vals[j] ** e
-        total += term
-    return total
+def _exact(x) -> "flint.fmpq":
+    """The exact rational value of an arb's midpoint, or of an arf/mag given as an arb."""
+    man, exp = x.mid().man_exp()
+    return flint.fmpq(man) * 2 ** exp if exp >= 0 else flint.fmpq(man, 2 ** (-exp))
+
+
+def _value(p, vals, memo: dict | None = None):
+    """Ball enclosure of the polynomial ``p`` at the balls ``vals``.
+
+    ``p`` is evaluated exactly (in C) at the rational midpoints; where a ball
+    has a radius r_j the mean value theorem bounds the rest:
+    ``|p(x) - p(m)| <= sum_j r_j * |d_j p|(|m| + r)``, ``|d_j p|`` the
+    derivative with every coefficient made positive, an upper bound of the
+    derivative's size over the box.  The bound is exact rational arithmetic
+    too, so the enclosure is rigorous.  ``memo`` keeps those derivatives.
+    """
+    mids = [_exact(v) for v in vals]
+    center = flint.arb(p(*mids))
+    moved = [j for j, v in enumerate(vals) if not v.rad().is_zero()]
+    if not moved:
+        return center
+    degs = p.degrees()
+    upper = None
+    err = flint.fmpq(0)
+    for j in moved:
+        if degs[j] == 0:
+            continue
+        key = (id(p), j)
+        d = memo.get(key) if memo is not None else None
+        if d is None:
+            dp = p.derivative(j)
+            d = p.context().from_dict({m: abs(c) for m, c in zip(dp.monoms(), dp.coeffs())})
+            if memo is not None:
+                memo[key] = (d, p)      # p kept alive, so that id(p) stays its own
+        else:
+            d = d[0]
+        if upper is None:
+            upper = [abs(m) + _exact(v.rad()) for m, v in zip(mids, vals)]
+        err += _exact(vals[j].rad()) * d(*upper)
+    return center + flint.arb(0, flint.arb(err)) if err else center
 
 
 def _krawczyk(eqs, cols, vals) -> list | None:
@@ -226,10 +263,11 @@ def _krawczyk(eqs, cols, vals) -> list | None:
     k = len(eqs)
     grads = [[q.derivative(j) for j in cols] for q in eqs]
     vals = list(vals)
+    memo: dict = {}
 
     def system(at):
-        F = flint.arb_mat(k, 1, [_value(q, at) for q in eqs])
-        J = flint.arb_mat(k, k, [_value(d, at) for row in grads for d in row])
+        F = flint.arb_mat(k, 1, [_value(q, at, memo) for q in eqs])
+        J = flint.arb_mat(k, k, [_value(d, at, memo) for row in grads for d in row])
         return F, J
 
     for _ in range(NEWTON_STEPS):
@@ -267,8 +305,10 @@ def admitted_near(ring: PolyRing, branch: Branch, g: np.ndarray, movable, rng, *
     component of the equations on which no exclusion vanishes identically:
     then points next to it on that component keep every exclusion nonzero,
     and :func:`certified_point`, started from ``g`` moved by ``step`` in the
-    movable angles and variables, proves one.  On a component where an
-    exclusion vanishes identically no start is ever proved.
+    movable angles and variables, proves one, or finds one in doubles whose
+    exclusions are all above EXCLUSION_RTOL of their terms (the standard a
+    branch's samples are held to; no proof is needed there).  On a component
+    where an exclusion vanishes identically no start is ever proved.
     """
     movable = list(movable)
     angles = [i for i in range(ring.n_angles) if 2 * i in movable and 2 * i + 1 in movable]
@@ -282,7 +322,8 @@ def admitted_near(ring: PolyRing, branch: Branch, g: np.ndarray, movable, rng, *
         start[[2 * i + 1 for i in angles]] = np.sin(t / 2)
         start[rest] = start[rest] + step * rng.standard_normal(len(rest))
         for cols in _pivot_choices(ring, branch, start, movable, cache):
-            got = certified_point(ring, branch, start, movable, pivots=cols, cache=cache)
+            got = certified_point(ring, branch, start, movable, pivots=cols, cache=cache,
+                                  numeric_above=EXCLUSION_RTOL)
             if got is None:
                 continue
             back = 2 * np.arctan2(got[[2 * i + 1 for i in angles]], got[[2 * i for i in angles]])
