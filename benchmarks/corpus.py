@@ -694,7 +694,10 @@ def render_markdown(rows, skipped, outside, meta) -> str:
         "",
         f"Python {meta['python']} on {meta['machine']}, one process per chain, "
         f"{meta['jobs']} at a time, locus time limit {meta['timeout_s']:g} s. "
-        "'time' is the locus alone; 'components' counts those of the model's own locus.",
+        "'time' is the locus alone; 'components' counts those of the model's own locus. "
+        "The locus graded is the engine's first computation, without the self-check that "
+        "`rankloci locus` runs before it shows a locus (and that recomputes, or marks the "
+        "locus incomplete, when it fails): a *fail* here is a locus that check has to catch.",
         "",
     ]
     if meta.get("max_per_robot"):
