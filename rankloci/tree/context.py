@@ -18,7 +18,7 @@ from ..algebra import PolyMemo, PolyRing, irreducible_factors, laplace_det
 from ..algebra.ring import square_root_primes
 from ..errors import LocusError, LocusTimeout
 from ..locus import Outcome
-from . import cover, prune
+from . import cover, prune, reducible
 from .branch import Branch, SubstitutedMatrices
 from .modular import ModularProbe
 from .probe import Probe
@@ -142,8 +142,14 @@ class Context:
         if prune.known(self, branch):
             self.annotate(node, outcome=Outcome.KNOWN)
             return
-        if pts and self.rank(self.M, branch, pts) == self.full_rank:
+        # more points than the first few: the equations may hold on a regular piece and a
+        # singular one (see .reducible); such a branch is split on a minor
+        regular, singular = reducible.ranked_points(self, branch)
+        if pts and self.rank(self.M, branch, pts) == self.full_rank and not singular:
             self.annotate(node, outcome=Outcome.COVERED)
+            return
+        if regular:
+            reducible.split_on_minor(self, branch, node, regular, outcome)
             return
         self.annotate(node, outcome=outcome)
         self.leaves.append((branch, node))

@@ -109,6 +109,9 @@ CASES = [
     ("laikago_description/urdf/laikago.urdf", "FL_calf"),
     slow("panda_description/urdf/panda.urdf", "panda_link7"),
     ("pr2_description/urdf/pr2.urdf", "l_forearm_roll_link"),  # prismatic torso + 5R
+    # 9 joints with a mimic finger; leaves whose equations also hold on regular pieces
+    # (cos q4 = cos q6 = 0, sin q4 = sin q6 = 0) must be split, not reported
+    slow("pr2_description/urdf/pr2.urdf", "r_gripper_r_parallel_link"),
     ("quadruped_description/urdf/quadruped.urdf", "BL_shank"),
     ("romeo_description/urdf/romeo.urdf", "l_ankle"),
     ("romeo_description/urdf/romeo_laas_small.urdf", "HeadRoll_link"),

@@ -1,0 +1,159 @@
+"""Leaves whose zero set is reducible: a regular piece next to a singular one.
+
+A branch is a component when the whole matrix loses rank at its points.
+The rank is decided at a few sample points, and the equations of a branch
+can have several irreducible pieces of the same dimension: on PR2's arm,
+``4 cos q3 + 1 = sin q4 cos q5 cos q6 + sin q6 cos q4 = ...`` holds both on
+a singular piece and on ``cos q4 = cos q6 = 0``, where J has full rank.  A
+leaf is therefore sampled again, more widely (``LEAF_POINTS``), before it
+is recorded.  When some of those points are regular, the branch is split on
+a maximal minor that is nonzero at one of them: every singular point of the
+branch is a zero of that minor, so the pieces below hold all of them, and
+the recursion goes on until every piece is singular at all of its points
+or has none.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+import scipy.linalg
+
+from ..algebra import transpose
+from ..locus import Outcome
+from .probe import numeric_rank
+
+if TYPE_CHECKING:
+    from .branch import Branch
+    from .context import Context
+
+__all__ = ["LEAF_POINTS", "ranked_points", "split_on_minor"]
+
+#: Points sampled on a leaf before it is recorded.  The sampler's first three points decide
+#: the rank of a branch; a regular piece of a reducible leaf attracted 1 to 3 of 5 random solves
+#: on PR2's arm chains, so twelve miss it with probability below 0.8**12 = 7e-2 each, and the
+#: leaves found on those chains are all caught (tests/tree/test_reducible.py).
+LEAF_POINTS = 12
+#: Starts with angles at multiples of pi/2 screened for exact points of a leaf (one batch
+#: evaluation): a piece that fixes k angles at one of two values each is hit by about
+#: SPECIAL_STARTS / 4**k of them, 8 for k = 4.
+SPECIAL_STARTS = 2048
+#: Of those exact points, at most this many have their rank tested.
+SPECIAL_POINTS = 64
+#: Column sets whose blocks are tried (smallest entries first) for the splitting minor.
+MAX_MINOR_SETS = 2000
+#: Regular blocks whose determinants are compared; the one with fewest terms splits the branch.
+MINOR_CANDIDATES = 3
+
+
+def ranked_points(ctx: "Context", branch: "Branch") -> tuple[list, list]:
+    """Points of ``branch`` where the matrix has full rank, and points where it has not.
+
+    Its first sample points, ``LEAF_POINTS`` solved from uniform random starts, and the exact
+    points among ``SPECIAL_STARTS`` starts with random angles at multiples of pi/2 (a regular
+    piece of a robot's leaf is often a coordinate one, like cos q4 = cos q6 = 0, which the
+    solves from uniform starts seldom reach).
+    """
+    full = ctx.full_rank
+    pts = (list(ctx.sampler.points(branch)) + list(ctx.sampler.points(branch, count=LEAF_POINTS))
+           + _special_points(ctx, branch))
+    regular, singular = [], []
+    for g in pts:
+        (regular if ctx.probe.rank_at(ctx.M, g) == full else singular).append(g)
+    return regular, singular
+
+
+def _special_points(ctx: "Context", branch: "Branch") -> list:
+    """Points of ``branch`` (within ROOT_XTOL, exclusions above EXCLUSION_RTOL) among random
+    starts with each free angle at a random multiple of pi/2 with probability one half."""
+    from ..algebra import abs_poly
+    from ..tolerances import EXCLUSION_RTOL, ROOT_XTOL
+
+    if not branch.implicit:
+        return []
+    sampler, ring = ctx.sampler, ctx.ring
+    angles, others, params = sampler.unknowns(branch)
+    rng = np.random.default_rng(len(branch.conditions))
+    X = np.concatenate([rng.uniform(-np.pi, np.pi, (SPECIAL_STARTS, len(angles))),
+                        rng.uniform(-2.0, 2.0, (SPECIAL_STARTS, len(others) + len(params)))],
+                       axis=1)
+    snap = rng.random((SPECIAL_STARTS, len(angles))) < 0.5
+    X[:, :len(angles)][snap] = rng.integers(-1, 3, int(snap.sum())) * (np.pi / 2)
+    G = sampler.generators_batch(branch, angles, others, params, X)
+    ok = ~np.isnan(G).any(axis=1)
+    G = G[ok]
+    eqs = list(branch.implicit)
+    R = ring.compile(eqs)(G) / np.maximum(
+        ring.compile([abs_poly(e, ring) for e in eqs])(np.abs(G)), 1e-300)
+    hit = np.max(np.abs(R), axis=1) <= ROOT_XTOL
+    nz = list(branch.nonzero)
+    if nz and hit.any():
+        V = ring.compile(nz)(G) / np.maximum(
+            ring.compile([abs_poly(e, ring) for e in nz])(np.abs(G)), 1e-300)
+        hit &= np.min(np.abs(V), axis=1) > EXCLUSION_RTOL
+    return list(G[hit][:SPECIAL_POINTS])
+
+
+def split_on_minor(ctx: "Context", branch: "Branch", node: int, regular, outcome: Outcome):
+    """Split ``branch`` on a maximal minor nonzero at the ``regular`` points; recurse below."""
+    M = ctx.substitute(ctx.M, branch)
+    if len(M) > len(M[0]):
+        M = transpose(M)
+    D = _minor(ctx, M, regular)
+    ctx.annotate(node, outcome=Outcome.REFINED,
+                 note="regular points on the branch: split on a maximal minor")
+    ctx.progress(f"branch {node}: reducible (regular points found), split on a minor")
+    ctx.split(branch, node, D, "a minor on a reducible branch",
+              lambda child, sub: _below(ctx, child, sub, outcome))
+
+
+def _below(ctx: "Context", branch: "Branch", node: int, outcome: Outcome):
+    """A piece of a reducible branch: a leaf where the matrix is singular, else split again."""
+    pts = ctx.open_branch(branch, node)
+    if pts is None:
+        return
+    full = ctx.full_rank
+    regular = [g for g in pts if ctx.probe.rank_at(ctx.M, g) == full]
+    if regular:
+        split_on_minor(ctx, branch, node, regular, outcome)
+    else:
+        ctx.leaf(branch, node, outcome)
+
+
+def _minor(ctx: "Context", M, points):
+    """The determinant of an n x n block of the n x m matrix ``M`` regular at one of ``points``.
+
+    Among the first ``MINOR_CANDIDATES`` regular blocks (smallest entries first) the one
+    with the fewest terms.
+    """
+    n, m = len(M), len(M[0])
+    evaluated = [ctx.probe.evaluated(M, g) for g in points]
+    evaluated = [(A, S) for A, S in evaluated if numeric_rank(A, S) == n]
+    # the columns of a pivoted QR at the first regular point form a regular block there
+    A0, S0 = evaluated[0]
+    scale = np.max(np.abs(S0), axis=1, keepdims=True)
+    scale[~(scale > 0)] = 1.0
+    pivots = tuple(sorted(scipy.linalg.qr(A0 / scale, pivoting=True)[2][:n]))
+    size = [sum(len(M[i][j]) for i in range(n)) for j in range(m)]
+    combos = itertools.combinations(range(m), n)
+    if math.comb(m, n) > MAX_MINOR_SETS:
+        combos = itertools.islice(combos, MAX_MINOR_SETS)
+    ranked = sorted(combos, key=lambda cs: sum(size[c] for c in cs)) + [pivots]
+    best = None
+    tried = 0
+    for cols in ranked:
+        cl = list(cols)
+        if cols is not pivots and \
+                not any(numeric_rank(A[:, cl], S[:, cl]) == n for A, S in evaluated):
+            continue
+        ctx.tick()
+        D = ctx.det([[row[c] for c in cl] for row in M])
+        if best is None or len(D) < len(best):
+            best = D
+        tried += 1
+        if tried >= MINOR_CANDIDATES:
+            break
+    return best

@@ -1,0 +1,76 @@
+"""Leaves whose equations hold on a singular piece and on a regular one.
+
+The 1 x 2 matrix [sin x, sin y + sin x cos z] loses rank exactly where sin x = sin y = 0 (z
+free).  The equations E1 = sin x - sin y sin z, E2 = sin y cos z hold on that curve family and
+also on {cos z = 0, sin x = +-sin y}, where the matrix is regular at generic points: both pieces
+have dimension 1.  A leaf with these equations must not become a component as it stands.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import sympy as sp
+
+from rankloci.io.toml_model import parse_model
+from rankloci.jacobian import task_matrix
+from rankloci.locus import Outcome
+from rankloci.tree import reducible
+from rankloci.tree.branch import Branch
+from rankloci.tree.context import Context
+from rankloci.tree.cover import cover
+
+RAW = 'variables = ["x", "y", "z"]\nmatrix = [["sin(x)", "sin(y) + sin(x)*cos(z)"]]\n'
+
+
+def _reducible_leaf():
+    tm = task_matrix(parse_model(RAW, name="raw"), frame="auto")
+    ctx = Context(tm, method="svm", rng=np.random.default_rng(0))
+    x, y, z = tm.variables
+    E1 = ctx.ring.from_sympy(sp.sin(x) - sp.sin(y) * sp.sin(z))
+    E2 = ctx.ring.from_sympy(sp.sin(y) * sp.cos(z))
+    (branch,) = cover(ctx, Branch(), [E1, E2])
+    return ctx, branch
+
+
+def _angles(ctx, g):
+    return [float(2 * np.arctan2(g[2 * i + 1], g[2 * i])) for i in range(ctx.ring.n_angles)]
+
+
+def test_both_pieces_are_seen_among_the_leaf_points():
+    ctx, branch = _reducible_leaf()
+    regular, singular = reducible.ranked_points(ctx, branch)
+    assert regular and singular
+    for g in regular:
+        x, y, z = _angles(ctx, g)
+        assert abs(np.cos(z)) < 1e-8
+        assert abs(abs(np.sin(x)) - abs(np.sin(y))) < 1e-8
+    for g in singular:
+        x, y, _ = _angles(ctx, g)
+        assert abs(np.sin(x)) < 1e-8 and abs(np.sin(y)) < 1e-8
+
+
+def test_special_starts_reach_the_coordinate_piece():
+    """cos z = 0 fixes z at +-pi/2: starts with angles at multiples of pi/2 land on it exactly."""
+    ctx, branch = _reducible_leaf()
+    pts = reducible._special_points(ctx, branch)
+    assert any(abs(np.cos(_angles(ctx, g)[2])) < 1e-12 for g in pts)
+
+
+def test_reducible_leaf_is_split_into_singular_leaves_only():
+    ctx, branch = _reducible_leaf()
+    node = ctx.add_node(None, branch)
+    ctx.leaf(branch, node, Outcome.ALL_MINORS_VANISH)
+    assert ctx.tree.nodes[node]["outcome"] == Outcome.REFINED
+    assert ctx.leaves
+    for leaf, _ in ctx.leaves:
+        pts = ctx.sampler.points(leaf, count=reducible.LEAF_POINTS)
+        assert pts and all(ctx.probe.rank_at(ctx.M, g) == 0 for g in pts)
+    # complete: points of the singular piece, z anywhere, lie on a recorded leaf
+    rng = np.random.default_rng(1)
+    for _ in range(20):
+        # half-angle generators, exact at 0 (1, 0) and pi (0, 1)
+        z = rng.uniform(-3, 3)
+        g = np.array([*[(1.0, 0.0), (0.0, 1.0)][rng.integers(2)],
+                      *[(1.0, 0.0), (0.0, 1.0)][rng.integers(2)], np.cos(z / 2), np.sin(z / 2)])
+        assert any(all(ctx.probe.vanishes(c, [g]) for c in leaf.conditions)
+                   for leaf, _ in ctx.leaves), g
