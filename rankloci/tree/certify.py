@@ -53,6 +53,13 @@ BOX_RTOL = 2.0 ** -100
 #: Pivot columns whose smallest singular value is below this times the largest are no chart
 #: of the branch at the point (a point where components meet); the point stays undecided.
 PIVOT_RTOL = 1e-12
+#: At the zero that Newton's method in doubles reached, pivot columns whose smallest singular
+#: value (rows scaled to unit norm) is below this times the largest leave the point undecided:
+#: the double Jacobian of polynomials of a few thousand terms is accurate to ~1e-13 of its
+#: size, at a singular zero it came out 4e-13 to 1e-12 (panda's finger chain, where Krawczyk's
+#: test then failed after 0.13 s of ball arithmetic each time), and regular zeros of
+#: near-degenerate geometry keep it near 1e-7 (see tree.modular).
+ZERO_PIVOT_RTOL = 1e-10
 #: Choices of pivots tried from one start by :func:`admitted_near`.
 PIVOT_CHOICES = 6
 
@@ -157,7 +164,16 @@ def _float_newton(ring: PolyRing, eqs, cols, g, cache: dict) -> np.ndarray | Non
         if not np.all(np.isfinite(x)):
             return None
     resid = np.abs(F(x)) / np.maximum(size(np.abs(x)), 1e-300)
-    return x if np.all(resid <= ROOT_XTOL) else None
+    if not np.all(resid <= ROOT_XTOL):
+        return None
+    # a zero where the pivots' Jacobian is singular (components that meet, a squared
+    # equation) is never proved by Krawczyk's test: undecided, without the ball arithmetic
+    Jx = J(x).reshape(k, k)
+    norms = np.linalg.norm(Jx, axis=1)
+    if not np.all(norms > 0):
+        return None
+    s = np.linalg.svd(Jx / norms[:, None], compute_uv=False)
+    return x if s[-1] > ZERO_PIVOT_RTOL * s[0] else None
 
 
 def _worth_proving(ring: PolyRing, excl, g, cache: dict, rtol: float = EXCLUSION_CERTIFY_RTOL) -> bool:

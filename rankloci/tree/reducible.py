@@ -99,13 +99,13 @@ def _special_points(ctx: "Context", branch: "Branch") -> list:
 
 def split_on_minor(ctx: "Context", branch: "Branch", node: int, regular, outcome: Outcome):
     """Split ``branch`` on a maximal minor nonzero at the ``regular`` points; recurse below."""
-    M = ctx.substitute(ctx.M, branch)
-    if len(M) > len(M[0]):
-        M = transpose(M)
-    D = _minor(ctx, M, regular)
+    # a minor of the matrix itself (memoised across the tree: entries substituted for a
+    # branch can have a thousand terms each), reduced on the branch
+    M = ctx.M if len(ctx.M) <= len(ctx.M[0]) else transpose(ctx.M)
+    ctx.progress(f"branch {node}: regular points next to singular ones, split on a minor")
+    D = branch.reduce(_minor(ctx, M, regular), ctx.ring)
     ctx.annotate(node, outcome=Outcome.REFINED,
                  note="regular points on the branch: split on a maximal minor")
-    ctx.progress(f"branch {node}: reducible (regular points found), split on a minor")
     ctx.split(branch, node, D, "a minor on a reducible branch",
               lambda child, sub: _below(ctx, child, sub, outcome))
 
