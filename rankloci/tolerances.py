@@ -299,3 +299,20 @@ LEAF_MATCH_RTOL = 1e-7
 #: REGULAR_MIN_RATIO, spreads by less than SENSITIVITY_MIN is one the ratio does not
 #: depend on (a base rotation); joints it depends on spread by order 1 and more.
 SENSITIVITY_MIN = 1e-3
+
+#: A leaf is split as reducible (rankloci.tree.reducible) only at points where the whole
+#: matrix has sigma_min/sigma_max above this, besides points where it is rank deficient.
+#: Points of a branch whose equations are squared or critical (the gradient branches of
+#: rankloci.tree.cover) are accurate only to ~sqrt(ROOT_XTOL) = 1e-5 in the joint variables,
+#: so a singular piece shows ratios up to ~1e-6 there (7e-8 to 9e-7 on tiago's arm), while the
+#: regular pieces of PR2's reducible leaves have ratios of 1e-2 to 1e-1 and coordinate pieces
+#: are sampled exactly.
+LEAF_REGULAR_RTOL = 1e-4
+
+#: At the zero that Newton's method in doubles reached, pivot columns whose smallest singular
+#: value (rows scaled to unit norm) is below this times the largest leave a point undecided in
+#: rankloci.tree.certify: the double Jacobian of polynomials of a few thousand terms is
+#: accurate to ~1e-13 of its size, at a singular zero it came out 4e-13 to 1e-12 (panda's
+#: finger chain, where Krawczyk's test then failed after 0.13 s of ball arithmetic each time),
+#: and regular zeros of near-degenerate geometry keep it near 1e-7 (see rankloci.tree.modular).
+ZERO_PIVOT_RTOL = 1e-10

@@ -33,7 +33,7 @@ import flint
 import numpy as np
 
 from ..algebra import PolyRing, abs_poly
-from ..tolerances import EXCLUSION_CERTIFY_RTOL, EXCLUSION_RTOL, ROOT_XTOL
+from ..tolerances import EXCLUSION_CERTIFY_RTOL, EXCLUSION_RTOL, ROOT_XTOL, ZERO_PIVOT_RTOL
 from .branch import Branch
 
 __all__ = ["certified_point", "admitted_near"]
@@ -53,13 +53,6 @@ BOX_RTOL = 2.0 ** -100
 #: Pivot columns whose smallest singular value is below this times the largest are no chart
 #: of the branch at the point (a point where components meet); the point stays undecided.
 PIVOT_RTOL = 1e-12
-#: At the zero that Newton's method in doubles reached, pivot columns whose smallest singular
-#: value (rows scaled to unit norm) is below this times the largest leave the point undecided:
-#: the double Jacobian of polynomials of a few thousand terms is accurate to ~1e-13 of its
-#: size, at a singular zero it came out 4e-13 to 1e-12 (panda's finger chain, where Krawczyk's
-#: test then failed after 0.13 s of ball arithmetic each time), and regular zeros of
-#: near-degenerate geometry keep it near 1e-7 (see tree.modular).
-ZERO_PIVOT_RTOL = 1e-10
 #: Choices of pivots tried from one start by :func:`admitted_near`.
 PIVOT_CHOICES = 6
 

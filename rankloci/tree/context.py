@@ -142,14 +142,13 @@ class Context:
         if prune.known(self, branch):
             self.annotate(node, outcome=Outcome.KNOWN)
             return
-        # more points than the first few: the equations may hold on a regular piece and a
-        # singular one (see .reducible); such a branch is split on a minor
-        regular, singular = reducible.ranked_points(self, branch)
-        if pts and self.rank(self.M, branch, pts) == self.full_rank and not singular:
+        if pts and self.rank(self.M, branch, pts) == self.full_rank:
             self.annotate(node, outcome=Outcome.COVERED)
             return
-        if regular:
-            reducible.split_on_minor(self, branch, node, regular, outcome)
+        # more points than the first few, all singular: the equations may also hold on a
+        # regular piece (see .reducible); such a branch is split on a minor
+        regular, _ = reducible.ranked_points(self, branch)
+        if regular and reducible.split_on_minor(self, branch, node, regular, outcome):
             return
         self.annotate(node, outcome=outcome)
         self.leaves.append((branch, node))

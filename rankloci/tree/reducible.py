@@ -60,10 +60,51 @@ def ranked_points(ctx: "Context", branch: "Branch") -> tuple[list, list]:
     full = ctx.full_rank
     pts = (list(ctx.sampler.points(branch)) + list(ctx.sampler.points(branch, count=LEAF_POINTS))
            + _special_points(ctx, branch))
+    from ..tolerances import LEAF_REGULAR_RTOL
+
     regular, singular = [], []
-    for g in pts:
-        (regular if ctx.probe.rank_at(ctx.M, g) == full else singular).append(g)
+    for g in _off_exceptional(ctx, branch, pts):
+        A, S = ctx.probe.evaluated(ctx.M, g)
+        if numeric_rank(A, S) < full:
+            singular.append(g)
+        elif _ratio(A, S) > LEAF_REGULAR_RTOL:
+            regular.append(g)
     return regular, singular
+
+
+def _ratio(A, S) -> float:
+    """sigma_min / sigma_max of ``A``, its rows scaled as :func:`.probe.numeric_rank` does."""
+    big = np.max(np.abs(S), axis=1, keepdims=True)
+    big[~(big > 0)] = 1.0
+    A = A / big
+    norms = np.linalg.norm(A, axis=1)
+    B = A[norms > 0] / norms[norms > 0, None]
+    s = np.linalg.svd(B, compute_uv=False)
+    return float(s[-1] / s[0]) if len(s) and s[0] > 0 else 0.0
+
+
+def _off_exceptional(ctx: "Context", branch: "Branch", pts) -> list:
+    """The points at which every substitution (C, S) ~ (b, -a) of ``branch`` is defined.
+
+    Where a and b are both below EXCLUSION_RTOL of their terms, the sampler normalised
+    rounding noise into (C, S): such a point lies in the exceptional set {a = b = 0}, which
+    is a branch of its own, and the matrix's rank there says nothing about this branch (on
+    tiago's arm a whole branch lies in it, with |a|, |b| near 1e-6 of their terms).
+    """
+    from ..algebra import abs_poly
+    from ..tolerances import EXCLUSION_RTOL
+
+    pairs = [s for s in branch.substitutions if s.kind == "pair"]
+    if not pairs or not pts:
+        return list(pts)
+    ring = ctx.ring
+    vals = ring.compile([v for s in pairs for v in s.values])
+    sizes = ring.compile([abs_poly(v, ring) for s in pairs for v in s.values])
+    G = np.array(pts, dtype=float)
+    V, S = vals(G).reshape(len(G), len(pairs), 2), sizes(np.abs(G)).reshape(len(G), len(pairs), 2)
+    ok = np.all(np.hypot(V[..., 0], V[..., 1]) > EXCLUSION_RTOL * np.hypot(S[..., 0], S[..., 1]),
+                axis=1)
+    return [g for g, keep in zip(pts, ok) if keep]
 
 
 def _special_points(ctx: "Context", branch: "Branch") -> list:
@@ -97,17 +138,26 @@ def _special_points(ctx: "Context", branch: "Branch") -> list:
     return list(G[hit][:SPECIAL_POINTS])
 
 
-def split_on_minor(ctx: "Context", branch: "Branch", node: int, regular, outcome: Outcome):
-    """Split ``branch`` on a maximal minor nonzero at the ``regular`` points; recurse below."""
+def split_on_minor(ctx: "Context", branch: "Branch", node: int, regular, outcome: Outcome) -> bool:
+    """Split ``branch`` on a maximal minor nonzero at the ``regular`` points; recurse below.
+
+    Returns False, and splits nothing, when that minor vanishes identically on the branch:
+    then the regular points are no exact points of it (a substitution (C, S) ~ (b, -a)
+    whose a and b vanish on the whole branch, where the sampler normalises rounding noise),
+    and the branch is taken as its singular points say.
+    """
     # a minor of the matrix itself (memoised across the tree: entries substituted for a
     # branch can have a thousand terms each), reduced on the branch
     M = ctx.M if len(ctx.M) <= len(ctx.M[0]) else transpose(ctx.M)
     ctx.progress(f"branch {node}: regular points next to singular ones, split on a minor")
     D = branch.reduce(_minor(ctx, M, regular), ctx.ring)
+    if D.is_zero():
+        return False
     ctx.annotate(node, outcome=Outcome.REFINED,
                  note="regular points on the branch: split on a maximal minor")
     ctx.split(branch, node, D, "a minor on a reducible branch",
               lambda child, sub: _below(ctx, child, sub, outcome))
+    return True
 
 
 def _below(ctx: "Context", branch: "Branch", node: int, outcome: Outcome):
@@ -117,9 +167,7 @@ def _below(ctx: "Context", branch: "Branch", node: int, outcome: Outcome):
         return
     full = ctx.full_rank
     regular = [g for g in pts if ctx.probe.rank_at(ctx.M, g) == full]
-    if regular:
-        split_on_minor(ctx, branch, node, regular, outcome)
-    else:
+    if not (regular and split_on_minor(ctx, branch, node, regular, outcome)):
         ctx.leaf(branch, node, outcome)
 
 

@@ -57,7 +57,11 @@ def test_special_starts_reach_the_coordinate_piece():
 
 
 def test_reducible_leaf_is_split_into_singular_leaves_only():
+    """The leaf's first sample points all on the singular piece (as on PR2's arm, where the
+    regular piece attracts few random solves): the wider sample finds the regular one."""
     ctx, branch = _reducible_leaf()
+    _, singular = reducible.ranked_points(ctx, branch)
+    ctx.sampler.cache[branch.key + (3,)] = singular[:3]
     node = ctx.add_node(None, branch)
     ctx.leaf(branch, node, Outcome.ALL_MINORS_VANISH)
     assert ctx.tree.nodes[node]["outcome"] == Outcome.REFINED
