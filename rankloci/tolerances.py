@@ -308,11 +308,3 @@ SENSITIVITY_MIN = 1e-3
 #: regular pieces of PR2's reducible leaves have ratios of 1e-2 to 1e-1 and coordinate pieces
 #: are sampled exactly.
 LEAF_REGULAR_RTOL = 1e-4
-
-#: At the zero that Newton's method in doubles reached, pivot columns whose smallest singular
-#: value (rows scaled to unit norm) is below this times the largest leave a point undecided in
-#: rankloci.tree.certify: the double Jacobian of polynomials of a few thousand terms is
-#: accurate to ~1e-13 of its size, at a singular zero it came out 4e-13 to 1e-12 (panda's
-#: finger chain, where Krawczyk's test then failed after 0.13 s of ball arithmetic each time),
-#: and regular zeros of near-degenerate geometry keep it near 1e-7 (see rankloci.tree.modular).
-ZERO_PIVOT_RTOL = 1e-10
