@@ -58,8 +58,15 @@ def ranked_points(ctx: "Context", branch: "Branch") -> tuple[list, list]:
     solves from uniform starts seldom reach).
     """
     full = ctx.full_rank
-    pts = (list(ctx.sampler.points(branch)) + list(ctx.sampler.points(branch, count=LEAF_POINTS))
-           + _special_points(ctx, branch))
+    # the wider sample draws from its own stream, so that the computation's random choices
+    # (and with them its tree) stay those of a computation without it
+    sampler = ctx.sampler
+    stream, sampler.rng = sampler.rng, np.random.default_rng(len(branch.conditions))
+    try:
+        wider = list(sampler.points(branch, count=LEAF_POINTS))
+    finally:
+        sampler.rng = stream
+    pts = list(sampler.points(branch)) + wider + _special_points(ctx, branch)
     from ..tolerances import LEAF_REGULAR_RTOL
 
     regular, singular = [], []
