@@ -700,6 +700,8 @@ def render_markdown(rows, skipped, outside, meta) -> str:
         "locus incomplete, when it fails): a *fail* here is a locus that check has to catch.",
         "",
     ]
+    for note in meta.get("notes", ()):
+        lines += [note, ""]
     if meta.get("max_per_robot"):
         lines += [f"At most {meta['max_per_robot']} chains per robot (the shortest first).", ""]
     degenerate = sum(r["status"] == "pass" and bool(r.get("degenerate")) for r in rows)
