@@ -165,12 +165,15 @@ def _with_exclusions(ctx: Context, cand: _Candidate) -> _Candidate:
     alone would describe too much: g != 0 becomes part of the component.
     """
     branch = cand.branch
+    keep = []
+    for p in ctx.exceptional_exclusions.get(branch.key, ()):
+        expr = ctx.ring.to_sympy(p)
+        keep.append(-expr if expr.could_extract_minus_sign() else expr)
     if not branch.nonzero or prune.dense(ctx, branch):
         # dense: the whole zero set of the equations is singular (see tree.prune.dense)
-        return cand
+        return cand.replace(excluding=tuple(keep)) if keep else cand
     full = ctx.full_rank
     closure = branch.closure()
-    keep = []
     for e in branch.nonzero:
         for g in ctx.factors(closure.reduce(e, ctx.ring)):
             if ctx.parameter_only(g):

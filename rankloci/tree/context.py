@@ -84,6 +84,9 @@ class Context:
         self._factors = PolyMemo(MEMO_MAX_TERMS)
         self.tree = nx.DiGraph()
         self.leaves: list[tuple[Branch, int]] = []
+        #: branch key -> polynomials a component of that leaf is reported without (see
+        #: .reducible: its equations also hold, with J regular, where a substitution degenerates)
+        self.exceptional_exclusions: dict = {}
         self.notes: list[str] = []
         self.progress = progress or (lambda msg: None)
         self.should_stop = should_stop or (lambda: False)

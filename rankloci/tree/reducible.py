@@ -70,7 +70,12 @@ def ranked_points(ctx: "Context", branch: "Branch") -> tuple[list, list]:
     from ..tolerances import LEAF_REGULAR_RTOL
 
     regular, singular = [], []
-    for g in _off_exceptional(ctx, branch, pts):
+    kept = _off_exceptional(ctx, branch, pts)
+    outside = [g for g in pts if not any(g is k for k in kept)]
+    excl = _exceptional_exclusions(ctx, branch, outside)
+    if excl:
+        ctx.exceptional_exclusions[branch.key] = excl
+    for g in kept:
         A, S = ctx.probe.evaluated(ctx.M, g)
         if numeric_rank(A, S) < full:
             singular.append(g)
@@ -112,6 +117,35 @@ def _off_exceptional(ctx: "Context", branch: "Branch", pts) -> list:
     ok = np.all(np.hypot(V[..., 0], V[..., 1]) > EXCLUSION_RTOL * np.hypot(S[..., 0], S[..., 1]),
                 axis=1)
     return [g for g, keep in zip(pts, ok) if keep]
+
+
+def _exceptional_exclusions(ctx: "Context", branch: "Branch", pts) -> list:
+    """Exclusions for a leaf whose equations hold, with J regular, on a degenerate substitution.
+
+    ``pts`` satisfy the leaf's conditions but lie in the exceptional set {a = b = 0} of a
+    substitution (C, S) ~ (b, -a).  The branch leaves that set to another branch, but the
+    component's equations admit it: where J is regular at such a point, the component is
+    reported without the zero set of the shorter of a and b (nonzero on the branch itself,
+    whose closure is unchanged).  tiago_dual's left arm: q3 = 0, q4 = -pi/2, q5 = pi.
+    """
+    from ..algebra import abs_poly
+    from ..tolerances import EXCLUSION_RTOL, LEAF_REGULAR_RTOL
+
+    pairs = [s for s in branch.substitutions if s.kind == "pair"]
+    out = []
+    for g in pts:
+        A, S = ctx.probe.evaluated(ctx.M, g)
+        if numeric_rank(A, S) < ctx.full_rank or not _ratio(A, S) > LEAF_REGULAR_RTOL:
+            continue
+        for sub in pairs:
+            vals = [abs(ctx.probe.values([[v]], g)[0, 0]) for v in sub.values]
+            sizes = [abs(ctx.probe.values([[abs_poly(v, ctx.ring)]], np.abs(g))[0, 0])
+                     for v in sub.values]
+            if np.hypot(*vals) <= EXCLUSION_RTOL * np.hypot(*sizes):
+                p = min((v for v in sub.values if not v.is_constant()), key=len, default=None)
+                if p is not None and not any(p == q for q in out):
+                    out.append(p)
+    return out
 
 
 def _special_points(ctx: "Context", branch: "Branch") -> list:
