@@ -15,12 +15,9 @@ or has none.
 
 from __future__ import annotations
 
-import itertools
-import math
 from typing import TYPE_CHECKING
 
 import numpy as np
-import scipy.linalg
 
 from ..algebra import transpose
 from ..locus import Outcome
@@ -35,7 +32,8 @@ __all__ = ["LEAF_POINTS", "ranked_points", "split_on_minor"]
 #: Points sampled on a leaf before it is recorded.  The sampler's first three points decide
 #: the rank of a branch; a regular piece of a reducible leaf attracted 1 to 3 of 5 random solves
 #: on PR2's arm chains, so twelve miss it with probability below 0.8**12 = 7e-2 each, and the
-#: leaves found on those chains are all caught (tests/tree/test_reducible.py).
+#: leaves found on those chains are all caught (PR2's finger chain in tests/io/test_corpus.py;
+#: tests/tree/test_reducible.py has a matrix of its own).
 LEAF_POINTS = 12
 #: Starts with angles at multiples of pi/2 screened for exact points of a leaf (one batch
 #: evaluation): a piece that fixes k angles at one of two values each is hit by about
@@ -43,8 +41,6 @@ LEAF_POINTS = 12
 SPECIAL_STARTS = 2048
 #: Of those exact points, at most this many have their rank tested.
 SPECIAL_POINTS = 64
-#: Column sets whose blocks are tried (smallest entries first) for the splitting minor.
-MAX_MINOR_SETS = 2000
 #: Regular blocks whose determinants are compared; the one with fewest terms splits the branch.
 MINOR_CANDIDATES = 3
 
@@ -215,34 +211,9 @@ def _below(ctx: "Context", branch: "Branch", node: int, outcome: Outcome):
 def _minor(ctx: "Context", M, points):
     """The determinant of an n x n block of the n x m matrix ``M`` regular at one of ``points``.
 
-    Among the first ``MINOR_CANDIDATES`` regular blocks (smallest entries first) the one
-    with the fewest terms.
+    The block choice of the singular vector method, among its first ``MINOR_CANDIDATES``
+    regular blocks (smallest entries first, the fewest determinant terms wins).
     """
-    n, m = len(M), len(M[0])
-    evaluated = [ctx.probe.evaluated(M, g) for g in points]
-    evaluated = [(A, S) for A, S in evaluated if numeric_rank(A, S) == n]
-    # the columns of a pivoted QR at the first regular point form a regular block there
-    A0, S0 = evaluated[0]
-    scale = np.max(np.abs(S0), axis=1, keepdims=True)
-    scale[~(scale > 0)] = 1.0
-    pivots = tuple(sorted(scipy.linalg.qr(A0 / scale, pivoting=True)[2][:n]))
-    size = [sum(len(M[i][j]) for i in range(n)) for j in range(m)]
-    combos = itertools.combinations(range(m), n)
-    if math.comb(m, n) > MAX_MINOR_SETS:
-        combos = itertools.islice(combos, MAX_MINOR_SETS)
-    ranked = sorted(combos, key=lambda cs: sum(size[c] for c in cs)) + [pivots]
-    best = None
-    tried = 0
-    for cols in ranked:
-        cl = list(cols)
-        if cols is not pivots and \
-                not any(numeric_rank(A[:, cl], S[:, cl]) == n for A, S in evaluated):
-            continue
-        ctx.tick()
-        D = ctx.det([[row[c] for c in cl] for row in M])
-        if best is None or len(D) < len(best):
-            best = D
-        tried += 1
-        if tried >= MINOR_CANDIDATES:
-            break
-    return best
+    from ..methods.blocks import choose_columns     # methods builds on tree: imported late
+
+    return choose_columns(ctx, M, points, MINOR_CANDIDATES)[1]

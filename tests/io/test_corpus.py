@@ -34,7 +34,8 @@ pytest.importorskip("pinocchio", reason="Pinocchio (PyPI package 'pin', in the t
 
 REPO = Path(__file__).resolve().parents[2]
 SEED = 0
-#: The slowest case here takes under 10 s; a locus still running after this is a regression.
+#: The slowest cases here (PR2's finger, tiago_dual's arm) take 40-50 s alone; a locus still
+#: running after this is a regression.
 TIME_LIMIT_S = 120.0
 
 
@@ -122,7 +123,10 @@ CASES = [
     ("talos_data/robots/talos_left_arm.urdf", "arm_left_7_link"),  # the 9-joint arms time out
     slow("talos_data/robots/talos_left_arm.urdf", "gripper_left_motor_double_link"),
     ("talos_data/robots/talos_reduced.urdf", "head_2_link"),
-    ("tiago_description/robots/tiago.urdf", "head_2_link"),  # the arms time out
+    ("tiago_description/robots/tiago.urdf", "head_2_link"),
+    # a component through a multiple root of its equations (q4 = pi/2, q5 = pi, q6 = 0), where
+    # points solved in double precision stay up to 0.05 rad off it: graded after refinement
+    slow("tiago_description/robots/tiago_dual.urdf", "arm_left_7_link"),
     ("tiago_pro_description/robots/tiago_pro.urdf", "head_2_link"),
     ("ur_description/urdf/ur5_robot.urdf", "wrist_3_link"),
     slow("z1_description/urdf/z1.urdf", "gripperMover"),

@@ -137,3 +137,20 @@ def test_excluded_sets_are_respected():
     data = _with(locus, [closed]).to_dict()
     assert data["components"][0]["excluding"] == ["cos(q1)"]
     assert parse_locus(data, model).components[0].excluding == (sp.cos(q1),)
+
+
+def test_points_near_a_multiple_root_are_refined(monkeypatch):
+    """sin(q2)**3 = 0 is the planar 2R locus with a triple root: double-precision least squares
+    stops with |sin q2| ~ 1e-5 (scaled residual 1e-15), where J's sigma ratio is ~1e-5.  The
+    check refines such points onto the equations before it calls them regular."""
+    from rankloci.numeric.equations import Equations
+
+    _, locus, _ = _setup("planar2r")
+    q2 = _sym("planar2r", "q2")
+    cubed = _with(locus, [Component(equations=(sp.sin(q2) ** 3,))])
+    report = _check("planar2r", cubed)
+    assert report.ok, render_check_text(report)
+    assert all(abs(np.sin(p.q[1])) < 1e-12 for p in report.components[0].points)
+    # without the refinement the same points are regular beyond RANK_RTOL: the check needs it
+    monkeypatch.setattr(Equations, "refined", lambda self, q: np.asarray(q, dtype=float))
+    assert not _check("planar2r", cubed).ok
