@@ -354,6 +354,21 @@ def _inside_exactly(ctx: Context, cand: _Candidate, others) -> bool:
         any(all(evaluate(c, g, P) == 0 for c in h.conditions) for h in hosts) for g in pts)
 
 
+def _points_on(ctx: Context, xs, others, functions) -> bool:
+    """Does each configuration of ``xs`` lie on one of the components ``others``?
+
+    On one whose equations vanish there, or in the closure of one's branch by proof
+    (:func:`.prune.on_leaf`, up to seconds a proof): the proofs come last, once every point
+    that the equations alone place has been placed.
+    """
+    n = len(ctx.tm.variables)
+    rest = [x for x in xs
+            if not any(not k.comp.equations or _vanish_at(functions(k), [x], n, ctx.rng)
+                       for k in others)]
+    return all(any(k.branch is not None and prune.on_leaf(ctx, k.branch, x) for k in others)
+               for x in rest)
+
+
 def _remove_contained(ctx: Context, cands: list[_Candidate]) -> list[_Candidate]:
     """Drop duplicates and components contained in another one."""
     tm, ring = ctx.tm, ctx.ring
@@ -415,12 +430,8 @@ def _remove_contained(ctx: Context, cands: list[_Candidate]) -> list[_Candidate]
         # leaf may be reducible, its pieces inside different components)
         others = [k for k in keep
                   if not (k.comp.parameter_conditions and not c.parameter_conditions)]
-        contained = bool(others) and (_inside_exactly(ctx, cands[i], others) or all(
-            any(_vanish_at(functions(k), [x], len(tm.variables), ctx.rng)
-                or (k.branch is not None and prune.on_leaf(ctx, k.branch, x))
-                if k.comp.equations else True
-                for k in others)
-            for x in probe(cands[i])))
+        contained = bool(others) and (_inside_exactly(ctx, cands[i], others)
+                                      or _points_on(ctx, probe(cands[i]), others, functions))
         if not contained:
             keep.append(cands[i])
     return keep

@@ -61,16 +61,19 @@ def known(ctx: "Context", branch: Branch) -> bool:
                 or not any(vanishes(e, [g]) for e in leaf.nonzero for g in pts)):
             return True
 
-    def on(leaf, k, g):
-        if not all(vanishes(c, [g]) for c in leaf.conditions):
-            return False
-        if dense(ctx, leaf) or not any(vanishes(e, [g]) for e in leaf.nonzero):
-            return True
-        return in_closure(ctx, leaf, g, k)
-
     # a reducible branch: each point on a component, in its closure where an exclusion
-    # of that component vanishes
-    return all(any(on(leaf, k, g) for leaf in leaves) for k, g in enumerate(pts))
+    # of that component vanishes.  The proofs of the latter are costly (a failed one about
+    # 2 s on panda's finger chain): they come last, once every point has a candidate and
+    # none is on a component without one.
+    proofs = []
+    for k, g in enumerate(pts):
+        cands = [leaf for leaf in leaves if all(vanishes(c, [g]) for c in leaf.conditions)]
+        if not cands:
+            return False
+        if not any(dense(ctx, leaf) or not any(vanishes(e, [g]) for e in leaf.nonzero)
+                   for leaf in cands):
+            proofs.append((k, g, cands))
+    return all(any(in_closure(ctx, leaf, g, k) for leaf in cands) for k, g, cands in proofs)
 
 
 def in_closure(ctx: "Context", leaf: Branch, g, k: int = 0) -> bool:
