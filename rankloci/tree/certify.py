@@ -99,8 +99,14 @@ def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable,
         caller recomputes them), or None when nothing was proved.
     """
     solved = _substituted(ring, branch)
-    eqs = [q for q in (branch.reduce(e, ring) for e in branch.implicit) if not q.is_zero()]
-    excl = [branch.reduce(p, ring) for p in branch.nonzero]
+    cache = {} if cache is None else cache
+    if "system" not in cache:
+        # kept for the calls that share the cache: the ball arithmetic's memo holds
+        # conversions of these very polynomials (by identity)
+        cache["system"] = (
+            [q for q in (branch.reduce(e, ring) for e in branch.implicit) if not q.is_zero()],
+            [branch.reduce(p, ring) for p in branch.nonzero])
+    eqs, excl = cache["system"]
     if any(p.is_zero() for p in excl):
         return None
     if any(ring.variable_indices(q) & solved for q in eqs + excl):
@@ -108,7 +114,6 @@ def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable,
     cand = _coordinates(ring, g, set(movable) - solved)
     if len(eqs) > len(cand):
         return None
-    cache = {} if cache is None else cache
     if pivots is not None:
         cols = list(pivots) if len(pivots) == len(eqs) and set(pivots) <= set(cand) else None
     else:
@@ -125,12 +130,12 @@ def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable,
         for j, prime in enumerate(ring.surds):
             vals[ring.surd_start + j] = flint.arb(prime).sqrt()
         if eqs:
-            box = _krawczyk(eqs, cols, vals)
+            box = _krawczyk(eqs, cols, vals, cache.setdefault("balls", {}))
             if box is None:
                 return None
         else:
             box = vals
-        if any(_value(p, box).contains(0) for p in excl):
+        if any(_value(p, box, cache.setdefault("balls", {})).contains(0) for p in excl):
             return None
         out = np.array(g, dtype=float)
         for j in cols:
@@ -242,7 +247,7 @@ def _value(p, vals, memo: dict | None = None):
     too, so the enclosure is rigorous.  ``memo`` keeps those derivatives.
     """
     mids = [_exact(v) for v in vals]
-    center = flint.arb(p(*mids))
+    center = flint.arb(_at_dyadic(p, mids, memo))
     moved = [j for j, v in enumerate(vals) if not v.rad().is_zero()]
     if not moved:
         return center
@@ -263,16 +268,55 @@ def _value(p, vals, memo: dict | None = None):
             d = d[0]
         if upper is None:
             upper = [abs(m) + _exact(v.rad()) for m, v in zip(mids, vals)]
-        err += _exact(vals[j].rad()) * d(*upper)
+        err += _exact(vals[j].rad()) * _at_dyadic(d, upper, memo)
     return center + flint.arb(0, flint.arb(err)) if err else center
 
 
-def _krawczyk(eqs, cols, vals) -> list | None:
-    """``vals`` with the pivots ``cols`` on a box holding a unique zero of ``eqs``; else None."""
+def _at_dyadic(p, xs, memo: dict | None = None) -> "flint.fmpq":
+    """``p(*xs)`` exactly, for rationals ``xs`` whose denominators are powers of two.
+
+    With ``xs = a / 2**e`` (integers ``a``) and ``p = P / den`` (``P`` with integer
+    coefficients, total degree ``D``), ``p(xs) = P_h(a, 2**e) / (den * 2**(e D))``, where
+    ``P_h`` is ``P`` homogenised by one more variable: an evaluation in integers, about four
+    times faster than one in rationals (which reduces a fraction at every step).  ``memo``
+    keeps ``P_h`` for the polynomial (converting costs about one evaluation).
+    """
+    if p.is_constant():
+        return p(*xs) if xs else flint.fmpq(p.leading_coefficient())
+    key = ("homogenised", id(p))
+    got = memo.get(key) if memo is not None else None
+    if got is None:
+        ctx = p.context()
+        D = p.total_degree()
+        coeffs = p.coeffs()
+        den = flint.fmpz(1)
+        for c in coeffs:
+            if c.q != 1:
+                den = den * c.q // den.gcd(c.q)
+        hctx = flint.fmpz_mpoly_ctx.get(ctx.names() + ("homogenising",), "degrevlex")
+        P = hctx.from_dict({m + (D - sum(m),): (c * den).p for m, c in zip(p.monoms(), coeffs)})
+        got = (P, den, D, p)        # p kept alive, so that id(p) stays its own
+        if memo is not None:
+            memo[key] = got
+    P, den, D, _ = got
+    scale = flint.fmpz(2) ** max(int(x.q.bit_length()) - 1 for x in xs)
+    scaled = [x * scale for x in xs]
+    if any(y.q != 1 for y in scaled):       # a denominator that is no power of two
+        return p(*xs)
+    return flint.fmpq(P(*(y.p for y in scaled), scale), den * scale ** D)
+
+
+def _krawczyk(eqs, cols, vals, memo: dict) -> list | None:
+    """``vals`` with the pivots ``cols`` on a box holding a unique zero of ``eqs``; else None.
+
+    ``memo`` keeps derived polynomials between calls on the same ``eqs`` (see :func:`_value`).
+    """
     k = len(eqs)
-    grads = [[q.derivative(j) for j in cols] for q in eqs]
+    key = ("gradients", tuple(id(q) for q in eqs), tuple(cols))
+    if key not in memo:
+        memo[key] = ([[q.derivative(j) for j in cols] for q in eqs], eqs)
+    grads = memo[key][0]
     vals = list(vals)
-    memo: dict = {}
 
     def system(at):
         F = flint.arb_mat(k, 1, [_value(q, at, memo) for q in eqs])
