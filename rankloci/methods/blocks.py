@@ -117,8 +117,13 @@ def choose_block(ctx: "Context", A, r, points, candidates: int = 24, *, branch=N
     if math.comb(n, r) * math.comb(m, r) > MAX_BLOCKS:
         return rows, cols
 
+    sizes: list[int] = []           # terms of every determinant scored
+
     def score(rl, cl, most=None):
+        """(factors in the joint variables, terms) of the block's determinant; None when it
+        has more than ``most`` terms."""
         d = ctx.det([[A[i][j] for j in cl] for i in rl])
+        sizes.append(len(d))
         if most is not None and len(d) > most:
             return None
         if d.is_constant() or ctx.parameter_only(d):
@@ -126,7 +131,10 @@ def choose_block(ctx: "Context", A, r, points, candidates: int = 24, *, branch=N
         return len([f for f in ctx.factors(d) if not ctx.parameter_only(f)]), len(d)
 
     best = (score(rows, cols), rows, cols)
-    if best[0][0] == 0:
+    if best[0][0] == 0 or best[0][1] > CANDIDATE_MAX_TERMS:
+        # no search past a determinant that large: on talos' 9-joint arm the null-vector
+        # level's 3 x 3 blocks (entries of 3000 to 6500 terms) have 0.9 to 1 million terms
+        # and take 50 to 66 s each
         return rows, cols
     size = [[len(p) for p in row] for row in A]
     blocks = sorted(((rs, cs) for rs in itertools.combinations(range(n), r)
@@ -146,6 +154,8 @@ def choose_block(ctx: "Context", A, r, points, candidates: int = 24, *, branch=N
             best = (sc, rl, cl)
             if sc[0] == 0:
                 break
+        if sizes[-1] > CANDIDATE_MAX_TERMS:
+            break
     return best[1], best[2]
 
 
