@@ -323,11 +323,15 @@ def _krawczyk(eqs, cols, vals, memo: dict) -> list | None:
         J = flint.arb_mat(k, k, [_value(d, at, memo) for row in grads for d in row])
         return F, J
 
-    for _ in range(NEWTON_STEPS):
+    for it in range(NEWTON_STEPS):
         F, J = system(vals)
         try:
             step = J.mid().solve(F.mid())
         except (ZeroDivisionError, ValueError):
+            return None
+        if it >= 2 and _condition(J) > SINGULAR_COND:
+            # two steps from the double zero the point is within ~1e-30 of the exact one,
+            # where the condition number is already that of the zero (see SINGULAR_COND)
             return None
         for i, j in enumerate(cols):
             vals[j] = (vals[j] - step[i, 0]).mid()
@@ -349,6 +353,14 @@ def _krawczyk(eqs, cols, vals, memo: dict) -> list | None:
     if not all((K[i, 0]).abs_upper() < radii[i] for i in range(k)):
         return None
     return box
+
+
+def _condition(J) -> float:
+    """The condition number of the midpoint of the arb matrix ``J`` (max-row-sum norms)."""
+    try:
+        return _norm(J.mid().inv().mid()) * _norm(J.mid())
+    except (ZeroDivisionError, ValueError):
+        return float("inf")
 
 
 def _norm(A) -> float:
