@@ -19,7 +19,7 @@ def determinant_tree(ctx: Context) -> bool:
         raise LocusError(f"the determinant method needs a square matrix, this one is {n}x{m}; "
                          "use the svm or subdeterminant method")
     root = Branch()
-    D = laplace_det(ctx.M, ctx.ring)
+    D = laplace_det(ctx.M, ctx.ring, poll=ctx.tick)
     if D.is_zero():
         node = ctx.add_node(None, root, outcome=Outcome.DEGENERATE)
         ctx.leaf(root, node, Outcome.DEGENERATE)

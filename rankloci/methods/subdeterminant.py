@@ -49,7 +49,7 @@ def maximal_minors(ctx: Context, M) -> list:
     out = []
     for cols in itertools.combinations(range(m), n):
         ctx.tick()
-        out.append(laplace_det([[row[c] for c in cols] for row in M], ctx.ring))
+        out.append(laplace_det([[row[c] for c in cols] for row in M], ctx.ring, poll=ctx.tick))
     return out
 
 

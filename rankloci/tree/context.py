@@ -221,7 +221,7 @@ class Context:
         n = len(block)
         flat = tuple(x for row in block for x in row)
         return self._dets.get(flat, lambda key: laplace_det(
-            [list(key[i * n:(i + 1) * n]) for i in range(n)], self.ring))
+            [list(key[i * n:(i + 1) * n]) for i in range(n)], self.ring, poll=self.tick))
 
     def parameter_only(self, f) -> bool:
         """Does ``f`` involve parameters only (no joint variable)?"""

@@ -70,3 +70,32 @@ def test_memoised_determinants_are_the_determinants():
         expect = laplace_det([[ring.ctx.constant(e) if isinstance(e, int) else e for e in row]
                               for row in block])
         assert got == expect
+
+
+def test_a_determinant_polls_its_caller_and_stops_when_asked():
+    """laplace_det calls ``poll`` before each product; an exception there ends it, and a
+    memo fed by it keeps nothing (so that a stopped computation leaves no partial entry)."""
+    import pytest
+
+    ring = _ring()
+    x, y = ring.gens
+    block = [[x + k * y + i for k in range(4)] for i in range(4)]
+    calls = []
+    laplace_det(block, poll=lambda: calls.append(1))
+    assert len(calls) > 4
+
+    class Stop(Exception):
+        pass
+
+    def stop_after_two():
+        calls.append(1)
+        if len(calls) > 2:
+            raise Stop
+
+    memo = PolyMemo(10_000)
+    flat = tuple(e for row in block for e in row)
+    calls.clear()
+    with pytest.raises(Stop):
+        memo.get(flat, lambda key: laplace_det(block, poll=stop_after_two))
+    assert len(calls) == 3
+    assert memo.get(flat, lambda key: laplace_det(block)) == laplace_det(block)
