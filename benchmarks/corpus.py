@@ -420,7 +420,6 @@ def grade(model, tm, locus, ref: PinocchioJacobian, rng) -> dict:
 
     from rankloci.jacobian import task_matrix
     from rankloci.numeric.equations import Equations, NumericMatrix, minimise_ratio, points_on
-    from rankloci.tolerances import EXCLUSION_CERTIFY_RTOL, ON_COMPONENT_RESIDUAL
 
     kinds = ref.kinds
     problems = []
@@ -459,11 +458,9 @@ def grade(model, tm, locus, ref: PinocchioJacobian, rng) -> dict:
         for k, (q, r) in enumerate(zip(pts, ratios)):
             # a point regular in J is refined onto the equations first: near a multiple root
             # the solver stops far from the component for its residual (Equations.refined)
-            if r > SOUND_RTOL:
-                p = eqs.refined(q)
-                if eqs.residual(p) <= ON_COMPONENT_RESIDUAL and \
-                        eqs.admits(p, EXCLUSION_CERTIFY_RTOL):
-                    pts[k], ratios[k] = p, sigma_ratio(ref(p))
+            p = eqs.settled(q) if r > SOUND_RTOL else None
+            if p is not None:
+                pts[k], ratios[k] = p, sigma_ratio(ref(p))
         bad = [(q, r) for q, r in zip(pts, ratios) if r > SOUND_RTOL]
         eq_text = _short("; ".join(sp.sstr(e) for e in c.equations) or "(no equation)")
         sound.append({"component": i, "equations": eq_text, "points": len(pts),

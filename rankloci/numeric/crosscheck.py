@@ -26,9 +26,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from ..tolerances import (COVER_RESIDUAL, EXCLUSION_CERTIFY_RTOL, MINOR_RTOL,
-                          OFF_LOCUS_MIN_RESIDUAL, ON_COMPONENT_RESIDUAL, ON_LOCUS_RTOL,
-                          PROBE_DESCENT_RTOL, PROBE_SINGULAR_RTOL, RANK_RTOL)
+from ..tolerances import (COVER_RESIDUAL, MINOR_RTOL, OFF_LOCUS_MIN_RESIDUAL, ON_COMPONENT_RESIDUAL,
+                          ON_LOCUS_RTOL, PROBE_DESCENT_RTOL, PROBE_SINGULAR_RTOL, RANK_RTOL)
 from .equations import (MAX_TRIES, Equations, NumericMatrix, descend_to_singular, minimise_ratio,
                         points_on)
 from .fsp import dependent_rows
@@ -128,14 +127,12 @@ def _settled(nm: NumericMatrix, eqs: Equations, p: PointCheck) -> PointCheck:
 
     A point solved near a multiple root of the equations can lie off the component by far
     more than its residual says (:meth:`Equations.refined`); its sigma ratio is that of the
-    refined point, when that one is on the component and admitted.
+    refined point, when that one is a point of the component (:meth:`Equations.settled`).
     """
     if p.sigma_ratio <= ON_LOCUS_RTOL:
         return p
-    q = eqs.refined(np.array(p.q))
-    if eqs.residual(q) <= ON_COMPONENT_RESIDUAL and eqs.admits(q, EXCLUSION_CERTIFY_RTOL):
-        return _point(nm, q)
-    return p
+    q = eqs.settled(np.array(p.q))
+    return p if q is None else _point(nm, q)
 
 
 def _point(nm: NumericMatrix, q) -> PointCheck:

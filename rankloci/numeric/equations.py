@@ -188,8 +188,7 @@ class Equations:
         solved near a multiple root of the equations can lie far from the component for their
         small residual; refined, they lie on it to double precision (see REFINE_DIGITS).  A
         refined point can end close to an excluded set (the iteration heads for the nearest
-        exact point); ``admits(p, EXCLUSION_CERTIFY_RTOL)`` tells whether it is still off it
-        beyond rounding.
+        exact point); :meth:`settled` tells whether it is still a point of the component.
 
         Examples
         --------
@@ -210,12 +209,12 @@ class Equations:
             unknowns = self._variables + tuple(ts)
             self._newton = (sp.lambdify(unknowns, list(F), modules="mpmath"),
                             sp.lambdify(unknowns, F.jacobian(unknowns).tolist(),
-                                        modules="mpmath"))
-        f, jac = self._newton
+                                        modules="mpmath"),
+                            sp.lambdify(self._variables, self._excl, modules="mpmath"))
+        f, jac, excluded = self._newton
         with mpmath.workdps(REFINE_DIGITS):
             x0 = [mpmath.mpf(float(v)) for v in q]
-            x = mpmath.matrix(x0 + [1 / v if v else mpmath.mpf(1)
-                                    for v in (e(*x0) for e in self._excl_mp())])
+            x = mpmath.matrix(x0 + [1 / v if v else mpmath.mpf(1) for v in excluded(*x0)])
             for _ in range(REFINE_STEPS):
                 F = mpmath.matrix(f(*x))
                 D = mpmath.matrix(jac(*x))
@@ -229,9 +228,19 @@ class Equations:
                     break
             return np.array([float(x[i]) for i in range(m)])
 
-    def _excl_mp(self):
-        """The excluded expressions as mpmath functions."""
-        return [sp.lambdify(self._variables, e, modules="mpmath") for e in self._excl]
+    def settled(self, q) -> np.ndarray | None:
+        """:meth:`refined` ``q`` when it is a point of the component, else None.
+
+        On the equations (ON_COMPONENT_RESIDUAL) and off every excluded set beyond rounding
+        (EXCLUSION_CERTIFY_RTOL: the refined value is exact to far below it).  The checks
+        evaluate J there instead of at ``q`` before they call ``q`` regular.
+        """
+        from ..tolerances import EXCLUSION_CERTIFY_RTOL
+
+        p = self.refined(q)
+        if self.residual(p) <= ON_COMPONENT_RESIDUAL and self.admits(p, EXCLUSION_CERTIFY_RTOL):
+            return p
+        return None
 
 
 def normalised(e):

@@ -16,7 +16,7 @@ import numpy as np
 from ..algebra import PolyRing, abs_poly
 from ..tolerances import RANK_RTOL, ZERO_RTOL
 
-__all__ = ["Probe", "numeric_rank"]
+__all__ = ["Probe", "numeric_rank", "scaled_ratio"]
 
 #: How many compiled matrices (and polynomials) a probe keeps before it starts afresh.
 _MATRIX_CACHE = 512
@@ -36,6 +36,27 @@ def numeric_rank(A, sizes) -> int:
     >>> numeric_rank(np.array([[1.0, 2.0], [2.0, 4.0]]), np.ones((2, 2)))
     1
     """
+    s = _scaled_singular_values(A, sizes)
+    return int(np.sum(s > RANK_RTOL * s[0])) if len(s) else 0
+
+
+def scaled_ratio(A, sizes) -> float:
+    """sigma_min / sigma_max of ``A`` with its rows scaled as :func:`numeric_rank` scales them
+    (0 when some row is zero).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> scaled_ratio(np.array([[3.0, 0.0], [0.0, 1e-3]]), np.ones((2, 2)))
+    1.0
+    """
+    s = _scaled_singular_values(A, sizes)
+    return float(s[-1] / s[0]) if len(s) == min(A.shape) else 0.0
+
+
+def _scaled_singular_values(A, sizes):
+    """Singular values of ``A``'s nonzero rows (ZERO_RTOL of their term sizes), each scaled to
+    unit norm."""
     # rows scaled by their largest term size first: entries of 1e156 would overflow the norms
     big = np.max(np.abs(sizes), axis=1, keepdims=True)
     big[~(big > 0)] = 1.0
@@ -43,10 +64,8 @@ def numeric_rank(A, sizes) -> int:
     norms = np.linalg.norm(A, axis=1)
     nz = norms > ZERO_RTOL * np.linalg.norm(sizes, axis=1)
     if not np.any(nz):
-        return 0
-    B = A[nz] / norms[nz, None]
-    s = np.linalg.svd(B, compute_uv=False)
-    return int(np.sum(s > RANK_RTOL * s[0]))
+        return np.zeros(0)
+    return np.linalg.svd(A[nz] / norms[nz, None], compute_uv=False)
 
 
 class Probe:

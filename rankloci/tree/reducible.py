@@ -21,7 +21,7 @@ import numpy as np
 
 from ..algebra import transpose
 from ..locus import Outcome
-from .probe import numeric_rank
+from .probe import numeric_rank, scaled_ratio
 
 if TYPE_CHECKING:
     from .branch import Branch
@@ -66,81 +66,68 @@ def ranked_points(ctx: "Context", branch: "Branch") -> tuple[list, list]:
     from ..tolerances import LEAF_REGULAR_RTOL
 
     regular, singular = [], []
-    kept = _off_exceptional(ctx, branch, pts)
-    outside = [g for g in pts if not any(g is k for k in kept)]
-    excl = _exceptional_exclusions(ctx, branch, outside)
+    degenerate = _degenerate_pairs(ctx, branch, pts)
+    excl = _exceptional_exclusions(ctx, branch, pts, degenerate)
     if excl:
         ctx.exceptional_exclusions[branch.key] = excl
-    for g in kept:
+    for g, bad in zip(pts, degenerate):
+        if bad.any():
+            continue
         A, S = ctx.probe.evaluated(ctx.M, g)
         if numeric_rank(A, S) < full:
             singular.append(g)
-        elif _ratio(A, S) > LEAF_REGULAR_RTOL:
+        elif scaled_ratio(A, S) > LEAF_REGULAR_RTOL:
             regular.append(g)
     return regular, singular
 
 
-def _ratio(A, S) -> float:
-    """sigma_min / sigma_max of ``A``, its rows scaled as :func:`.probe.numeric_rank` does."""
-    big = np.max(np.abs(S), axis=1, keepdims=True)
-    big[~(big > 0)] = 1.0
-    A = A / big
-    norms = np.linalg.norm(A, axis=1)
-    B = A[norms > 0] / norms[norms > 0, None]
-    s = np.linalg.svd(B, compute_uv=False)
-    return float(s[-1] / s[0]) if len(s) and s[0] > 0 else 0.0
+def _degenerate_pairs(ctx: "Context", branch: "Branch", pts) -> np.ndarray:
+    """Which substitutions (C, S) ~ (b, -a) of ``branch`` are undefined at each point.
 
-
-def _off_exceptional(ctx: "Context", branch: "Branch", pts) -> list:
-    """The points at which every substitution (C, S) ~ (b, -a) of ``branch`` is defined.
-
-    Where a and b are both below EXCLUSION_RTOL of their terms, the sampler normalised
-    rounding noise into (C, S): such a point lies in the exceptional set {a = b = 0}, which
-    is a branch of its own, and the matrix's rank there says nothing about this branch (on
-    tiago's arm a whole branch lies in it, with |a|, |b| near 1e-6 of their terms).
+    A boolean array, one row per point, one column per pair substitution.  Where a and b
+    are both below EXCLUSION_RTOL of their terms, the sampler normalised rounding noise into
+    (C, S): such a point lies in the exceptional set {a = b = 0}, which is a branch of its
+    own, and the matrix's rank there says nothing about this branch (on tiago's arm a whole
+    branch lies in it, with |a|, |b| near 1e-6 of their terms).
     """
     from ..algebra import abs_poly
     from ..tolerances import EXCLUSION_RTOL
 
     pairs = [s for s in branch.substitutions if s.kind == "pair"]
     if not pairs or not pts:
-        return list(pts)
+        return np.zeros((len(pts), len(pairs)), dtype=bool)
     ring = ctx.ring
     vals = ring.compile([v for s in pairs for v in s.values])
     sizes = ring.compile([abs_poly(v, ring) for s in pairs for v in s.values])
     G = np.array(pts, dtype=float)
     V, S = vals(G).reshape(len(G), len(pairs), 2), sizes(np.abs(G)).reshape(len(G), len(pairs), 2)
-    ok = np.all(np.hypot(V[..., 0], V[..., 1]) > EXCLUSION_RTOL * np.hypot(S[..., 0], S[..., 1]),
-                axis=1)
-    return [g for g, keep in zip(pts, ok) if keep]
+    return ~(np.hypot(V[..., 0], V[..., 1]) > EXCLUSION_RTOL * np.hypot(S[..., 0], S[..., 1]))
 
 
-def _exceptional_exclusions(ctx: "Context", branch: "Branch", pts) -> list:
+def _exceptional_exclusions(ctx: "Context", branch: "Branch", pts, degenerate) -> list:
     """Exclusions for a leaf whose equations hold, with J regular, on a degenerate substitution.
 
-    ``pts`` satisfy the leaf's conditions but lie in the exceptional set {a = b = 0} of a
-    substitution (C, S) ~ (b, -a).  The branch leaves that set to another branch, but the
-    component's equations admit it: where J is regular at such a point, the component is
-    reported without the zero set of the shorter of a and b (nonzero on the branch itself,
-    whose closure is unchanged).  tiago_dual's left arm: q3 = 0, q4 = -pi/2, q5 = pi.
+    ``pts`` satisfy the leaf's conditions; ``degenerate`` (:func:`_degenerate_pairs`) says at
+    which of them each pair substitution (C, S) ~ (b, -a) is undefined, in its exceptional set
+    {a = b = 0}.  The branch leaves that set to another branch, but the component's equations
+    admit it: where J is regular at such a point, the component is reported without the zero
+    set of the shorter of a and b (nonzero on the branch itself, whose closure is unchanged).
+    tiago_dual's left arm: q3 = 0, q4 = -pi/2, q5 = pi.
     """
-    from ..algebra import abs_poly
-    from ..tolerances import EXCLUSION_RTOL, LEAF_REGULAR_RTOL
+    from ..tolerances import LEAF_REGULAR_RTOL
 
     pairs = [s for s in branch.substitutions if s.kind == "pair"]
     out = []
-    for g in pts:
-        A, S = ctx.probe.evaluated(ctx.M, g)
-        if numeric_rank(A, S) < ctx.full_rank or not _ratio(A, S) > LEAF_REGULAR_RTOL:
+    for g, bad in zip(pts, degenerate):
+        if not bad.any():
             continue
-        for sub in pairs:
-            vals = [abs(ctx.probe.values([[v]], g)[0, 0]) for v in sub.values]
-            sizes = [abs(ctx.probe.values([[abs_poly(v, ctx.ring)]], np.abs(g))[0, 0])
-                     for v in sub.values]
-            if np.hypot(*vals) <= EXCLUSION_RTOL * np.hypot(*sizes):
-                p = min((v for v in sub.values if not v.is_constant()), key=len, default=None)
-                if p is not None and not any(p == q for q in out):
-                    out.append(p)
+        A, S = ctx.probe.evaluated(ctx.M, g)
+        if numeric_rank(A, S) < ctx.full_rank or not scaled_ratio(A, S) > LEAF_REGULAR_RTOL:
+            continue
+        for sub in (p for p, b in zip(pairs, bad) if b):
+            p = min((v for v in sub.values if not v.is_constant()), key=len, default=None)
+            if p is not None and not any(p == q for q in out):
+                out.append(p)
     return out
 
 
