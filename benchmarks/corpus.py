@@ -216,12 +216,20 @@ def _snapped_axis(v: tuple[float, ...]) -> tuple[float, ...]:
     return tuple(x / norm for x in u)
 
 
+def _snapped_length(x: float) -> float:
+    """A length as rankloci reads it: 0 within the URDF length snapping tolerance."""
+    from rankloci.tolerances import URDF_LENGTH_SNAP_ATOL
+
+    return 0.0 if abs(x) <= URDF_LENGTH_SNAP_ATOL else x
+
+
 def snapped_urdf(text) -> str:
-    """The URDF with its joint angles and axes as rankloci reads them, for Pinocchio.
+    """The URDF with its joint angles, axes and lengths as rankloci reads them, for Pinocchio.
 
     rankloci takes an rpy angle within URDF_ANGLE_SNAP_ATOL (1e-5) of a multiple of pi/12 as that
-    exact multiple (``1.5708`` is pi/2) and snaps unit-axis components the same way; Pinocchio
-    reads the decimals literally.  The copy writes the snapped values at full precision, so both
+    exact multiple (``1.5708`` is pi/2), snaps unit-axis components the same way and takes
+    lengths within URDF_LENGTH_SNAP_ATOL (1e-6 m) of 0 as 0; Pinocchio reads the decimals
+    literally.  The copy writes the snapped values at full precision, so both
     describe the same geometry to rounding.
     """
     import xml.etree.ElementTree as ET
@@ -234,6 +242,9 @@ def snapped_urdf(text) -> str:
         if origin is not None and origin.get("rpy"):
             rpy = [_snapped_angle(float(x)) for x in origin.get("rpy").split()]
             origin.set("rpy", " ".join(repr(x) for x in rpy))
+        if origin is not None and origin.get("xyz"):
+            xyz = [_snapped_length(float(x)) for x in origin.get("xyz").split()]
+            origin.set("xyz", " ".join(repr(x) for x in xyz))
         axis = joint.find("axis")
         if joint.get("type") in MOVABLE_TYPES and axis is not None and axis.get("xyz"):
             xyz = _snapped_axis(tuple(float(x) for x in axis.get("xyz").split()))

@@ -171,6 +171,9 @@ class RobotModel(_ContentIdentity):
         Named constraint functions g(q) whose gradients augment J.
     points : tuple of (str, int)
         Named points (``elbow``, ``wrist``, ...): the origin of a link frame.
+    notes : tuple of str
+        What reading the model file changed (a URDF's snapped angles and
+        lengths); every locus of the model carries them in its notes.
     """
 
     name: str
@@ -187,6 +190,7 @@ class RobotModel(_ContentIdentity):
     convention: str = "dh"
     path: str = ""
     points: tuple[tuple[str, int], ...] = ()
+    notes: tuple[str, ...] = ()
 
     def __repr__(self) -> str:
         kinds = [j.kind for j in self.joints]

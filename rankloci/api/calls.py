@@ -105,7 +105,8 @@ def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None,
     and J with J_aug's components classified
     (:func:`~rankloci.augmented.augmented_locus`), the self-check with its
     recomputations (:func:`~rankloci.verify.verified_locus`) unless ``verify``
-    is false, and a note when the matrix is in another frame than the model's.
+    is false, a note when the matrix is in another frame than the model's, and
+    the model's own notes (what reading its file changed).
 
     Parameters
     ----------
@@ -151,6 +152,8 @@ def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None,
         result = dataclasses.replace(result, notes=result.notes + (
             f"J was computed in {where}{about} (same rank); symbolic lost directions are "
             f"expressed there, the directions at the sample points in the model's frame",))
+    if getattr(model, "notes", ()):
+        result = dataclasses.replace(result, notes=tuple(model.notes) + result.notes)
     return result
 
 

@@ -63,7 +63,7 @@ import sympy as sp
 from ..errors import ExpressionError, ModelError
 from ..expr import exact_number
 from ..model import TASKS, Joint, Mimic, RobotModel
-from .urdf_exact import bounded, exact_axis, exact_motion, exact_origin, expanded_product
+from .urdf_exact import Snaps, bounded, exact_axis, exact_motion, exact_origin, expanded_product
 from .urdf_xml import (
     JOINT_KINDS,
     UNSUPPORTED_TYPES,
@@ -208,19 +208,21 @@ def parse_urdf(text: str, *, name: str, file: str = "", base_link: str | None = 
     carried = _carried_leaders(followed, joints, index, chain_text, where)
 
     model_joints = []
+    snaps = Snaps()
     fixed = sp.eye(4)  # fixed transforms accumulated since the last movable joint
     for j in chain:
         i = index.get(j.name)
-        fixed = bounded(expanded_product(fixed, exact_origin(*origin_floats(j, None, None))))
+        fixed = bounded(expanded_product(fixed, exact_origin(*origin_floats(j, None, None),
+                                                             snaps)))
         if i is None:
             continue
         kind = JOINT_KINDS[j.type]
-        axis = exact_axis(axis_floats(j, i, where))
+        axis = exact_axis(axis_floats(j, i, where), snaps)
         mimic, limits = None, joint_limits(j, i, where)
         if j.name in followed:
             leader, multiplier, offset = followed[j.name]
             if offset != 0:
-                fixed = expanded_product(fixed, exact_motion(kind, axis, offset))
+                fixed = expanded_product(fixed, exact_motion(kind, axis, offset, snaps))
             if j.name in carried:  # the variable is the leader's: the motion is +-q
                 axis = tuple(multiplier * a for a in axis)
                 limits = joint_limits(joints[leader], i, where)
@@ -239,6 +241,7 @@ def parse_urdf(text: str, *, name: str, file: str = "", base_link: str | None = 
 
     title = root.get("name", "")
     free = sum(j.mimic is None for j in model_joints)
+    note = snaps.note()
     return RobotModel(
         name=name,
         joints=tuple(model_joints),
@@ -251,6 +254,7 @@ def parse_urdf(text: str, *, name: str, file: str = "", base_link: str | None = 
         task=TASKS["full"],
         frame="base",
         convention="urdf",
+        notes=(note,) if note else (),
     )
 
 

@@ -14,6 +14,10 @@ components are snapped the same way (``0.9999999`` is ``1``); an axis that
 does not snap becomes an exactly unit rational vector within rounding error
 of the normalised float axis.
 
+Lengths within :data:`~rankloci.tolerances.URDF_LENGTH_SNAP_ATOL` of 0 (an
+exporter's ``4.33681e-19``) are taken as 0.  Every such change is counted in a
+:class:`Snaps`, whose :meth:`Snaps.note` tells the user what the reading changed.
+
 The constant offset of a mimic joint is a motion about or along its exact
 axis (:func:`exact_motion`): a rotation by an angle read like an rpy angle,
 or a translation by a rational length.
@@ -22,14 +26,15 @@ or a translation by a rational length.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, field
 
 import sympy as sp
 
 from ..expr import exact_number
 from ..model import trans
-from ..tolerances import URDF_ANGLE_SNAP_ATOL
+from ..tolerances import URDF_ANGLE_SNAP_ATOL, URDF_LENGTH_SNAP_ATOL
 
-__all__ = ["exact_origin", "exact_axis", "exact_motion", "expanded_product", "bounded"]
+__all__ = ["exact_origin", "exact_axis", "exact_motion", "expanded_product", "bounded", "Snaps"]
 
 #: Digits a rational entry of a composed transform may have before its rotation is replaced by
 #: the nearest short exact rotation (:func:`bounded`).  One rpy rotation of a float angle has
@@ -41,6 +46,52 @@ _NICE_COMPONENTS = (sp.Integer(0), sp.Rational(1, 2), sp.sqrt(2) / 2, sp.sqrt(3)
                     sp.Integer(1))
 
 
+@dataclass
+class Snaps:
+    """The changes snapping made while a URDF was read: one list of sizes per kind.
+
+    A value whose float already equals its exact twin's (``0``,
+    ``1.5707963267948966``) is no change and is not counted.
+
+    Examples
+    --------
+    >>> snaps = Snaps()
+    >>> T = exact_origin((0.1, 4.33681e-19, 0.0), (1.5708, 0.0, 0.0), snaps)
+    >>> print(snaps.note())
+    reading the URDF snapped 1 rpy angle to an exact multiple of pi/12 (largest change 3.7e-06 rad) and 1 length to 0 (largest 4.3e-19 m); the locus is for the snapped model
+    """
+
+    angles: list = field(default_factory=list)
+    axes: list = field(default_factory=list)
+    lengths: list = field(default_factory=list)
+
+    def note(self) -> str | None:
+        """One line for the output, or None when reading changed nothing."""
+        parts = []
+        for values, one, many, largest in (
+                (self.angles, "rpy angle to an exact multiple of pi/12",
+                 "rpy angles to exact multiples of pi/12", "largest change {:.2g} rad"),
+                (self.axes, "axis component to an exact value", "axis components to exact values",
+                 "largest change {:.2g}"),
+                (self.lengths, "length to 0", "lengths to 0", "largest {:.2g} m")):
+            if values:
+                what = one if len(values) == 1 else many
+                parts.append(f"{len(values)} {what} ({largest.format(max(values))})")
+        if not parts:
+            return None
+        listed = parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " and " + parts[-1]
+        return f"reading the URDF snapped {listed}; the locus is for the snapped model"
+
+
+def _length(x: float, snaps: Snaps | None) -> sp.Expr:
+    """Exact length of a float in metres; 0 within URDF_LENGTH_SNAP_ATOL of it."""
+    if x != 0.0 and abs(x) <= URDF_LENGTH_SNAP_ATOL:
+        if snaps is not None:
+            snaps.lengths.append(abs(x))
+        return sp.Integer(0)
+    return exact_number(x)
+
+
 def _snap_angle(t: float) -> sp.Expr | None:
     """The exact multiple of pi/12 within URDF_ANGLE_SNAP_ATOL of ``t``, or None."""
     k = round(t / (math.pi / 12))
@@ -49,19 +100,21 @@ def _snap_angle(t: float) -> sp.Expr | None:
     return None
 
 
-def _cos_sin(t: float) -> tuple[sp.Expr, sp.Expr]:
+def _cos_sin(t: float, snaps: Snaps | None = None) -> tuple[sp.Expr, sp.Expr]:
     """Exact (cos, sin) of an angle read as a float; see the module docstring."""
     t = math.remainder(t, 2 * math.pi)  # in [-pi, pi]
     snapped = _snap_angle(t)
     if snapped is not None:
+        if snaps is not None and float(snapped) != t:
+            snaps.angles.append(abs(float(snapped) - t))
         return sp.cos(snapped), sp.sin(snapped)
     u = exact_number(math.tan(t / 2))  # finite: angles near +-pi snap
     return (1 - u**2) / (1 + u**2), 2 * u / (1 + u**2)
 
 
-def _rotation(axis: str, t: float) -> sp.Matrix:
+def _rotation(axis: str, t: float, snaps: Snaps | None = None) -> sp.Matrix:
     """Exact 4x4 rotation by the float angle ``t`` about the x, y or z axis."""
-    c, s = _cos_sin(t)
+    c, s = _cos_sin(t, snaps)
     m = sp.eye(4)
     i, j = {"x": (1, 2), "y": (2, 0), "z": (0, 1)}[axis]
     m[i, i], m[i, j], m[j, i], m[j, j] = c, -s, s, c
@@ -130,8 +183,10 @@ def bounded(T: sp.Matrix) -> sp.Matrix:
     return out
 
 
-def exact_origin(xyz, rpy) -> sp.Matrix:
+def exact_origin(xyz, rpy, snaps: Snaps | None = None) -> sp.Matrix:
     """Exact 4x4 transform of an ``<origin>``: ``trans(xyz) * Rz(yaw) * Ry(pitch) * Rx(roll)``.
+
+    Snapped angles and lengths are counted in ``snaps`` when it is given.
 
     Examples
     --------
@@ -143,15 +198,18 @@ def exact_origin(xyz, rpy) -> sp.Matrix:
     [0,  0, 0,   1]])
     """
     roll, pitch, yaw = rpy
-    T = trans(*(exact_number(x) for x in xyz))
+    T = trans(*(_length(x, snaps) for x in xyz))
     for axis, t in (("z", yaw), ("y", pitch), ("x", roll)):
         if t != 0.0:
-            T = expanded_product(T, _rotation(axis, t))
+            T = expanded_product(T, _rotation(axis, t, snaps))
     return T
 
 
-def exact_axis(v: tuple[float, ...]) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
-    """Exact unit vector for a float axis; see the module docstring."""
+def exact_axis(v: tuple[float, ...], snaps: Snaps | None = None) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+    """Exact unit vector for a float axis; see the module docstring.
+
+    Components snapped to an exact value they were not already are counted in ``snaps``.
+    """
     big = max(abs(x) for x in v)  # > 0, checked by urdf_xml.axis_floats
     v = [x / big for x in v]        # no overflow or underflow in the norm
     norm = math.sqrt(sum(x * x for x in v))
@@ -162,11 +220,15 @@ def exact_axis(v: tuple[float, ...]) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
                     None)
         snapped.append(None if nice is None else (nice if x > 0 else -nice))
     if None not in snapped and sp.expand(sum(x**2 for x in snapped)) == 1:
+        if snaps is not None:
+            snaps.axes.extend(abs(float(n) - x) for n, x in zip(snapped, u) if float(n) != x)
         return tuple(snapped)
     # An exactly unit rational vector: inverse stereographic projection, from the
     # pole opposite the largest component, of the rationalised projected point.
     k = max(range(3), key=lambda m: abs(u[m]))
     others = [m for m in range(3) if m != k]
+    if snaps is not None:
+        snaps.axes.extend(abs(u[m]) for m in others if 0 < abs(u[m]) <= URDF_ANGLE_SNAP_ATOL)
     a, b = (sp.Integer(0) if abs(u[m]) <= URDF_ANGLE_SNAP_ATOL
             else exact_number(u[m] / (1 + abs(u[k]))) for m in others)
     d = 1 + a**2 + b**2
@@ -176,7 +238,7 @@ def exact_axis(v: tuple[float, ...]) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
     return tuple(out)
 
 
-def exact_motion(kind: str, axis, value) -> sp.Matrix:
+def exact_motion(kind: str, axis, value, snaps: Snaps | None = None) -> sp.Matrix:
     """Exact 4x4 motion by a constant ``value`` about (revolute) or along (prismatic) ``axis``.
 
     ``axis`` is an exact unit vector (:func:`exact_axis`); ``value`` an exact
@@ -199,7 +261,7 @@ def exact_motion(kind: str, axis, value) -> sp.Matrix:
     if kind == "prismatic":
         m[:3, 3] = k * value
         return m
-    c, s = _cos_sin(float(value))
+    c, s = _cos_sin(float(value), snaps)
     K = sp.Matrix([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
     m[:3, :3] = (c * sp.eye(3) + s * K + (1 - c) * k * k.T).applyfunc(sp.expand)
     return m

@@ -26,7 +26,7 @@ from rankloci.io.toml_model import read_model
 from rankloci.io.urdf import parse_urdf, read_urdf
 from rankloci.kinematics import forward_kinematics, geometric_jacobian
 from rankloci.tolerances import RANK_RTOL, URDF_ANGLE_SNAP_ATOL
-from urdf_reference import rot, snapped
+from urdf_reference import rot, snapped, snapped_length
 
 SEED = 20240611
 REPO = Path(__file__).resolve().parents[2]
@@ -91,6 +91,7 @@ class NumericChain:
         self.steps = []   # (origin 4x4, type, axis)
         self.angle_error = 0.0  # sum of |snapped - file| angles on the chain
         self.length = 0.0       # sum of |xyz| on the chain: a bound on every lever arm
+        self.length_error = 0.0  # sum of |snapped - file| lengths on the chain
         for j in reversed(chain):
             o = j.find("origin")
             xyz = [float(v) for v in (o.get("xyz", "0 0 0") if o is not None else "0 0 0").split()]
@@ -98,6 +99,8 @@ class NumericChain:
             if snap:
                 self.angle_error += sum(abs(snapped(t) - t) for t in rpy)
                 rpy = [snapped(t) for t in rpy]
+                self.length_error += sum(abs(snapped_length(x) - x) for x in xyz)
+                xyz = [snapped_length(x) for x in xyz]
             self.length += float(np.linalg.norm(xyz))
             T = np.eye(4)
             T[:3, :3] = rot((0, 0, 1), rpy[2]) @ rot((0, 1, 0), rpy[1]) @ rot((1, 0, 0), rpy[0])
@@ -203,7 +206,8 @@ def test_fk_matches_numeric_composition(robots, key):
     assert ideal.dof == raw.dof == m.dof
     # Snapping moves each angle by at most URDF_ANGLE_SNAP_ATOL; to first order an
     # angle error d moves every later point by <= d * (sum of link lengths).
-    snap_bound = ideal.angle_error * (1 + ideal.length) + FK_ATOL
+    # A snapped length moves every later point by its own size.
+    snap_bound = ideal.angle_error * (1 + ideal.length) + ideal.length_error + FK_ATOL
     assert ideal.angle_error <= 6 * dof * URDF_ANGLE_SNAP_ATOL
     rng = np.random.default_rng(SEED)
     for _ in range(8):
@@ -397,6 +401,40 @@ def test_axis_snaps_near_unit_values():
     doc = _urdf(_joint("j", "revolute", "a", "b", '<axis xyz="0 -0.7071068 0.7071068"/>'),
                 links=("a", "b"))
     assert parse_urdf(doc, name="x").joints[0].axis == (0, -sp.sqrt(2) / 2, sp.sqrt(2) / 2)
+
+
+def test_tiny_lengths_snap_to_zero_and_every_snap_is_noted():
+    # an exporter's float noise (icub writes 4.33681e-19 m) is taken as 0; 0.5 mm is kept
+    doc = _urdf(_joint("j1", "revolute", "a", "b",
+                       '<origin xyz="4.33681e-19 0.0005 0.3" rpy="1.5708 0 0"/>'
+                       '<axis xyz="0 0.9999999 1e-7"/>')
+                + _joint("j2", "revolute", "b", "c", '<origin xyz="-7.45058e-09 0 0"/>'),
+                links=("a", "b", "c"))
+    m = parse_urdf(doc, name="n")
+    assert list(sp.Matrix(m.joints[0].pre)[:3, 3]) == [0, sp.Rational(1, 2000), sp.Rational(3, 10)]
+    assert sp.Matrix(m.joints[1].pre)[0, 3] == 0
+    assert m.notes == (
+        "reading the URDF snapped 1 rpy angle to an exact multiple of pi/12 (largest change "
+        "3.7e-06 rad), 2 axis components to exact values (largest change 1e-07) and 2 lengths "
+        "to 0 (largest 7.5e-09 m); the locus is for the snapped model",)
+    # values that are exact already change nothing
+    exact = _urdf(_joint("j", "revolute", "a", "b",
+                         f'<origin xyz="0 0 0.5" rpy="{math.pi / 2!r} 0 0"/><axis xyz="0 1 0"/>'),
+                  links=("a", "b"))
+    assert parse_urdf(exact, name="e").notes == ()
+
+
+def test_a_locus_carries_the_snapping_note():
+    from rankloci.api import locus
+
+    doc = _urdf(_joint("j1", "revolute", "a", "b", '<origin xyz="0 0 0.5"/><axis xyz="0 0 1"/>')
+                + _joint("j2", "revolute", "b", "c", '<origin xyz="1 1e-12 0" rpy="0 0 1.5708"/>'
+                         '<axis xyz="0 0 1"/>')
+                + _joint("f", "fixed", "c", "d", '<origin xyz="1 0 0"/>'),
+                links=("a", "b", "c", "d"))
+    result = locus(parse_urdf(doc, name="planar"), task="position")
+    assert result.notes[0].startswith("reading the URDF snapped 1 rpy angle") and \
+        "1 length to 0" in result.notes[0]
 
 
 # --- malformed input ----------------------------------------------------------

@@ -23,7 +23,7 @@ from rankloci.errors import ModelError
 from rankloci.io.urdf import parse_urdf, read_urdf
 from rankloci.kinematics import forward_kinematics, geometric_jacobian
 from rankloci.model import Mimic
-from urdf_reference import rot, snapped
+from urdf_reference import rot, snapped, snapped_length
 
 SEED = 20240612
 
@@ -177,7 +177,8 @@ class CoupledChain:
         T = np.eye(4)
         for j in self.chain:
             o = j.find("origin")
-            xyz, rpy = _floats(o, "xyz", "0 0 0"), [snapped(t) for t in _floats(o, "rpy", "0 0 0")]
+            xyz = [snapped_length(x) for x in _floats(o, "xyz", "0 0 0")]
+            rpy = [snapped(t) for t in _floats(o, "rpy", "0 0 0")]
             O = np.eye(4)
             O[:3, :3] = rot((0, 0, 1), rpy[2]) @ rot((0, 1, 0), rpy[1]) @ rot((1, 0, 0), rpy[0])
             O[:3, 3] = xyz
