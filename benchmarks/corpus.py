@@ -189,31 +189,20 @@ def corpus(root: Path) -> tuple[list[Chain], list[dict], int]:
 # --- the reference: Pinocchio ---------------------------------------------------------------
 
 def _snapped_angle(t: float) -> float:
-    """``t`` as rankloci reads an rpy angle: the nearest multiple of pi/12 when within the URDF
-    snapping tolerance, else unchanged."""
-    from rankloci.tolerances import URDF_ANGLE_SNAP_ATOL
+    """``t`` as rankloci reads an rpy angle or a mimic offset: the nearest multiple of pi/12 when
+    within the URDF snapping tolerance, else the angle of a short exact rational rotation within
+    URDF_ROTATION_ATOL of it."""
+    from rankloci.io.urdf_exact import read_angle
 
-    r = math.remainder(t, 2 * math.pi)
-    k = round(r / (math.pi / 12))
-    return k * math.pi / 12 if abs(r - k * math.pi / 12) <= URDF_ANGLE_SNAP_ATOL else t
+    return read_angle(t)
 
 
 def _snapped_axis(v: tuple[float, ...]) -> tuple[float, ...]:
     """A unit axis as rankloci reads it: components snapped to 0, 1/2, sqrt(2)/2, sqrt(3)/2, 1
-    when all of them snap to a unit vector; otherwise normalised, with small minor components 0."""
-    from rankloci.tolerances import URDF_ANGLE_SNAP_ATOL as atol
+    when all of them snap to a unit vector, otherwise a short exact rational unit vector."""
+    from rankloci.io.urdf_exact import read_axis
 
-    norm = math.sqrt(sum(x * x for x in v))
-    u = [x / norm for x in v]
-    nice = (0.0, 0.5, math.sqrt(2) / 2, math.sqrt(3) / 2, 1.0)
-    snapped = [next((math.copysign(n, x) for n in nice if abs(abs(x) - n) <= atol), None)
-               for x in u]
-    if None not in snapped and abs(sum(x * x for x in snapped) - 1) < 1e-12:
-        return tuple(snapped)
-    k = max(range(3), key=lambda m: abs(u[m]))
-    u = [0.0 if m != k and abs(u[m]) <= atol else u[m] for m in range(3)]
-    norm = math.sqrt(sum(x * x for x in u))
-    return tuple(x / norm for x in u)
+    return read_axis(v)
 
 
 def _snapped_length(x: float) -> float:
@@ -227,9 +216,9 @@ def snapped_urdf(text) -> str:
     """The URDF with its joint angles, axes and lengths as rankloci reads them, for Pinocchio.
 
     rankloci takes an rpy angle within URDF_ANGLE_SNAP_ATOL (1e-5) of a multiple of pi/12 as that
-    exact multiple (``1.5708`` is pi/2), snaps unit-axis components the same way and takes
-    lengths within URDF_LENGTH_SNAP_ATOL (1e-6 m) of 0 as 0; Pinocchio reads the decimals
-    literally.  The copy writes the snapped values at full precision, so both
+    exact multiple (``1.5708`` is pi/2) and any other one as a short rational rotation within
+    URDF_ROTATION_ATOL (1e-9 rad), reads axes the same way and takes lengths within
+    URDF_LENGTH_SNAP_ATOL (1e-6 m) of 0 as 0; Pinocchio reads the decimals literally.  The copy writes the snapped values at full precision, so both
     describe the same geometry to rounding.
     """
     import xml.etree.ElementTree as ET

@@ -63,6 +63,16 @@ URDF_ANGLE_SNAP_ATOL = 1e-5
 #: descriptions carry on purpose (KUKA's 0.5 mm).
 URDF_LENGTH_SNAP_ATOL = 1e-6
 
+#: A URDF angle that is no multiple of pi/12 (a 40-degree rotation, a romeo arm's
+#: axis 0.417025 0.895055 -0.15801) is read as an exact rational rotation: its
+#: half-angle tangent, or the stereographic coordinates of its axis, become the
+#: rational with the smallest denominator that moves the rotation by at most
+#: this many radians.  Those rationals have about 5-digit denominators instead of
+#: the 17 digits of a float's shortest decimal, and every coefficient downstream
+#: is a product of them.  1e-9 rad is far below the precision of the files (4 to
+#: 10 significant digits) and of URDF_ANGLE_SNAP_ATOL.
+URDF_ROTATION_ATOL = 1e-9
+
 # ---------------------------------------------------------------------------
 # FSP reducer (rankloci.numeric.fsp)
 #

@@ -7,12 +7,13 @@ stay exact.  Lengths become the rational of their shortest decimal form
 (``1.5708``, ``1.57079632679``) is taken as that exact multiple, so its sine
 and cosine are exact radicals.  Any other angle ``t`` gives the rational
 rotation with ``cos = (1 - u**2)/(1 + u**2)``, ``sin = 2u/(1 + u**2)`` where
-``u`` is the shortest decimal of ``tan(t/2)``: every entry is an exact
-rational within rounding error of the float value, and the matrix is exactly
-orthogonal (converting float cosines entry by entry would not be).  Axis
-components are snapped the same way (``0.9999999`` is ``1``); an axis that
-does not snap becomes an exactly unit rational vector within rounding error
-of the normalised float axis.
+``u`` is the rational of smallest denominator that moves the angle by at most
+:data:`~rankloci.tolerances.URDF_ROTATION_ATOL` from ``tan(t/2)``: the matrix
+is exactly orthogonal (converting float cosines entry by entry would not be)
+and its entries are short.  Axis components are snapped the same way
+(``0.9999999`` is ``1``); an axis that does not snap becomes an exactly unit
+rational vector (inverse stereographic projection of short rationals) within
+URDF_ROTATION_ATOL of the normalised float axis.
 
 Lengths within :data:`~rankloci.tolerances.URDF_LENGTH_SNAP_ATOL` of 0 (an
 exporter's ``4.33681e-19``) are taken as 0.  Every such change is counted in a
@@ -27,14 +28,17 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from fractions import Fraction
 
+import numpy as np
 import sympy as sp
 
 from ..expr import exact_number
 from ..model import trans
-from ..tolerances import URDF_ANGLE_SNAP_ATOL, URDF_LENGTH_SNAP_ATOL
+from ..tolerances import URDF_ANGLE_SNAP_ATOL, URDF_LENGTH_SNAP_ATOL, URDF_ROTATION_ATOL
 
-__all__ = ["exact_origin", "exact_axis", "exact_motion", "expanded_product", "bounded", "Snaps"]
+__all__ = ["exact_origin", "exact_axis", "exact_motion", "expanded_product", "bounded", "Snaps",
+           "simplest_rational", "read_angle", "read_axis"]
 
 #: Digits a rational entry of a composed transform may have before its rotation is replaced by
 #: the nearest short exact rotation (:func:`bounded`).  One rpy rotation of a float angle has
@@ -64,6 +68,7 @@ class Snaps:
     angles: list = field(default_factory=list)
     axes: list = field(default_factory=list)
     lengths: list = field(default_factory=list)
+    rotations: list = field(default_factory=list)
 
     def note(self) -> str | None:
         """One line for the output, or None when reading changed nothing."""
@@ -73,7 +78,10 @@ class Snaps:
                  "rpy angles to exact multiples of pi/12", "largest change {:.2g} rad"),
                 (self.axes, "axis component to an exact value", "axis components to exact values",
                  "largest change {:.2g}"),
-                (self.lengths, "length to 0", "lengths to 0", "largest {:.2g} m")):
+                (self.lengths, "length to 0", "lengths to 0", "largest {:.2g} m"),
+                (self.rotations, "other rotation or axis to a short exact rational one",
+                 "other rotations and axes to short exact rational ones",
+                 "largest change {:.2g} rad")):
             if values:
                 what = one if len(values) == 1 else many
                 parts.append(f"{len(values)} {what} ({largest.format(max(values))})")
@@ -92,6 +100,34 @@ def _length(x: float, snaps: Snaps | None) -> sp.Expr:
     return exact_number(x)
 
 
+def simplest_rational(lo: Fraction, hi: Fraction) -> Fraction:
+    """The rational with the smallest denominator in ``[lo, hi]`` (``lo <= hi``).
+
+    By continued fractions: an integer in the interval if there is one,
+    otherwise the common integer part plus the reciprocal of the simplest
+    rational in the reciprocal interval of the fractional parts.
+
+    Examples
+    --------
+    >>> simplest_rational(Fraction(314, 100), Fraction(315, 100))
+    Fraction(22, 7)
+    >>> simplest_rational(Fraction(-1, 3), Fraction(1, 2))
+    Fraction(0, 1)
+    """
+    n = math.floor(lo)
+    if n == lo:
+        return Fraction(n)
+    if n + 1 <= hi:
+        return Fraction(n + 1)
+    return n + 1 / simplest_rational(1 / (hi - n), 1 / (lo - n))
+
+
+def _short(x: float, tol: float) -> sp.Rational:
+    """The rational of smallest denominator within ``tol`` of ``x``."""
+    f = simplest_rational(Fraction(x) - Fraction(tol), Fraction(x) + Fraction(tol))
+    return sp.Rational(f.numerator, f.denominator)
+
+
 def _snap_angle(t: float) -> sp.Expr | None:
     """The exact multiple of pi/12 within URDF_ANGLE_SNAP_ATOL of ``t``, or None."""
     k = round(t / (math.pi / 12))
@@ -108,8 +144,28 @@ def _cos_sin(t: float, snaps: Snaps | None = None) -> tuple[sp.Expr, sp.Expr]:
         if snaps is not None and float(snapped) != t:
             snaps.angles.append(abs(float(snapped) - t))
         return sp.cos(snapped), sp.sin(snapped)
-    u = exact_number(math.tan(t / 2))  # finite: angles near +-pi snap
+    v = math.tan(t / 2)  # finite: angles near +-pi snap
+    # d(angle) = 2 du / (1 + u**2)
+    u = _short(v, URDF_ROTATION_ATOL * (1 + v * v) / 2)
+    if snaps is not None:
+        snaps.rotations.append(abs(2 * math.atan(float(u)) - t))
     return (1 - u**2) / (1 + u**2), 2 * u / (1 + u**2)
+
+
+def read_angle(t: float) -> float:
+    """The float value of the exact angle an rpy angle ``t`` of a URDF is read as.
+
+    Examples
+    --------
+    >>> read_angle(1.5708) == math.pi / 2, abs(read_angle(0.7) - 0.7) <= 1e-9
+    (True, True)
+    """
+    t = math.remainder(t, 2 * math.pi)
+    snapped = _snap_angle(t)
+    if snapped is not None:
+        return float(snapped)
+    c, s = _cos_sin(t)
+    return math.atan2(float(s), float(c))
 
 
 def _rotation(axis: str, t: float, snaps: Snaps | None = None) -> sp.Matrix:
@@ -152,7 +208,6 @@ def bounded(T: sp.Matrix) -> sp.Matrix:
     """
     if not all(x.is_Rational for x in T) or max(_digits(x) for x in T) <= MAX_TRANSFORM_DIGITS:
         return T
-    import numpy as np
 
     R = np.array(T[:3, :3].evalf(20), dtype=float)
     # the quaternion of R (Shepperd's method: divide by the largest of the four candidates)
@@ -229,13 +284,21 @@ def exact_axis(v: tuple[float, ...], snaps: Snaps | None = None) -> tuple[sp.Exp
     others = [m for m in range(3) if m != k]
     if snaps is not None:
         snaps.axes.extend(abs(u[m]) for m in others if 0 < abs(u[m]) <= URDF_ANGLE_SNAP_ATOL)
+    # the unit vector moves by at most 2 (|da| + |db|)
     a, b = (sp.Integer(0) if abs(u[m]) <= URDF_ANGLE_SNAP_ATOL
-            else exact_number(u[m] / (1 + abs(u[k]))) for m in others)
+            else _short(u[m] / (1 + abs(u[k])), URDF_ROTATION_ATOL / 4) for m in others)
     d = 1 + a**2 + b**2
     out = [sp.Integer(0)] * 3
     out[others[0]], out[others[1]] = 2 * a / d, 2 * b / d
     out[k] = (1 if u[k] > 0 else -1) * (1 - a**2 - b**2) / d
+    if snaps is not None and (a != 0 or b != 0):
+        snaps.rotations.append(float(np.linalg.norm([float(x) - y for x, y in zip(out, u)])))
     return tuple(out)
+
+
+def read_axis(v: tuple[float, ...]) -> tuple[float, float, float]:
+    """The float values of the exact unit axis a URDF axis ``v`` is read as."""
+    return tuple(float(x) for x in exact_axis(v))
 
 
 def exact_motion(kind: str, axis, value, snaps: Snaps | None = None) -> sp.Matrix:

@@ -25,7 +25,7 @@ from rankloci.errors import ModelError
 from rankloci.io.toml_model import read_model
 from rankloci.io.urdf import parse_urdf, read_urdf
 from rankloci.kinematics import forward_kinematics, geometric_jacobian
-from rankloci.tolerances import RANK_RTOL, URDF_ANGLE_SNAP_ATOL
+from rankloci.tolerances import RANK_RTOL, URDF_ANGLE_SNAP_ATOL, URDF_ROTATION_ATOL
 from urdf_reference import rot, snapped, snapped_length
 
 SEED = 20240611
@@ -92,6 +92,10 @@ class NumericChain:
         self.angle_error = 0.0  # sum of |snapped - file| angles on the chain
         self.length = 0.0       # sum of |xyz| on the chain: a bound on every lever arm
         self.length_error = 0.0  # sum of |snapped - file| lengths on the chain
+        # rotations read as short exact rational ones, each within URDF_ROTATION_ATOL rad:
+        # rpy angles that do not snap, and joint axes (one rotation by up to pi about an axis
+        # moved by URDF_ROTATION_ATOL moves a point by at most pi times that per lever arm)
+        self.rotation_error = 0.0
         for j in reversed(chain):
             o = j.find("origin")
             xyz = [float(v) for v in (o.get("xyz", "0 0 0") if o is not None else "0 0 0").split()]
@@ -101,6 +105,8 @@ class NumericChain:
                 rpy = [snapped(t) for t in rpy]
                 self.length_error += sum(abs(snapped_length(x) - x) for x in xyz)
                 xyz = [snapped_length(x) for x in xyz]
+                self.rotation_error += URDF_ROTATION_ATOL * (
+                    sum(t != 0 and snapped(t) == t for t in rpy) + math.pi)
             self.length += float(np.linalg.norm(xyz))
             T = np.eye(4)
             T[:3, :3] = rot((0, 0, 1), rpy[2]) @ rot((0, 1, 0), rpy[1]) @ rot((1, 0, 0), rpy[0])
@@ -213,7 +219,8 @@ def test_fk_matches_numeric_composition(robots, key):
     for _ in range(8):
         q = rng.uniform(-np.pi, np.pi, m.dof)
         T = fk(q)
-        np.testing.assert_allclose(T, ideal.fk(q), rtol=0, atol=FK_ATOL)
+        np.testing.assert_allclose(T, ideal.fk(q), rtol=0,
+                                   atol=ideal.rotation_error * (1 + ideal.length) + FK_ATOL)
         np.testing.assert_allclose(T, raw.fk(q), rtol=0, atol=snap_bound)
 
 
@@ -377,7 +384,10 @@ def test_origin_rotation_is_exact_orthogonal_and_close(rpy):
                                atol=3 * URDF_ANGLE_SNAP_ATOL + FK_ATOL)
     ideal = [snapped(t) for t in rpy]
     Rs = rot((0, 0, 1), ideal[2]) @ rot((0, 1, 0), ideal[1]) @ rot((1, 0, 0), ideal[0])
-    np.testing.assert_allclose(np.array(R.evalf(), float), Rs, rtol=0, atol=FK_ATOL)
+    # an angle that does not snap is read as a short rational rotation within URDF_ROTATION_ATOL
+    approx = sum(t != 0 and snapped(t) == t for t in rpy)
+    np.testing.assert_allclose(np.array(R.evalf(), float), Rs, rtol=0,
+                               atol=approx * URDF_ROTATION_ATOL + FK_ATOL)
 
 
 @settings(max_examples=200, deadline=None)
