@@ -128,6 +128,43 @@ def _short(x: float, tol: float) -> sp.Rational:
     return sp.Rational(f.numerator, f.denominator)
 
 
+#: Denominators searched at once by :func:`_common_denominator` (one numpy block).
+_DENOMINATOR_BLOCK = 1 << 20
+
+
+def _common_denominator(xs, tol: float) -> list[sp.Rational]:
+    """Rationals ``A_i / q`` within ``tol`` of each ``xs[i]``, with the smallest such ``q``.
+
+    The two stereographic coordinates of an axis share their denominator, so the
+    axis's entries ``(2Aq, 2Bq, q**2 - A**2 - B**2) / (q**2 + A**2 + B**2)`` have
+    about twice its digits; two separate short rationals would give four times
+    theirs.  For two numbers and ``tol`` 2.5e-10, ``q`` stays below about 1e7
+    (Dirichlet: some ``q <= Q`` approximates both to ``1 / (q sqrt(Q))``).
+
+    Examples
+    --------
+    >>> _common_denominator([0.5, 0.25], 1e-12)
+    [1/2, 1/4]
+    >>> _common_denominator([0.333333, 0.0], 1e-5)
+    [1/3, 0]
+    """
+    xs = [float(x) for x in xs]
+    start = 1
+    while True:
+        q = np.arange(start, start + _DENOMINATOR_BLOCK, dtype=float)
+        ok = np.ones(len(q), dtype=bool)
+        for x in xs:
+            # |x - round(x q) / q| <= tol, checked in floats with a margin, then exactly
+            ok &= np.abs(x * q - np.round(x * q)) <= tol * q * (1 - 1e-6)
+        for qq in q[ok]:
+            qq = int(qq)
+            got = [sp.Rational(round(Fraction(x) * qq), qq) for x in xs]
+            if all(abs(Fraction(int(g.p), int(g.q)) - Fraction(x)) <= Fraction(tol)
+                   for g, x in zip(got, xs)):
+                return got
+        start += _DENOMINATOR_BLOCK
+
+
 def _snap_angle(t: float) -> sp.Expr | None:
     """The exact multiple of pi/12 within URDF_ANGLE_SNAP_ATOL of ``t``, or None."""
     k = round(t / (math.pi / 12))
@@ -285,8 +322,8 @@ def exact_axis(v: tuple[float, ...], snaps: Snaps | None = None) -> tuple[sp.Exp
     if snaps is not None:
         snaps.axes.extend(abs(u[m]) for m in others if 0 < abs(u[m]) <= URDF_ANGLE_SNAP_ATOL)
     # the unit vector moves by at most 2 (|da| + |db|)
-    a, b = (sp.Integer(0) if abs(u[m]) <= URDF_ANGLE_SNAP_ATOL
-            else _short(u[m] / (1 + abs(u[k])), URDF_ROTATION_ATOL / 4) for m in others)
+    a, b = _common_denominator([0.0 if abs(u[m]) <= URDF_ANGLE_SNAP_ATOL else u[m] / (1 + abs(u[k]))
+                                for m in others], URDF_ROTATION_ATOL / 4)
     d = 1 + a**2 + b**2
     out = [sp.Integer(0)] * 3
     out[others[0]], out[others[1]] = 2 * a / d, 2 * b / d

@@ -434,6 +434,27 @@ def test_tiny_lengths_snap_to_zero_and_every_snap_is_noted():
     assert parse_urdf(exact, name="e").notes == ()
 
 
+def test_other_rotations_are_short_exact_rationals():
+    # alex's 40-degree rotation and a romeo axis written with 6 digits: exact, orthogonal,
+    # within URDF_ROTATION_ATOL of the file, and with short denominators (a float's shortest
+    # decimal would give 17 to 34 digits)
+    doc = _urdf(_joint("j", "revolute", "a", "b", '<origin rpy="0.698132 0 0"/>'
+                       '<axis xyz="0.417025 0.895055 -0.15801"/>'), links=("a", "b"))
+    m = parse_urdf(doc, name="r")
+    R = sp.Matrix(m.joints[0].pre)[:3, :3]
+    assert (R.T * R).applyfunc(sp.expand) == sp.eye(3)
+    assert max(x.q for x in R) < 10**10
+    np.testing.assert_allclose(np.array(R.evalf(), float), rot((1, 0, 0), 0.698132), rtol=0,
+                               atol=URDF_ROTATION_ATOL)
+    axis = m.joints[0].axis
+    # one common denominator of about 7 digits for both stereographic coordinates
+    assert sp.expand(sum(c**2 for c in axis)) == 1 and max(c.q for c in axis) < 10**14
+    u = np.array([0.417025, 0.895055, -0.15801])
+    assert np.linalg.norm(np.array([float(c) for c in axis]) - u / np.linalg.norm(u)) <= \
+        URDF_ROTATION_ATOL
+    assert "2 other rotations and axes to short exact rational ones" in m.notes[0]
+
+
 def test_a_locus_carries_the_snapping_note():
     from rankloci.api import locus
 
