@@ -59,6 +59,13 @@ BOX_RTOL = 2.0 ** -100
 #: 370 of panda's 442 failed ones were above 1e27 (most 1e72 to 1e84).  Skipping the test decides
 #: nothing: the point stays unproved, as a failed test leaves it.
 SINGULAR_COND = 1e30
+#: The ball arithmetic is not started at all when the Jacobian at the zero found in doubles has a
+#: condition number (max-row-sum norms, in doubles) above this.  That point is within rounding of
+#: the zero the ball Newton steps refine, so the two Jacobians agree to about 1e-16 relative and
+#: their condition numbers agree wherever they are below 1e15; every passed test had one below
+#: 1e12 (see SINGULAR_COND), and the double one saturates near 1e16 on a singular Jacobian.  Like
+#: SINGULAR_COND, this decides only whether a proof is attempted.
+FLOAT_SINGULAR_COND = 1e14
 #: Pivot columns whose smallest singular value is below this times the largest are no chart
 #: of the branch at the point (a point where components meet); the point stays undecided.
 PIVOT_RTOL = 1e-12
@@ -125,6 +132,8 @@ def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable,
         return None
     if numeric_above is not None and _worth_proving(ring, excl, g, cache, numeric_above):
         return np.asarray(g, dtype=float)
+    if eqs and _float_condition(ring, eqs, cols, g, cache) > FLOAT_SINGULAR_COND:
+        return None
     with flint.ctx.workprec(PRECISION_BITS):
         vals = [flint.arb(float(x)) for x in g]
         for j, prime in enumerate(ring.surds):
@@ -172,6 +181,20 @@ def _float_newton(ring: PolyRing, eqs, cols, g, cache: dict) -> np.ndarray | Non
             return None
     resid = np.abs(F(x)) / np.maximum(size(np.abs(x)), 1e-300)
     return x if np.all(resid <= ROOT_XTOL) else None
+
+
+def _float_condition(ring: PolyRing, eqs, cols, g, cache: dict) -> float:
+    """Condition number (max-row-sum norms) of the equations' Jacobian in ``cols`` at ``g``."""
+    k = len(eqs)
+    J = _compiled(ring, cache, ("J",) + tuple(cols),
+                  lambda: [q.derivative(j) for q in eqs for j in cols])
+    A = J(np.asarray(g, dtype=float)).reshape(k, k)
+    with np.errstate(all="ignore"):
+        try:
+            c = np.linalg.cond(A, np.inf)
+        except np.linalg.LinAlgError:
+            return np.inf
+    return float(c) if np.isfinite(c) else np.inf
 
 
 def _worth_proving(ring: PolyRing, excl, g, cache: dict, rtol: float = EXCLUSION_CERTIFY_RTOL) -> bool:

@@ -156,3 +156,30 @@ def test_a_zero_with_a_singular_jacobian_is_not_proved():
         assert _krawczyk([DIFF ** 2], [1], vals, {}) is None
         # the simple root next to it is proved
         assert _krawczyk([DIFF], [1], vals, {}) is not None
+
+
+def test_a_singular_jacobian_in_doubles_skips_the_ball_arithmetic(monkeypatch):
+    """No ball arithmetic is started where the equations' Jacobian at the zero found in doubles
+    has a condition number above FLOAT_SINGULAR_COND; a simple root stays far below it."""
+    import rankloci.tree.certify as certify
+
+    # two equations that both vanish on the curve q = r: their Jacobian is singular on it
+    g = generators(0.4, 0.4)
+    assert certify._float_condition(RING, [DIFF, DIFF * SUM], [1, 3], g, {}) > \
+        certify.FLOAT_SINGULAR_COND
+    assert certify._float_condition(RING, [DIFF, Sr], [1, 3], g, {}) < 1e3
+
+    calls = []
+    real = certify._krawczyk
+
+    def counted(*args, **kwargs):
+        calls.append(args)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(certify, "_krawczyk", counted)
+    simple = Branch((DIFF,), (), (DIFF,), (SUM,))
+    start = generators(0.4 + 1e-9, 0.4)
+    assert certified_point(RING, simple, start, ALL) is not None and len(calls) == 1
+    # the same root with the threshold below its condition number (1): not attempted
+    monkeypatch.setattr(certify, "FLOAT_SINGULAR_COND", 0.5)
+    assert certified_point(RING, simple, start, ALL) is None and len(calls) == 1
