@@ -128,8 +128,10 @@ def _short(x: float, tol: float) -> sp.Rational:
     return sp.Rational(f.numerator, f.denominator)
 
 
-#: Denominators searched at once by :func:`_common_denominator` (one numpy block).
+#: Denominators searched at once by :func:`_common_denominator` (one numpy block), and the
+#: largest searched (about a second) before each number gets its own short rational.
 _DENOMINATOR_BLOCK = 1 << 20
+_DENOMINATOR_MAX = 1 << 26
 
 
 def _common_denominator(xs, tol: float) -> list[sp.Rational]:
@@ -139,7 +141,8 @@ def _common_denominator(xs, tol: float) -> list[sp.Rational]:
     axis's entries ``(2Aq, 2Bq, q**2 - A**2 - B**2) / (q**2 + A**2 + B**2)`` have
     about twice its digits; two separate short rationals would give four times
     theirs.  For two numbers and ``tol`` 2.5e-10, ``q`` stays below about 1e7
-    (Dirichlet: some ``q <= Q`` approximates both to ``1 / (q sqrt(Q))``).
+    (the chance that a given ``q`` serves both is about ``(2 q tol)**2``).  Past
+    ``_DENOMINATOR_MAX`` each number gets its own short rational instead.
 
     Examples
     --------
@@ -150,7 +153,7 @@ def _common_denominator(xs, tol: float) -> list[sp.Rational]:
     """
     xs = [float(x) for x in xs]
     start = 1
-    while True:
+    while start < _DENOMINATOR_MAX:
         q = np.arange(start, start + _DENOMINATOR_BLOCK, dtype=float)
         ok = np.ones(len(q), dtype=bool)
         for x in xs:
@@ -163,6 +166,7 @@ def _common_denominator(xs, tol: float) -> list[sp.Rational]:
                    for g, x in zip(got, xs)):
                 return got
         start += _DENOMINATOR_BLOCK
+    return [_short(x, tol) for x in xs]
 
 
 def _snap_angle(t: float) -> sp.Expr | None:

@@ -455,6 +455,23 @@ def test_other_rotations_are_short_exact_rationals():
     assert "2 other rotations and axes to short exact rational ones" in m.notes[0]
 
 
+def test_common_denominator_search_is_bounded(monkeypatch):
+    from fractions import Fraction
+
+    import rankloci.io.urdf_exact as urdf_exact
+
+    xs = [0.41702512345, 0.8950551234]
+    common = urdf_exact._common_denominator(xs, 2.5e-10)
+    assert common[0].q == common[1].q
+    # past the largest denominator searched, each number gets its own short rational
+    monkeypatch.setattr(urdf_exact, "_DENOMINATOR_MAX", 1 << 20)
+    own = urdf_exact._common_denominator(xs, 2.5e-10)
+    assert own[0].q != own[1].q
+    for got in (common, own):
+        assert all(abs(Fraction(int(g.p), int(g.q)) - Fraction(x)) <= Fraction(2.5e-10)
+                   for g, x in zip(got, xs))
+
+
 def test_a_locus_carries_the_snapping_note():
     from rankloci.api import locus
 
