@@ -113,15 +113,17 @@ def cmd_jacobian(args) -> int:
     model, extra = _load_model(args)
     if isinstance(model, RobotModel) is False and args.point != "tool":
         raise UsageError("--point applies to robot models only")
-    text = _limited(args, lambda tell: _jacobian_text(args, _task_matrix(args, model, extra, tell)),
-                    None, "building the Jacobian")
+    notes = tuple(getattr(model, "notes", ()))
+    text = _limited(args, lambda tell: _jacobian_text(args, _task_matrix(args, model, extra, tell),
+                                                      notes), None, "building the Jacobian")
     if text is None:
         return EXIT_FAILED
     print(text)
     return EXIT_OK
 
 
-def _jacobian_text(args, tm) -> str:
+def _jacobian_text(args, tm, notes=()) -> str:
+    """The matrix in the requested format; ``notes`` say what reading the model file changed."""
     import sympy as sp
 
     lines = []
@@ -135,9 +137,12 @@ def _jacobian_text(args, tm) -> str:
             "parameters": {k.name: float(v) for k, v in tm.parameters.items()},
             "rows": list(tm.row_labels),
             "matrix": [[sp.sstr(J[i, j]) for j in range(J.cols)] for i in range(J.rows)],
+            "notes": list(notes),
         }
         print(json.dumps(out, indent=2))
     elif args.format == "latex":
+        for note in notes:
+            print(f"% note: {note}")
         print(r"\begin{bmatrix}")
         for i in range(J.rows):
             print(" & ".join(sp.latex(J[i, j]) for j in range(J.cols)) + (r" \\" if i < J.rows - 1 else ""))
@@ -146,6 +151,8 @@ def _jacobian_text(args, tm) -> str:
         print(f"# {tm.name}: {J.rows}x{J.cols} matrix in {', '.join(v.name for v in tm.variables)}")
         if tm.parameters:
             print("# parameters: " + ", ".join(f"{k} = {float(v):g}" for k, v in tm.parameters.items()))
+        for note in notes:
+            print(f"# note: {note}")
         for i in range(J.rows):
             for j in range(J.cols):
                 print(f"J[{tm.row_labels[i]}, {tm.variables[j]}] = {sp.sstr(J[i, j])}")

@@ -62,7 +62,7 @@ class Snaps:
     >>> snaps = Snaps()
     >>> T = exact_origin((0.1, 4.33681e-19, 0.0), (1.5708, 0.0, 0.0), snaps)
     >>> print(snaps.note())
-    reading the URDF snapped 1 rpy angle to an exact multiple of pi/12 (largest change 3.7e-06 rad) and 1 length to 0 (largest 4.3e-19 m); the locus is for the snapped model
+    reading the URDF snapped 1 rpy angle to an exact multiple of pi/12 (largest change 3.7e-06 rad) and 1 length to 0 (largest 4.3e-19 m); results are for the snapped model
     """
 
     angles: list = field(default_factory=list)
@@ -88,7 +88,7 @@ class Snaps:
         if not parts:
             return None
         listed = parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " and " + parts[-1]
-        return f"reading the URDF snapped {listed}; the locus is for the snapped model"
+        return f"reading the URDF snapped {listed}; results are for the snapped model"
 
 
 def _length(x: float, snaps: Snaps | None) -> sp.Expr:

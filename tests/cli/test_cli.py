@@ -106,6 +106,7 @@ def test_jacobian_json(capsys):
     assert data["variables"] == ["q1", "q2"]
     assert data["rows"] == ["vx", "vy"]
     assert data["parameters"] == {"l1": 1.0, "l2": 1.0}
+    assert data["notes"] == []  # a TOML model: nothing was snapped
     matrix = data["matrix"]
     assert len(matrix) == 2 and all(len(row) == 2 for row in matrix)
     model, names = _planar2r_names()
@@ -413,3 +414,18 @@ def test_models_with_a_broken_builtin_file_is_one_error_line(capsys, tmp_path, m
     code, out, err = run(capsys, "jacobian", "broken")
     assert_one_line_error(code, out, err)
     assert err.startswith("rankloci: error: broken.toml: invalid TOML")
+
+
+def test_jacobian_notes_what_reading_a_urdf_changed(capsys, tmp_path):
+    urdf = tmp_path / "two.urdf"
+    urdf.write_text(
+        '<robot name="two"><link name="a"/><link name="b"/><link name="c"/>'
+        '<joint name="j1" type="revolute"><parent link="a"/><child link="b"/>'
+        '<axis xyz="0 0 1"/></joint>'
+        '<joint name="j2" type="revolute"><parent link="b"/><child link="c"/>'
+        '<origin xyz="1 0 0" rpy="1.5708 0 0"/><axis xyz="0 0 1"/></joint></robot>')
+    code, out, _ = run(capsys, "jacobian", str(urdf))
+    assert code == 0
+    assert "# note: reading the URDF snapped 1 rpy angle to an exact multiple of pi/12" in out
+    code, out, _ = run(capsys, "jacobian", str(urdf), "--format", "json")
+    assert json.loads(out)["notes"][0].startswith("reading the URDF snapped 1 rpy angle")

@@ -426,7 +426,7 @@ def test_tiny_lengths_snap_to_zero_and_every_snap_is_noted():
     assert m.notes == (
         "reading the URDF snapped 1 rpy angle to an exact multiple of pi/12 (largest change "
         "3.7e-06 rad), 2 axis components to exact values (largest change 1e-07) and 2 lengths "
-        "to 0 (largest 7.5e-09 m); the locus is for the snapped model",)
+        "to 0 (largest 7.5e-09 m); results are for the snapped model",)
     # values that are exact already change nothing
     exact = _urdf(_joint("j", "revolute", "a", "b",
                          f'<origin xyz="0 0 0.5" rpy="{math.pi / 2!r} 0 0"/><axis xyz="0 1 0"/>'),
