@@ -60,3 +60,23 @@ def test_variable_indices_names_the_generators_used():
     assert {ring.names[i] for i in ring.variable_indices(p)} == {"t", "a"}
     assert ring.variable_indices(ring.from_sympy(sp.Integer(3))) == set()
     assert ring.variable_indices(ring.from_sympy(sp.Integer(0))) == set()
+
+
+def test_compile_reuses_the_evaluator_of_equal_polynomials(monkeypatch):
+    """Equal lists (term for term, other objects) share one evaluator; a list that differs in
+    one coefficient, with the same terms and degrees, gets its own; the memo is bounded."""
+    import rankloci.algebra.ring as ring_module
+
+    ring = _ring()
+    polys = [ring.from_sympy(e) for e in EXPRS]
+    f = ring.compile(polys)
+    assert ring.compile([ring.from_sympy(e) for e in EXPRS]) is f
+    other = [ring.from_sympy(EXPRS[0] + sp.sin(x) * sp.cos(y))] + polys[1:]  # 2 sin x cos y
+    g = ring.compile(other)
+    assert g is not f
+    point = _generators(ring, np.array([[0.3, -1.1, 0.7, 2.0]]))[0]
+    assert g(point)[0] != f(point)[0] and np.all(g(point)[1:] == f(point)[1:])
+    # past its size the memo starts afresh when the next new list comes
+    monkeypatch.setattr(ring_module, "COMPILE_MEMO_TERMS", 0)
+    ring.compile(polys[2:])
+    assert ring.compile(polys) is not f
