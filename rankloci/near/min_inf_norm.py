@@ -354,7 +354,7 @@ def min_inf_norm(A, y, *, method: str = "ha_lee") -> InfNormSolution:
     Examples
     --------
     >>> A, y = [[1, 2, 3, 4], [1, 2, 3, 5]], [1, 0]
-    >>> min_inf_norm(A, y).x.round(6).tolist()
+    >>> (min_inf_norm(A, y).x.round(6) + 0.0).tolist()   # + 0.0: no signed zero
     [0.0, 1.0, 1.0, -1.0]
     >>> min_inf_norm(A, y, method="cadzow").converged
     False
