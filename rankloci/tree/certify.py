@@ -32,7 +32,7 @@ import itertools
 import flint
 import numpy as np
 
-from ..algebra import PolyRing, abs_poly
+from ..algebra import PolyRing
 from ..tolerances import EXCLUSION_CERTIFY_RTOL, EXCLUSION_RTOL, ROOT_XTOL
 from .branch import Branch
 
@@ -152,10 +152,10 @@ def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable,
         return out
 
 
-def _compiled(ring: PolyRing, cache: dict, key, polys):
-    """``ring.compile(polys())`` under ``key`` in ``cache``."""
+def _compiled(ring: PolyRing, cache: dict, key, polys, *, absolute: bool = False):
+    """``ring.compile(polys(), absolute=absolute)`` under ``key`` in ``cache``."""
     if key not in cache:
-        cache[key] = ring.compile(polys())
+        cache[key] = ring.compile(polys(), absolute=absolute)
     return cache[key]
 
 
@@ -169,7 +169,7 @@ def _float_newton(ring: PolyRing, eqs, cols, g, cache: dict) -> np.ndarray | Non
     F = _compiled(ring, cache, "F", lambda: eqs)
     J = _compiled(ring, cache, ("J",) + tuple(cols),
                   lambda: [q.derivative(j) for q in eqs for j in cols])
-    size = _compiled(ring, cache, "F size", lambda: [abs_poly(q, ring) for q in eqs])
+    size = _compiled(ring, cache, "F size", lambda: eqs, absolute=True)
     x = np.array(g, dtype=float)
     for _ in range(FLOAT_NEWTON_STEPS):
         try:
@@ -207,7 +207,7 @@ def _worth_proving(ring: PolyRing, excl, g, cache: dict, rtol: float = EXCLUSION
     if not excl:
         return True
     vals = np.abs(_compiled(ring, cache, "excl", lambda: excl)(g))
-    sizes = _compiled(ring, cache, "excl size", lambda: [abs_poly(p, ring) for p in excl])(np.abs(g))
+    sizes = _compiled(ring, cache, "excl size", lambda: excl, absolute=True)(np.abs(g))
     return bool(np.all(vals > rtol * sizes))
 
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..algebra import PolyRing, abs_poly
+from ..algebra import PolyRing
 from ..tolerances import RANK_RTOL, ZERO_RTOL
 
 __all__ = ["Probe", "numeric_rank", "scaled_ratio"]
@@ -88,8 +88,7 @@ class Probe:
         key = (scale,) + tuple(id(p) for p in flat)
         got = self._matrices.get(key)
         if got is None or any(a is not b for a, b in zip(got[0], flat)):
-            polys = [abs_poly(p, self.ring) for p in flat] if scale else flat
-            got = (flat, self.ring.compile(polys))
+            got = (flat, self.ring.compile(flat, absolute=scale))
             if len(self._matrices) > _MATRIX_CACHE:
                 self._matrices.clear()
             self._matrices[key] = got
@@ -116,7 +115,7 @@ class Probe:
         if got is None or got[0] is not p:
             if len(self._polys) > _POLY_CACHE:
                 self._polys.clear()
-            got = (p, self.ring.compile([p]), self.ring.compile([abs_poly(p, self.ring)]))
+            got = (p, self.ring.compile([p]), self.ring.compile([p], absolute=True))
             self._polys[id(p)] = got
         _, val, scale = got
         G = np.asarray(points, dtype=float)
@@ -134,7 +133,7 @@ class Probe:
         no sign.
         """
         val = self.ring.compile([p])
-        size = self.ring.compile([abs_poly(p, self.ring)])
+        size = self.ring.compile([p], absolute=True)
         grad = [self.ring.compile([d]) for d in self.ring.gradient(p)]
         n = len(angles) + len(others)
         if n == 0:
@@ -179,6 +178,6 @@ class Probe:
         if not grad:
             return False
         val = self.ring.compile(grad)
-        size = self.ring.compile([abs_poly(d, self.ring) for d in grad])
+        size = self.ring.compile(grad, absolute=True)
         G = np.asarray(points, dtype=float)
         return bool(np.all(np.abs(val(G)) <= rtol * np.maximum(size(np.abs(G)), 1e-300)))

@@ -90,7 +90,6 @@ def _degenerate_pairs(ctx: "Context", branch: "Branch", pts) -> np.ndarray:
     own, and the matrix's rank there says nothing about this branch (on tiago's arm a whole
     branch lies in it, with |a|, |b| near 1e-6 of their terms).
     """
-    from ..algebra import abs_poly
     from ..tolerances import EXCLUSION_RTOL
 
     pairs = [s for s in branch.substitutions if s.kind == "pair"]
@@ -98,7 +97,7 @@ def _degenerate_pairs(ctx: "Context", branch: "Branch", pts) -> np.ndarray:
         return np.zeros((len(pts), len(pairs)), dtype=bool)
     ring = ctx.ring
     vals = ring.compile([v for s in pairs for v in s.values])
-    sizes = ring.compile([abs_poly(v, ring) for s in pairs for v in s.values])
+    sizes = ring.compile([v for s in pairs for v in s.values], absolute=True)
     G = np.array(pts, dtype=float)
     V, S = vals(G).reshape(len(G), len(pairs), 2), sizes(np.abs(G)).reshape(len(G), len(pairs), 2)
     return ~(np.hypot(V[..., 0], V[..., 1]) > EXCLUSION_RTOL * np.hypot(S[..., 0], S[..., 1]))
@@ -134,7 +133,6 @@ def _exceptional_exclusions(ctx: "Context", branch: "Branch", pts, degenerate) -
 def _special_points(ctx: "Context", branch: "Branch") -> list:
     """Points of ``branch`` (within ROOT_XTOL, exclusions above EXCLUSION_RTOL) among random
     starts with each free angle at a random multiple of pi/2 with probability one half."""
-    from ..algebra import abs_poly
     from ..tolerances import EXCLUSION_RTOL, ROOT_XTOL
 
     if not branch.implicit:
@@ -152,12 +150,12 @@ def _special_points(ctx: "Context", branch: "Branch") -> list:
     G = G[ok]
     eqs = list(branch.implicit)
     R = ring.compile(eqs)(G) / np.maximum(
-        ring.compile([abs_poly(e, ring) for e in eqs])(np.abs(G)), 1e-300)
+        ring.compile(eqs, absolute=True)(np.abs(G)), 1e-300)
     hit = np.max(np.abs(R), axis=1) <= ROOT_XTOL
     nz = list(branch.nonzero)
     if nz and hit.any():
         V = ring.compile(nz)(G) / np.maximum(
-            ring.compile([abs_poly(e, ring) for e in nz])(np.abs(G)), 1e-300)
+            ring.compile(nz, absolute=True)(np.abs(G)), 1e-300)
         hit &= np.min(np.abs(V), axis=1) > EXCLUSION_RTOL
     return list(G[hit][:SPECIAL_POINTS])
 

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..algebra import PolyRing, abs_poly
+from ..algebra import PolyRing
 from ..numeric.gauss_newton import gauss_newton_rows
 from .branch import Branch
 from .certify import certified_point
@@ -149,10 +149,10 @@ class BranchSampler:
         angles, others, params = self.unknowns(branch)
         eqs = list(branch.implicit)
         ev = self.ring.compile(eqs) if eqs else None
-        scale_ev = self.ring.compile([abs_poly(e, self.ring) for e in eqs]) if eqs else None
+        scale_ev = self.ring.compile(eqs, absolute=True) if eqs else None
         nz = list(branch.nonzero)
         nz_ev = self.ring.compile(nz) if nz else None
-        nz_scale = self.ring.compile([abs_poly(e, self.ring) for e in nz]) if nz else None
+        nz_scale = self.ring.compile(nz, absolute=True) if nz else None
         n_x = len(angles) + len(others) + len(params)
         found = []
 

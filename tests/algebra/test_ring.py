@@ -80,3 +80,21 @@ def test_compile_reuses_the_evaluator_of_equal_polynomials(monkeypatch):
     monkeypatch.setattr(ring_module, "COMPILE_MEMO_TERMS", 0)
     ring.compile(polys[2:])
     assert ring.compile(polys) is not f
+
+
+@pytest.mark.parametrize("batch", [1, 5, 300])
+def test_absolute_evaluator_is_that_of_the_absolute_coefficients(batch):
+    """``compile(polys, absolute=True)`` evaluates the polynomials with every coefficient
+    replaced by its absolute value (abs_poly), bit for bit, and is kept beside the evaluator
+    of the polynomials themselves."""
+    from rankloci.algebra import abs_poly
+
+    ring = _ring()
+    polys = [ring.from_sympy(e) for e in EXPRS]
+    size = ring.compile(polys, absolute=True)
+    assert size is not ring.compile(polys)
+    assert ring.compile([ring.from_sympy(e) for e in EXPRS], absolute=True) is size
+    G = np.abs(_generators(ring, np.random.default_rng(2).uniform(-3, 3, (batch, 4))))
+    want = ring.compile([abs_poly(p, ring) for p in polys])(G)
+    assert np.array_equal(size(G), want)
+    assert not np.array_equal(size(G), ring.compile(polys)(G))
