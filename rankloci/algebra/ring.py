@@ -446,16 +446,19 @@ class PolyRing:
         # of terms held under the key None
         return {None: 0}
 
-    def compile(self, polys, *, absolute: bool = False):
+    def compile(self, polys, *, absolute: bool = False, sized: bool = False):
         """Vectorised evaluator of several polynomials at numeric generator values.
 
         With ``absolute``, the evaluator of the same polynomials with every
         coefficient replaced by its absolute value (of
         :func:`~rankloci.algebra.abs_poly` of each): at the absolute values
         of the generators it gives the size of their terms, the scale of
-        the numeric zero tests.  Both evaluators of a list are built from
-        one reading of its terms, and no such polynomial is formed (on
-        panda's finger chain forming them took 26 of 400 s).
+        the numeric zero tests.  With ``sized``, an evaluator that returns
+        both, ``(values, sizes)`` at ``x``, the sizes being those of the
+        absolute evaluator at ``|x|``, from one product of the terms.  The
+        evaluators of a list are built from one reading of its terms, and no
+        polynomial of absolute values is formed (on panda's finger chain
+        forming them took 26 of 400 s).
 
         A list equal term for term to one compiled before gets the same
         evaluator: a branch's equations, exclusions and their term sizes are
@@ -468,7 +471,7 @@ class PolyRing:
         memo = self._compile_memo
         for kept, evs in memo.get(key, ()):
             if all(a == b for a, b in zip(kept, polys)):
-                return evs[absolute]
+                return evs[2 if sized else int(absolute)]
         evs = self._compile(polys)
         terms = sum(len(p) for p in polys)
         if memo[None] + terms > COMPILE_MEMO_TERMS:
@@ -476,10 +479,10 @@ class PolyRing:
             memo[None] = 0
         memo.setdefault(key, []).append((polys, evs))
         memo[None] += terms
-        return evs[absolute]
+        return evs[2 if sized else int(absolute)]
 
     def _compile(self, polys):
-        """(evaluator, evaluator of the absolute values of the coefficients) of ``polys``."""
+        """The value, absolute and sized evaluators of ``polys`` (see :meth:`compile`)."""
         nv = len(self.names)
         mons, coeffs, owner = [], [], []
         for i, p in enumerate(polys):
@@ -502,36 +505,50 @@ class PolyRing:
         # terms are grouped by polynomial (owner is sorted): sum each group
         present = np.unique(owner)
         starts = np.searchsorted(owner, present)
-        return (self._evaluator(coeffs, npoly, owner, used, present, starts, powers, exponents,
-                                cols, mons, top),
-                self._evaluator(np.abs(coeffs), npoly, owner, used, present, starts, powers,
-                                exponents, cols, mons, top))
+        parts = (npoly, owner, used, present, starts, powers, exponents, cols, mons, top)
+        return (_evaluator(coeffs, *parts), _evaluator(np.abs(coeffs), *parts),
+                _evaluator(coeffs, *parts, sized=True))
 
-    @staticmethod
-    def _evaluator(coeffs, npoly, owner, used, present, starts, powers, exponents, cols, mons,
-                   top):
-        def evaluate(x):
-            """Values at one point (shape (nv,)) or at a batch of points (shape (B, nv))."""
-            x = np.asarray(x, dtype=float)
-            single = x.ndim == 1
-            X = x[None, :] if single else x
-            out = np.zeros((len(X), npoly))
-            if len(owner):
-                if not len(used):
-                    out[:, present] = np.add.reduceat(np.tile(coeffs, (len(X), 1)), starts, axis=1)
-                elif len(X) <= 64:
-                    # terms x points, one gather of the power table per generator used:
-                    # no (point, term, generator) temporary (2-3x faster for large J)
-                    terms = np.repeat(coeffs[:, None], len(X), axis=1)
-                    pw = X[:, used].T[:, None, :] ** powers       # (generator, power, point)
-                    for j, e in enumerate(exponents):
-                        terms *= pw[j][e]
-                    out[:, present] = np.add.reduceat(terms, starts, axis=0).T
-                else:
-                    # many points: one gather for all generators is faster
-                    pw = X[:, used, None] ** np.arange(top + 1)
-                    terms = np.prod(pw[:, cols, mons], axis=2) * coeffs
-                    out[:, present] = np.add.reduceat(terms, starts, axis=1)
-            return out[0] if single else out
 
-        return evaluate
+def _evaluator(coeffs, npoly, owner, used, present, starts, powers, exponents, cols, mons, top,
+               *, sized=False):
+    """The evaluator of :meth:`PolyRing.compile` for terms read by ``PolyRing._compile``.
+
+    With ``sized`` it returns the values and the sizes of the terms (the sums of their
+    absolute values) from one product of the terms: ``|c x**e| = |c| |x|**e`` bit for bit, so
+    the sizes equal those of the absolute evaluator at ``|x|``.
+    """
+    def evaluate(x):
+        """Values at one point (shape (nv,)) or at a batch of points (shape (B, nv))."""
+        x = np.asarray(x, dtype=float)
+        single = x.ndim == 1
+        X = x[None, :] if single else x
+        out = np.zeros((len(X), npoly))
+        size = np.zeros((len(X), npoly)) if sized else None
+        if len(owner):
+            if not len(used):
+                terms = np.tile(coeffs, (len(X), 1))
+                axis = 1
+            elif len(X) <= 64:
+                # terms x points, one gather of the power table per generator used:
+                # no (point, term, generator) temporary (2-3x faster for large J)
+                terms = np.repeat(coeffs[:, None], len(X), axis=1)
+                pw = X[:, used].T[:, None, :] ** powers       # (generator, power, point)
+                for j, e in enumerate(exponents):
+                    terms *= pw[j][e]
+                axis = 0
+            else:
+                # many points: one gather for all generators is faster
+                pw = X[:, used, None] ** np.arange(top + 1)
+                terms = np.prod(pw[:, cols, mons], axis=2) * coeffs
+                axis = 1
+            sums = np.add.reduceat(terms, starts, axis=axis)
+            out[:, present] = sums.T if axis == 0 else sums
+            if sized:
+                sums = np.add.reduceat(np.abs(terms), starts, axis=axis)
+                size[:, present] = sums.T if axis == 0 else sums
+        if sized:
+            return (out[0], size[0]) if single else (out, size)
+        return out[0] if single else out
+
+    return evaluate

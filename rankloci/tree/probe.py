@@ -96,8 +96,17 @@ class Probe:
         return got[1](x).reshape(len(M), len(M[0]))
 
     def evaluated(self, M, g) -> tuple[np.ndarray, np.ndarray]:
-        """The values of ``M`` at ``g`` and the sizes of their terms."""
-        return self.values(M, g), self.values(M, g, scale=True)
+        """The values of ``M`` at ``g`` and the sizes of their terms (one evaluation)."""
+        flat = [p for row in M for p in row]
+        key = ("sized",) + tuple(id(p) for p in flat)
+        got = self._matrices.get(key)
+        if got is None or any(a is not b for a, b in zip(got[0], flat)):
+            got = (flat, self.ring.compile(flat, sized=True))
+            if len(self._matrices) > _MATRIX_CACHE:
+                self._matrices.clear()
+            self._matrices[key] = got
+        values, sizes = got[1](g)
+        return values.reshape(len(M), len(M[0])), sizes.reshape(len(M), len(M[0]))
 
     def rank_at(self, M, g) -> int:
         """Numeric rank of ``M`` at ``g``; see :func:`numeric_rank`."""
@@ -115,12 +124,30 @@ class Probe:
         if got is None or got[0] is not p:
             if len(self._polys) > _POLY_CACHE:
                 self._polys.clear()
-            got = (p, self.ring.compile([p]), self.ring.compile([p], absolute=True))
+            got = (p, self.ring.compile([p], sized=True))
             self._polys[id(p)] = got
-        _, val, scale = got
-        G = np.asarray(points, dtype=float)
-        return bool(np.all(np.abs(val(G)[:, 0])
-                           <= ZERO_RTOL * np.maximum(scale(np.abs(G))[:, 0], 1e-300)))
+        val, scale = got[1](np.asarray(points, dtype=float))
+        return bool(np.all(np.abs(val[:, 0]) <= ZERO_RTOL * np.maximum(scale[:, 0], 1e-300)))
+
+    def vanishing(self, polys, points) -> np.ndarray:
+        """Which of ``polys`` vanish at which points: booleans, one row per point.
+
+        The test of :meth:`vanishes` for several polynomials and points in
+        one evaluation.
+        """
+        polys = tuple(polys)
+        G = np.asarray(points, dtype=float).reshape(-1, len(self.ring.names))
+        if not polys:
+            return np.ones((len(G), 0), dtype=bool)
+        key = ("vanishing",) + tuple(id(p) for p in polys)
+        got = self._matrices.get(key)
+        if got is None or any(a is not b for a, b in zip(got[0], polys)):
+            got = (polys, self.ring.compile(polys, sized=True))
+            if len(self._matrices) > _MATRIX_CACHE:
+                self._matrices.clear()
+            self._matrices[key] = got
+        val, scale = got[1](G)
+        return np.abs(val) <= ZERO_RTOL * np.maximum(scale, 1e-300)
 
     def changes_sign(self, p, points, angles, others, rng, *, step: float, directions: int = 6) -> bool:
         """Does ``p`` take both signs within ``step`` of some point, along a few directions?
@@ -177,7 +204,5 @@ class Probe:
         grad = [d for d in self.ring.gradient(p) if not d.is_zero()]
         if not grad:
             return False
-        val = self.ring.compile(grad)
-        size = self.ring.compile(grad, absolute=True)
-        G = np.asarray(points, dtype=float)
-        return bool(np.all(np.abs(val(G)) <= rtol * np.maximum(size(np.abs(G)), 1e-300)))
+        val, size = self.ring.compile(grad, sized=True)(np.asarray(points, dtype=float))
+        return bool(np.all(np.abs(val) <= rtol * np.maximum(size, 1e-300)))

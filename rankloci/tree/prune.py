@@ -51,14 +51,22 @@ def known(ctx: "Context", branch: Branch) -> bool:
     pts = ctx.sampler.points(branch)
     if not pts:
         return False
-    vanishes = ctx.probe.vanishes
+    vanishing = ctx.probe.vanishing
     leaves = [leaf for leaf, _ in ctx.leaves
               if leaf is not branch and leaf.conditions
               and len(leaf.conditions) <= len(branch.conditions)]
-    for leaf in leaves:
-        if all(vanishes(c, pts) for c in leaf.conditions) and (
-                dense(ctx, leaf)
-                or not any(vanishes(e, [g]) for e in leaf.nonzero for g in pts)):
+    # per leaf: is every condition zero at each point; is some exclusion zero there
+    on = np.array([vanishing(leaf.conditions, pts).all(axis=1) for leaf in leaves],
+                  dtype=bool).reshape(len(leaves), len(pts))
+    excluded = {}
+
+    def in_excluded(j):
+        if j not in excluded:
+            excluded[j] = vanishing(leaves[j].nonzero, pts).any(axis=1)
+        return excluded[j]
+
+    for j, leaf in enumerate(leaves):
+        if on[j].all() and (dense(ctx, leaf) or not in_excluded(j).any()):
             return True
 
     # a reducible branch: each point on a component, in its closure where an exclusion
@@ -67,12 +75,11 @@ def known(ctx: "Context", branch: Branch) -> bool:
     # none is on a component without one.
     proofs = []
     for k, g in enumerate(pts):
-        cands = [leaf for leaf in leaves if all(vanishes(c, [g]) for c in leaf.conditions)]
+        cands = [j for j in range(len(leaves)) if on[j, k]]
         if not cands:
             return False
-        if not any(dense(ctx, leaf) or not any(vanishes(e, [g]) for e in leaf.nonzero)
-                   for leaf in cands):
-            proofs.append((k, g, cands))
+        if not any(dense(ctx, leaves[j]) or not in_excluded(j)[k] for j in cands):
+            proofs.append((k, g, [leaves[j] for j in cands]))
     return all(any(in_closure(ctx, leaf, g, k) for leaf in cands) for k, g, cands in proofs)
 
 

@@ -148,23 +148,26 @@ class BranchSampler:
 
         angles, others, params = self.unknowns(branch)
         eqs = list(branch.implicit)
-        ev = self.ring.compile(eqs) if eqs else None
-        scale_ev = self.ring.compile(eqs, absolute=True) if eqs else None
+        sized = self.ring.compile(eqs, sized=True) if eqs else None
         nz = list(branch.nonzero)
-        nz_ev = self.ring.compile(nz) if nz else None
-        nz_scale = self.ring.compile(nz, absolute=True) if nz else None
+        nz_sized = self.ring.compile(nz, sized=True) if nz else None
         n_x = len(angles) + len(others) + len(params)
         found = []
 
+        def relative(G):
+            values, sizes = sized(G)
+            return values / np.maximum(sizes, 1e-300)
+
         def relative_nonzero(G):
-            return nz_ev(G) / np.maximum(nz_scale(np.abs(G)), 1e-300)
+            values, sizes = nz_sized(G)
+            return values / np.maximum(sizes, 1e-300)
 
         def residual(X):
             """Residual rows of the unknown rows X (the last columns are Rabinowitsch's t)."""
             G = self.generators_batch(branch, angles, others, params, X[:, :n_x])
             parts = []
             if eqs:
-                parts.append(ev(G) / np.maximum(scale_ev(np.abs(G)), 1e-300))
+                parts.append(relative(G))
             if X.shape[1] > n_x:
                 # Rabinowitsch: t * e(q) = 1 keeps e away from zero
                 parts.append(relative_nonzero(G) * X[:, n_x:] - 1.0)
@@ -177,7 +180,7 @@ class BranchSampler:
             G = self.generators_batch(branch, angles, others, params, X[:, :n_x])
             bad = np.isnan(G).any(axis=1)
             if eqs:
-                R = ev(G) / np.maximum(scale_ev(np.abs(G)), 1e-300)
+                R = relative(G)
                 bad |= ~(np.max(np.abs(R), axis=1) <= ROOT_XTOL)
             if nz:
                 near = np.min(np.abs(relative_nonzero(G)), axis=1)

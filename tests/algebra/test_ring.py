@@ -98,3 +98,20 @@ def test_absolute_evaluator_is_that_of_the_absolute_coefficients(batch):
     want = ring.compile([abs_poly(p, ring) for p in polys])(G)
     assert np.array_equal(size(G), want)
     assert not np.array_equal(size(G), ring.compile(polys)(G))
+
+
+@pytest.mark.parametrize("batch", [1, 5, 300])
+def test_sized_evaluator_gives_values_and_term_sizes_at_once(batch):
+    """``compile(polys, sized=True)`` returns, from one product of the terms, the values and
+    the term sizes that the value and absolute evaluators give at x and |x|, bit for bit
+    (negative generator values included)."""
+    ring = _ring()
+    polys = [ring.from_sympy(e) for e in EXPRS]
+    G = _generators(ring, np.random.default_rng(3).uniform(-3, 3, (batch, 4)))
+    G[:, 4:] *= -1.5
+    values, sizes = ring.compile(polys, sized=True)(G)
+    assert np.array_equal(values, ring.compile(polys)(G))
+    assert np.array_equal(sizes, ring.compile(polys, absolute=True)(np.abs(G)))
+    one = ring.compile(polys, sized=True)(G[0])
+    assert one[0].shape == one[1].shape == (len(EXPRS),)
+    assert np.array_equal(one[1], sizes[0])
