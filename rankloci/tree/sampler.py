@@ -13,6 +13,8 @@ its term size on a whole component.
 
 from __future__ import annotations
 
+import functools
+
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -45,6 +47,18 @@ class BranchSampler:
     fell_back: set = field(default_factory=set)
     #: keys of branches with a point accepted by proof (see .certify) despite a tiny exclusion
     certified: set = field(default_factory=set)
+
+    @functools.cached_property
+    def _fixed(self) -> np.ndarray:
+        """A generator row with the parameter values and the surds, zeros elsewhere."""
+        ring = self.ring
+        g = np.zeros(len(ring.names))
+        base = 2 * ring.n_angles + len(ring.others)
+        for j, p in enumerate(ring.params):
+            g[base + j] = float(self.param_values.get(p, 0.0))
+        if ring.surds:
+            g[ring.surd_start:] = ring.surd_values
+        return g
 
     def points(self, branch: Branch, count: int = 3) -> list[np.ndarray]:
         """Up to ``count`` generator vectors of real points of ``branch``."""
@@ -97,24 +111,18 @@ class BranchSampler:
     def generators_batch(self, branch: Branch, angles, others, params, X):
         """Generator vectors (rows) from rows of free unknowns; NaN rows where undefined."""
         ring = self.ring
-        na = ring.n_angles
         X = np.asarray(X, dtype=float)
-        G = np.zeros((len(X), len(ring.names)))
-        k = 0
-        for i in angles:
-            G[:, 2 * i], G[:, 2 * i + 1] = np.cos(X[:, k] / 2), np.sin(X[:, k] / 2)
-            k += 1
-        for j in others:
-            G[:, j] = X[:, k]
-            k += 1
-        base = 2 * na + len(ring.others)
-        for j, p in enumerate(ring.params):
-            G[:, base + j] = float(self.param_values.get(p, 0.0))
-        for j in params:
-            G[:, j] = X[:, k]
-            k += 1
-        if ring.surds:
-            G[:, ring.surd_start:] = ring.surd_values
+        # the fixed generators (parameters, surds), then the free unknowns in column blocks
+        G = np.repeat(self._fixed[None, :], len(X), axis=0)
+        na, no = len(angles), len(others)
+        if na:
+            cols = 2 * np.asarray(angles, dtype=np.int64)
+            half = X[:, :na] / 2
+            G[:, cols], G[:, cols + 1] = np.cos(half), np.sin(half)
+        if no:
+            G[:, list(others)] = X[:, na:na + no]
+        if params:
+            G[:, list(params)] = X[:, na + no:na + no + len(params)]
         # substitutions, last first: each expresses generators in later-solved ones
         for sub in reversed(branch.substitutions):
             got = self._sub_eval.get(id(sub))
