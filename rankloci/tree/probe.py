@@ -82,30 +82,25 @@ class Probe:
         self._matrices = {}
         self._polys = {}
 
-    def values(self, M, g, *, scale: bool = False) -> np.ndarray:
-        """Values of the entries of ``M`` at ``g`` (or, with ``scale``, the size of their terms)."""
-        flat = [p for row in M for p in row]
-        key = (scale,) + tuple(id(p) for p in flat)
+    def _evaluator(self, flat, *, absolute: bool = False, sized: bool = False):
+        """``ring.compile(flat, ...)``, cached by the identity of the polynomials of ``flat``."""
+        key = (absolute, sized) + tuple(id(p) for p in flat)
         got = self._matrices.get(key)
         if got is None or any(a is not b for a, b in zip(got[0], flat)):
-            got = (flat, self.ring.compile(flat, absolute=scale))
+            got = (flat, self.ring.compile(flat, absolute=absolute, sized=sized))
             if len(self._matrices) > _MATRIX_CACHE:
                 self._matrices.clear()
             self._matrices[key] = got
-        x = np.abs(g) if scale else g
-        return got[1](x).reshape(len(M), len(M[0]))
+        return got[1]
+
+    def values(self, M, g, *, scale: bool = False) -> np.ndarray:
+        """Values of the entries of ``M`` at ``g`` (or, with ``scale``, the size of their terms)."""
+        ev = self._evaluator([p for row in M for p in row], absolute=scale)
+        return ev(np.abs(g) if scale else g).reshape(len(M), len(M[0]))
 
     def evaluated(self, M, g) -> tuple[np.ndarray, np.ndarray]:
         """The values of ``M`` at ``g`` and the sizes of their terms (one evaluation)."""
-        flat = [p for row in M for p in row]
-        key = ("sized",) + tuple(id(p) for p in flat)
-        got = self._matrices.get(key)
-        if got is None or any(a is not b for a, b in zip(got[0], flat)):
-            got = (flat, self.ring.compile(flat, sized=True))
-            if len(self._matrices) > _MATRIX_CACHE:
-                self._matrices.clear()
-            self._matrices[key] = got
-        values, sizes = got[1](g)
+        values, sizes = self._evaluator([p for row in M for p in row], sized=True)(g)
         return values.reshape(len(M), len(M[0])), sizes.reshape(len(M), len(M[0]))
 
     def rank_at(self, M, g) -> int:
@@ -139,14 +134,7 @@ class Probe:
         G = np.asarray(points, dtype=float).reshape(-1, len(self.ring.names))
         if not polys:
             return np.ones((len(G), 0), dtype=bool)
-        key = ("vanishing",) + tuple(id(p) for p in polys)
-        got = self._matrices.get(key)
-        if got is None or any(a is not b for a, b in zip(got[0], polys)):
-            got = (polys, self.ring.compile(polys, sized=True))
-            if len(self._matrices) > _MATRIX_CACHE:
-                self._matrices.clear()
-            self._matrices[key] = got
-        val, scale = got[1](G)
+        val, scale = self._evaluator(list(polys), sized=True)(G)
         return np.abs(val) <= ZERO_RTOL * np.maximum(scale, 1e-300)
 
     def changes_sign(self, p, points, angles, others, rng, *, step: float, directions: int = 6) -> bool:
