@@ -153,21 +153,6 @@ def test_unsolvable_condition_is_carried_as_implicit():
     assert solve_condition(Sq * Sq + Cq * U, RING) == (None, [])
 
 
-def test_pair_condition_with_large_coefficients_stays_implicit(monkeypatch):
-    """a*C + b*S is solved for its pair only while a and b have at most PAIR_MAX_TERMS terms in
-    all; past that the condition is an implicit equation (no exceptional branches)."""
-    import rankloci.tree.branch as branch_module
-
-    f = (U + V + A) * Cq + (U * V + B + 1) * Sq          # 6 terms in a and b
-    monkeypatch.setattr(branch_module, "PAIR_MAX_TERMS", 6)
-    sub, exceptional = solve_condition(f, RING)
-    assert sub.kind == "pair" and exceptional == [[U + V + A, U * V + B + 1]]
-    monkeypatch.setattr(branch_module, "PAIR_MAX_TERMS", 5)
-    assert solve_condition(f, RING) == (None, [])
-    branch, exceptional = Branch().with_condition(f, RING)
-    assert branch.implicit == (f,) and branch.substitutions == () and exceptional == []
-
-
 def test_substituted_matrices_equal_the_branch_reduction_and_are_memoised():
     M = [[Cq * U + Sq, V * Cr], [A * Sq - B * Cq, U * V + Sr]]
     branch = Branch()
