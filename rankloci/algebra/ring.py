@@ -510,6 +510,17 @@ class PolyRing:
                 _evaluator(coeffs, *parts, sized=True))
 
 
+def _signed_powers(x, powers):
+    """``x ** powers`` as ``|x| ** powers`` with the sign put back by an exact negation.
+
+    ``(-a) ** k`` and ``a ** k`` can differ in the last bit (numpy's vectorised
+    ``power``), which would break the sized evaluator's promise that its sizes
+    equal the absolute evaluator's at ``|x|``, bit for bit.
+    """
+    odd = (powers % 2 == 1)
+    return np.abs(x) ** powers * np.where((x < 0) & odd, -1.0, 1.0)
+
+
 def _evaluator(coeffs, npoly, owner, used, present, starts, powers, exponents, cols, mons, top,
                *, sized=False):
     """The evaluator of :meth:`PolyRing.compile` for terms read by ``PolyRing._compile``.
@@ -533,13 +544,13 @@ def _evaluator(coeffs, npoly, owner, used, present, starts, powers, exponents, c
                 # terms x points, one gather of the power table per generator used:
                 # no (point, term, generator) temporary (2-3x faster for large J)
                 terms = np.repeat(coeffs[:, None], len(X), axis=1)
-                pw = X[:, used].T[:, None, :] ** powers       # (generator, power, point)
+                pw = _signed_powers(X[:, used].T[:, None, :], powers)  # (generator, power, point)
                 for j, e in enumerate(exponents):
                     terms *= pw[j][e]
                 axis = 0
             else:
                 # many points: one gather for all generators is faster
-                pw = X[:, used, None] ** np.arange(top + 1)
+                pw = _signed_powers(X[:, used, None], np.arange(top + 1))
                 terms = np.prod(pw[:, cols, mons], axis=2) * coeffs
                 axis = 1
             sums = np.add.reduceat(terms, starts, axis=axis)
