@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from .ring import PolyRing
 
-__all__ = ["laplace_det", "irreducible_factors", "abs_poly", "transpose", "PolyMemo"]
+__all__ = ["laplace_det", "irreducible_factors", "abs_poly", "primitive_vector", "transpose",
+           "PolyMemo"]
 
 
 def laplace_det(M, ring: PolyRing | None = None, poll=None):
@@ -95,6 +96,36 @@ def abs_poly(p, ring: PolyRing):
     here" is decided.
     """
     return ring.ctx.from_dict({m: abs(c) for m, c in zip(p.monoms(), p.coeffs())})
+
+
+def primitive_vector(v):
+    """``v`` divided by the greatest common divisor of its entries.
+
+    A vector of cofactors carries the factors common to all its minors (on
+    a 6x8 Jacobian of romeo's arm, powers of ``C**2 + S**2`` of total degree
+    42 in entries of degree 50); dividing them out scales the vector by a
+    polynomial, so it spans the same line wherever the divisor is nonzero.
+    The gcd is taken smallest entry first and stops at a constant.
+
+    Examples
+    --------
+    >>> import flint
+    >>> ctx = flint.fmpq_mpoly_ctx.get(("x", "y"), "lex")
+    >>> x, y = ctx.gens()
+    >>> primitive_vector([(x**2 + y**2) * x, 0 * x, 2 * (x**2 + y**2) * y])
+    [x, 0, 2*y]
+    """
+    nonzero = sorted((p for p in v if not p.is_zero()), key=len)
+    if not nonzero:
+        return list(v)
+    g = nonzero[0]
+    for p in nonzero[1:]:
+        if g.is_constant():
+            break
+        g = g.gcd(p)
+    if g.is_constant():
+        return list(v)
+    return [p if p.is_zero() else p / g for p in v]
 
 
 def transpose(M):

@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
-from functools import reduce
 
 import numpy as np
 import sympy as sp
@@ -192,10 +191,11 @@ def _with_exclusions(ctx: Context, cand: _Candidate) -> _Candidate:
 
 MAX_DIRECTION_TERMS = 400
 #: The cofactors a symbolic direction is built from are abandoned beyond this many terms.  Their
-#: common factor divides out at the end (PUMA 560's shoulder: 4312 terms -> 169), so this is far
-#: above MAX_DIRECTION_TERMS: on the built-in models the largest is 58208 (SSRMS, 1366 after the
-#: division); URDF chains with rotations that do not snap reach 200000-280000 terms (centauro's
-#: arm, 2-4 s each) and never come under MAX_DIRECTION_TERMS.
+#: common factor divides out (:func:`~rankloci.algebra.primitive_vector`; PUMA 560's shoulder:
+#: 4312 terms -> 169), so this is far above MAX_DIRECTION_TERMS: on the built-in models the
+#: largest is 58208 (SSRMS, 1366 after the division); URDF chains with rotations that do not
+#: snap reach 200000-280000 terms (centauro's arm, 2-4 s each) and never come under
+#: MAX_DIRECTION_TERMS.
 MAX_DIRECTION_COFACTOR_TERMS = 60_000
 
 
@@ -221,12 +221,8 @@ def _symbolic_direction(ctx, branch, pts, drop):
     u = vecs[0]
     if sum(len(p) for p in u) > MAX_DIRECTION_TERMS:
         return ()
-    nonzero = [p for p in u if not p.is_zero()]
-    if not nonzero:
+    if all(p.is_zero() for p in u):
         return ()
-    common = reduce(lambda a, b: a.gcd(b), nonzero)
-    if not common.is_constant():
-        u = [p / common if not p.is_zero() else p for p in u]
     return (tuple(ctx.ring.to_sympy(p) if not p.is_zero() else sp.Integer(0) for p in u),)
 
 

@@ -4,13 +4,17 @@ On a branch where the n x n block J_sq has rank r, its n - r left null
 vectors are built from the cofactors of an r x r block that is regular on
 the branch: exact polynomials, no division.  They are independent wherever
 that block's determinant d is nonzero; the caller analyses the points where
-d = 0 on their own sub-branch.
+d = 0 on their own sub-branch.  Each vector is divided by the common factor
+of its entries, which divides its entry +-d: that scales the vector by a
+polynomial that is nonzero wherever d is, and keeps the matrices of the
+levels below small.
 """
 
 from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from ..algebra import primitive_vector
 from .blocks import choose_block
 
 if TYPE_CHECKING:
@@ -49,5 +53,5 @@ def left_null_vectors(ctx: "Context", A, rank, points, *, branch=None, max_terms
             terms += len(minor)
             if max_terms is not None and terms > max_terms:
                 return [], d
-        vectors.append(u)
+        vectors.append(primitive_vector(u))
     return vectors, d
