@@ -12,7 +12,8 @@ import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from rankloci.algebra import PolyRing, irreducible_factors, laplace_det, transpose
+from rankloci.algebra import (PolyRing, irreducible_factors, laplace_det, primitive_vector,
+                              transpose)
 
 x, y = sp.symbols("x y")
 a = sp.Symbol("a")
@@ -187,3 +188,26 @@ def test_constant_has_no_factors_and_zero_is_refused():
     assert irreducible_factors(CTX.constant(-3), RING) == []
     with pytest.raises(ValueError, match="zero"):
         irreducible_factors(CTX.constant(0), RING)
+
+
+# --- primitive_vector ---------------------------------------------------------------------------
+
+@SMALL
+@given(st.lists(st.one_of(polys, constants), min_size=1, max_size=4), nonconstant,
+       st.lists(st.integers(0, 2), min_size=2, max_size=2))
+def test_primitive_vector_divides_out_exactly_the_common_factor(v, f, circles):
+    """(f * circles * v) comes back as a polynomial multiple of it whose nonzero entries have no
+    common factor: v itself, up to the common factor v already had."""
+    g = f
+    for k, e in enumerate(circles):
+        g *= _circle(k) ** e
+    w = primitive_vector([g * p for p in v])
+    assert [p.is_zero() for p in w] == [p.is_zero() for p in v]
+    nonzero = [p for p in w if not p.is_zero()]
+    if not nonzero:
+        return
+    assert functools.reduce(lambda a, b: a.gcd(b), nonzero).is_constant()
+    # w = (g * v) / h for one polynomial h: every ratio of entries is kept
+    i = next(k for k, p in enumerate(v) if not p.is_zero())
+    for p, q in zip(v, w):
+        assert p * w[i] == q * v[i]
