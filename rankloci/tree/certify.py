@@ -152,10 +152,10 @@ def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable,
         return out
 
 
-def _compiled(ring: PolyRing, cache: dict, key, polys, *, absolute: bool = False):
-    """``ring.compile(polys(), absolute=absolute)`` under ``key`` in ``cache``."""
+def _compiled(ring: PolyRing, cache: dict, key, polys, *, sized: bool = False):
+    """``ring.compile(polys(), sized=sized)`` under ``key`` in ``cache``."""
     if key not in cache:
-        cache[key] = ring.compile(polys(), absolute=absolute)
+        cache[key] = ring.compile(polys(), sized=sized)
     return cache[key]
 
 
@@ -169,7 +169,7 @@ def _float_newton(ring: PolyRing, eqs, cols, g, cache: dict) -> np.ndarray | Non
     F = _compiled(ring, cache, "F", lambda: eqs)
     J = _compiled(ring, cache, ("J",) + tuple(cols),
                   lambda: [q.derivative(j) for q in eqs for j in cols])
-    size = _compiled(ring, cache, "F size", lambda: eqs, absolute=True)
+    sized = _compiled(ring, cache, "F sized", lambda: eqs, sized=True)
     x = np.array(g, dtype=float)
     for _ in range(FLOAT_NEWTON_STEPS):
         try:
@@ -179,7 +179,8 @@ def _float_newton(ring: PolyRing, eqs, cols, g, cache: dict) -> np.ndarray | Non
         x[cols] -= step
         if not np.all(np.isfinite(x)):
             return None
-    resid = np.abs(F(x)) / np.maximum(size(np.abs(x)), 1e-300)
+    values, size = sized(x)
+    resid = np.abs(values) / np.maximum(size, 1e-300)
     return x if np.all(resid <= ROOT_XTOL) else None
 
 
@@ -206,9 +207,8 @@ def _worth_proving(ring: PolyRing, excl, g, cache: dict, rtol: float = EXCLUSION
     """
     if not excl:
         return True
-    vals = np.abs(_compiled(ring, cache, "excl", lambda: excl)(g))
-    sizes = _compiled(ring, cache, "excl size", lambda: excl, absolute=True)(np.abs(g))
-    return bool(np.all(vals > rtol * sizes))
+    vals, sizes = _compiled(ring, cache, "excl sized", lambda: excl, sized=True)(g)
+    return bool(np.all(np.abs(vals) > rtol * sizes))
 
 
 def _substituted(ring: PolyRing, branch: Branch) -> set[int]:

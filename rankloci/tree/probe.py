@@ -147,8 +147,7 @@ class Probe:
         and random ones.  Values within ZERO_RTOL of the term size count as
         no sign.
         """
-        val = self.ring.compile([p])
-        size = self.ring.compile([p], absolute=True)
+        sized = self.ring.compile([p], sized=True)
         grad = [self.ring.compile([d]) for d in self.ring.gradient(p)]
         n = len(angles) + len(others)
         if n == 0:
@@ -166,8 +165,9 @@ class Probe:
                     continue
                 u = u / norm
                 G = np.array([self._moved(g, angles, others, s * step * u) for s in (1.0, -1.0)])
-                v = val(G)[:, 0]
-                tol = ZERO_RTOL * np.maximum(size(np.abs(G))[:, 0], 1e-300)
+                v, size = sized(G)
+                v = v[:, 0]
+                tol = ZERO_RTOL * np.maximum(size[:, 0], 1e-300)
                 if np.all(np.abs(v) > tol) and v[0] * v[1] < 0:
                     return True
         return False

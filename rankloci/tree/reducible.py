@@ -96,10 +96,9 @@ def _degenerate_pairs(ctx: "Context", branch: "Branch", pts) -> np.ndarray:
     if not pairs or not pts:
         return np.zeros((len(pts), len(pairs)), dtype=bool)
     ring = ctx.ring
-    vals = ring.compile([v for s in pairs for v in s.values])
-    sizes = ring.compile([v for s in pairs for v in s.values], absolute=True)
     G = np.array(pts, dtype=float)
-    V, S = vals(G).reshape(len(G), len(pairs), 2), sizes(np.abs(G)).reshape(len(G), len(pairs), 2)
+    V, S = ring.compile([v for s in pairs for v in s.values], sized=True)(G)
+    V, S = V.reshape(len(G), len(pairs), 2), S.reshape(len(G), len(pairs), 2)
     return ~(np.hypot(V[..., 0], V[..., 1]) > EXCLUSION_RTOL * np.hypot(S[..., 0], S[..., 1]))
 
 
@@ -149,14 +148,13 @@ def _special_points(ctx: "Context", branch: "Branch") -> list:
     ok = ~np.isnan(G).any(axis=1)
     G = G[ok]
     eqs = list(branch.implicit)
-    R = ring.compile(eqs)(G) / np.maximum(
-        ring.compile(eqs, absolute=True)(np.abs(G)), 1e-300)
+    R, size = ring.compile(eqs, sized=True)(G)
+    R = R / np.maximum(size, 1e-300)
     hit = np.max(np.abs(R), axis=1) <= ROOT_XTOL
     nz = list(branch.nonzero)
     if nz and hit.any():
-        V = ring.compile(nz)(G) / np.maximum(
-            ring.compile(nz, absolute=True)(np.abs(G)), 1e-300)
-        hit &= np.min(np.abs(V), axis=1) > EXCLUSION_RTOL
+        V, size = ring.compile(nz, sized=True)(G)
+        hit &= np.min(np.abs(V / np.maximum(size, 1e-300)), axis=1) > EXCLUSION_RTOL
     return list(G[hit][:SPECIAL_POINTS])
 
 
