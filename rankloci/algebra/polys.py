@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from .ring import PolyRing
 
-__all__ = ["laplace_det", "irreducible_factors", "abs_poly", "primitive_vector", "transpose",
-           "PolyMemo"]
+__all__ = ["laplace_det", "irreducible_factors", "abs_poly", "common_factor", "primitive_vector",
+           "transpose", "PolyMemo"]
 
 
 def laplace_det(M, ring: PolyRing | None = None, poll=None):
@@ -98,6 +98,22 @@ def abs_poly(p, ring: PolyRing):
     return ring.ctx.from_dict({m: abs(c) for m, c in zip(p.monoms(), p.coeffs())})
 
 
+def common_factor(polys):
+    """The greatest common divisor of the nonzero ``polys`` (None if there are none).
+
+    Taken smallest polynomial first, and it stops once the divisor is a constant.
+    """
+    nonzero = sorted((p for p in polys if not p.is_zero()), key=len)
+    if not nonzero:
+        return None
+    g = nonzero[0]
+    for p in nonzero[1:]:
+        if g.is_constant():
+            break
+        g = g.gcd(p)
+    return g
+
+
 def primitive_vector(v):
     """``v`` divided by the greatest common divisor of its entries.
 
@@ -105,7 +121,6 @@ def primitive_vector(v):
     a 6x8 Jacobian of romeo's arm, powers of ``C**2 + S**2`` of total degree
     42 in entries of degree 50); dividing them out scales the vector by a
     polynomial, so it spans the same line wherever the divisor is nonzero.
-    The gcd is taken smallest entry first and stops at a constant.
 
     Examples
     --------
@@ -115,15 +130,8 @@ def primitive_vector(v):
     >>> primitive_vector([(x**2 + y**2) * x, 0 * x, 2 * (x**2 + y**2) * y])
     [x, 0, 2*y]
     """
-    nonzero = sorted((p for p in v if not p.is_zero()), key=len)
-    if not nonzero:
-        return list(v)
-    g = nonzero[0]
-    for p in nonzero[1:]:
-        if g.is_constant():
-            break
-        g = g.gcd(p)
-    if g.is_constant():
+    g = common_factor(v)
+    if g is None or g.is_constant():
         return list(v)
     return [p if p.is_zero() else p / g for p in v]
 

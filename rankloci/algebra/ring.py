@@ -517,7 +517,7 @@ def _signed_powers(x, powers):
     ``power``), which would break the sized evaluator's promise that its sizes
     equal the absolute evaluator's at ``|x|``, bit for bit.
     """
-    odd = (powers % 2 == 1)
+    odd = powers % 2 == 1
     return np.abs(x) ** powers * np.where((x < 0) & odd, -1.0, 1.0)
 
 

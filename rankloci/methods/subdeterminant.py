@@ -11,9 +11,8 @@ and serves as its symbolic cross-check; it grows as C(m, n).
 from __future__ import annotations
 
 import itertools
-from functools import reduce
 
-from ..algebra import laplace_det, transpose
+from ..algebra import common_factor, laplace_det, transpose
 from ..locus import Outcome
 from ..tree.branch import Branch
 from ..tree.context import Context
@@ -32,7 +31,7 @@ def subdeterminant_tree(ctx: Context) -> bool:
         node = ctx.add_node(None, root, outcome=Outcome.DEGENERATE, minors=len(minors))
         ctx.leaf(root, node, Outcome.DEGENERATE)
         return True
-    g = reduce(lambda a, b: a.gcd(b), nonzero)
+    g = common_factor(nonzero)
     node = ctx.add_node(None, root, outcome=Outcome.REFINED, minors=len(minors))
     if not g.is_constant():
         for f in ctx.factors(g):
