@@ -327,3 +327,18 @@ SENSITIVITY_MIN = 1e-3
 #: regular pieces of PR2's reducible leaves have ratios of 1e-2 to 1e-1 and coordinate pieces
 #: are sampled exactly.
 LEAF_REGULAR_RTOL = 1e-4
+
+#: Digits of the extended-precision rank decisions at real points of a leaf
+#: (rankloci.tree.precise).  Forty digits hold a point of a branch to PRECISE_RESIDUAL with
+#: eight digits of headroom for cancellation in equations whose terms cancel to one part in
+#: 1e6 (the offset arm's coefficients 512000000 and -511999200).
+PRECISE_DPS = 40
+#: Residual of a branch's conditions, relative to the size of their terms, at which the
+#: extended-precision refinement of a point stops.
+PRECISE_RESIDUAL = 1e-32
+#: sigma_min / sigma_max at a point refined to PRECISE_RESIDUAL at or below which the matrix
+#: is singular there.  Singular points show ratios near the residual (1e-32 and below);
+#: regular points of nearly degenerate geometry show 1e-17 and more (the 7R arm with 0.5 mm
+#: offsets, at its closest to singular, evaluated at 60 digits): seven orders of margin on
+#: either side.
+PRECISE_SINGULAR_RTOL = 1e-24

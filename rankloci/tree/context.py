@@ -21,6 +21,7 @@ from ..locus import Outcome
 from . import cover, prune, reducible
 from .branch import Branch, SubstitutedMatrices
 from .modular import ModularProbe
+from .precise import PreciseProbe
 from .probe import Probe
 from .sampler import BranchSampler
 
@@ -78,6 +79,7 @@ class Context:
         self.probe = Probe(self.ring)
         # its own random stream, so that the numeric samples do not depend on it
         self.modular = ModularProbe(self.ring, rng.spawn(1)[0])
+        self.precise = PreciseProbe(self.ring, self.M)
         self.substituted = SubstitutedMatrices(self.ring)
         # sibling branches often substitute into a block without changing it
         self._dets = PolyMemo(MEMO_MAX_TERMS)
@@ -148,6 +150,15 @@ class Context:
         if pts and self.rank(self.M, branch, pts) == self.full_rank:
             self.annotate(node, outcome=Outcome.COVERED)
             return
+        # the points modulo a prime can lie on a piece without real points, and nearly
+        # degenerate geometry brings regular real points below the numeric tolerance:
+        # the real points decide, in extended precision (see .precise)
+        if pts and self.precise.affordable(branch):
+            verdicts = [self.precise.singular(branch, g) for g in pts]
+            if all(v is False for v in verdicts):
+                self.annotate(node, outcome=Outcome.COVERED,
+                              note="regular at its real points (extended precision)")
+                return
         # more points than the first few, all singular: the equations may also hold on a
         # regular piece (see .reducible); such a branch is split on a minor
         regular, _ = reducible.ranked_points(self, branch)
