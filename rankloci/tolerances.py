@@ -342,3 +342,23 @@ PRECISE_RESIDUAL = 1e-32
 #: offsets, at its closest to singular, evaluated at 60 digits): seven orders of margin on
 #: either side.
 PRECISE_SINGULAR_RTOL = 1e-24
+
+#: A point solved onto a component whose double-precision sigma_min/sigma_max is above this
+#: is decided again in extended precision by the numeric check (rankloci.numeric.crosscheck):
+#: points of exactly singular components evaluate to 1e-15 and below in double precision
+#: where the component's equations have a simple root, and nearly degenerate geometry makes
+#: regular points look singular down to 1e-13 (the 7R arm with 0.5 mm offsets: on
+#: 800 sin q4 + cos q4 = 0 alone the ratio is 1e-10 to 1e-13 at 60 digits, where a double
+#: precision check with RANK_RTOL calls it singular).
+PRECISE_CHECK_FLOOR = 1e-14
+#: The two precisions (decimal digits) of that decision: the point is moved onto the
+#: component's equations and J evaluated in each.  At a singular point the ratio falls with
+#: the digits (to ~1e-40 and ~1e-90 at a simple root; by a factor (1e-50)**(1/k) at a
+#: root of multiplicity k, 1e-6 for k = 8); at a regular point it stays, to the precision
+#: of the point (~1e-40, far below PRECISE_STABLE_RTOL).
+PRECISE_CHECK_DIGITS = (50, 100)
+#: Singular: the ratio at the higher precision is at most this times the lower one's.
+PRECISE_FALL = 1e-4
+#: Regular: the two ratios agree to this, relative.  Anything between is left undecided, and
+#: the double-precision verdict stands.
+PRECISE_STABLE_RTOL = 1e-6

@@ -239,7 +239,7 @@ def cmd_check(args) -> int:
     if args.samples < 1:
         raise UsageError(f"--samples must be at least 1, got {args.samples}")
     progress = progress_printer(args.quiet)
-    model = load_model(args.model)
+    model = load_model(args.model, base_link=args.base_link, tip_link=args.tip_link)
     if args.locus:
         try:
             with open(args.locus, encoding="utf-8") as fh:

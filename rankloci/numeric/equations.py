@@ -80,8 +80,8 @@ class NumericMatrix:
         self.angles = frozenset(angles)
         self._J = sp.lambdify(self.variables, list(M), modules="numpy", cse=True)
         self.complex_step = is_analytic(M)
-        self._matrix = None if self.complex_step else M
-        self._dJ = None
+        self._matrix = M
+        self._dJ = self._Jmp = None
 
     def _values(self, Q, dtype) -> np.ndarray:
         vals = self._J(*Q.T)
@@ -109,6 +109,21 @@ class NumericMatrix:
                                    modules="numpy")
         vals = self._dJ(*q)
         return np.array([[float(x) for x in row] for row in vals]).reshape((-1,) + self.shape)
+
+    def precise_ratio(self, x, digits: int):
+        """sigma_min / sigma_max of J at the mpmath point ``x``, evaluated in ``digits`` digits
+        (an mpmath number; 0 for a zero matrix)."""
+        import mpmath
+
+        if self._Jmp is None:
+            self._Jmp = sp.lambdify(self.variables, list(self._matrix), modules="mpmath")
+        with mpmath.workdps(digits):
+            rows, cols = self.shape
+            vals = self._Jmp(*x)
+            A = mpmath.matrix([[vals[i * cols + j] for j in range(cols)] for i in range(rows)])
+            s = [abs(v) for v in mpmath.svd_r(A, compute_uv=False)]
+            top = max(s)
+            return min(s) / top if top else mpmath.mpf(0)
 
     def random_q(self, rng, n: int) -> np.ndarray:
         """n random configurations: angles uniform in [-pi, pi), other variables normal."""
@@ -178,6 +193,19 @@ class Equations:
         v = self(q)
         return float(np.max(np.abs(v))) if v.size else 0.0
 
+    def _newton_functions(self):
+        """The equations with ``t_i * e_i - 1`` appended, their Jacobian and the excluded
+        expressions, as mpmath functions (lambdified once)."""
+        if self._newton is None:
+            ts = sp.symbols(f"t:{len(self._excl)}")
+            F = sp.Matrix(self._exprs + [t * e - 1 for t, e in zip(ts, self._excl)])
+            unknowns = self._variables + tuple(ts)
+            self._newton = (sp.lambdify(unknowns, list(F), modules="mpmath"),
+                            sp.lambdify(unknowns, F.jacobian(unknowns).tolist(),
+                                        modules="mpmath"),
+                            sp.lambdify(self._variables, self._excl, modules="mpmath"))
+        return self._newton
+
     def refined(self, q) -> np.ndarray:
         """``q`` moved onto the equations, off the excluded sets, by Newton's method.
 
@@ -203,15 +231,7 @@ class Equations:
         if self._f is None:
             return np.asarray(q, dtype=float)
         m = len(self._variables)
-        if self._newton is None:
-            ts = sp.symbols(f"t:{len(self._excl)}")
-            F = sp.Matrix(self._exprs + [t * e - 1 for t, e in zip(ts, self._excl)])
-            unknowns = self._variables + tuple(ts)
-            self._newton = (sp.lambdify(unknowns, list(F), modules="mpmath"),
-                            sp.lambdify(unknowns, F.jacobian(unknowns).tolist(),
-                                        modules="mpmath"),
-                            sp.lambdify(self._variables, self._excl, modules="mpmath"))
-        f, jac, excluded = self._newton
+        f, jac, excluded = self._newton_functions()
         with mpmath.workdps(REFINE_DIGITS):
             x0 = [mpmath.mpf(float(v)) for v in q]
             x = mpmath.matrix(x0 + [1 / v if v else mpmath.mpf(1) for v in excluded(*x0)])
@@ -227,6 +247,43 @@ class Equations:
                 if [float(v) for v in x[:m]] == before:
                     break
             return np.array([float(x[i]) for i in range(m)])
+
+    def precise(self, q, digits: int):
+        """``q`` moved onto the equations in ``digits`` digits, as mpmath numbers, or None.
+
+        The iteration of :meth:`refined` (exclusions kept nonzero), run until every scaled
+        equation is below ``10**-(digits - 10)`` rather than until the double-precision
+        point stops moving: at a multiple root Newton's method converges linearly, and the
+        step count it needs grows with the digits asked for.  None when it does not get
+        there within ``4 * REFINE_STEPS`` steps (no point of the equations nearby, or one
+        inside an excluded set).
+        """
+        import mpmath
+
+        if self._f is None:
+            return [mpmath.mpf(float(v)) for v in q]
+        f, jac, excluded = self._newton_functions()
+        m, k = len(self._variables), len(self._exprs)
+        with mpmath.workdps(digits):
+            target = mpmath.mpf(10) ** -(digits - 10)
+            scales = [mpmath.mpf(float(s)) for s in self.scales]
+            x0 = [mpmath.mpf(float(v)) for v in q]
+            x = mpmath.matrix(x0 + [1 / v if v else mpmath.mpf(1) for v in excluded(*x0)])
+            for _ in range(4 * REFINE_STEPS):
+                F = mpmath.matrix(f(*x))
+                if max(abs(F[i]) / (scales[i] if i < k else 1) for i in range(F.rows)) <= target:
+                    from ..tolerances import EXCLUSION_CERTIFY_RTOL
+
+                    point = [x[i] for i in range(m)]
+                    if self.admits(np.array([float(v) for v in point]), EXCLUSION_CERTIFY_RTOL):
+                        return point
+                    return None
+                D = mpmath.matrix(jac(*x))
+                try:
+                    x = x - D.T * mpmath.lu_solve(D * D.T, F)
+                except ZeroDivisionError:
+                    return None
+            return None
 
     def settled(self, q) -> np.ndarray | None:
         """:meth:`refined` ``q`` when it is a point of the component, else None.

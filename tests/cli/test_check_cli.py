@@ -92,3 +92,13 @@ def test_malformed_locus_file_is_exit_2(capsys, tmp_path, bad):
 def test_missing_locus_file_is_exit_2(capsys, tmp_path):
     code, out = _check(capsys, "planar2r", "--locus", str(tmp_path / "nope.json"))
     assert code == 2 and len(out.err.strip().splitlines()) == 1
+
+
+def test_check_takes_the_chain_of_a_urdf(capsys, robots):
+    """`check` reads the same chain as `locus`: --base-link and --tip."""
+    urdf = str(robots / "anymal_b_simple_description/robots/anymal.urdf")
+    code, out = _check(capsys, urdf, "--tip", "LF_SHANK")
+    assert code == 0, out.out + out.err
+    assert "PASS" in out.out
+    code, out = _check(capsys, urdf, "--tip", "no_such_link")
+    assert code == 2 and "no_such_link" in out.err

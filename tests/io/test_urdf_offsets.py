@@ -70,3 +70,41 @@ def test_the_straight_elbow_alone_is_not_singular(urdf):
         q[3] = q4
         s = np.linalg.svd(np.array(f(*q), dtype=float), compute_uv=False)
         assert 1e-9 < s[-1] / s[0] < 1e-5
+
+
+def _straight_elbow(tm):
+    """800 sin q4 + cos q4 = 0 and tan q6 = B/A there: the straight elbow of the offset arm
+    widened by one equation, a 5-dimensional set on which J is regular but nearly singular
+    (sigma_min/sigma_max 1e-10 to 1e-13 when evaluated in 60 digits)."""
+    q = {v.name: v for v in tm.variables}
+    s = {k: sp.sin(q[f"q{k}"]) for k in range(1, 8)}
+    c = {k: sp.cos(q[f"q{k}"]) for k in range(1, 8)}
+    big = (1280000 * s[2] * s[4] * c[4] * c[5] - 511999200 * s[2] * c[4]**2 * c[5]
+           + 512000000 * s[2] * c[5] + 800 * s[3] * s[4] * s[5] * c[3] - s[3] * s[5] * c[3]
+           - 800 * s[4] * c[4] * c[5] + 640000 * c[4]**2 * c[5] - 640000 * c[5])
+    other = (511999200 * s[2] * s[4] * c[4] + 512000000 * s[2] * s[4] + 1280000 * s[2] * c[4]**2
+             + 640000 * s[2] * c[4] - 640000 * s[2] + 640000 * s[4] * c[3]**2
+             - 640000 * s[4] * c[4] - 640000 * s[4] - 800 * c[3]**2 - 800 * c[4]**2 + 800)
+    return (800 * s[4] + c[4], sp.expand(s[6] * other - c[6] * big))
+
+
+def test_the_check_rejects_a_nearly_singular_component(urdf):
+    """Double precision calls the widened straight elbow singular; 50 and 100 digits do not."""
+    from rankloci.locus import Component, Locus
+    from rankloci.numeric.crosscheck import cross_check
+    from rankloci.tolerances import ON_LOCUS_RTOL
+
+    tm = task_matrix(load_model(str(urdf), tip_link="link_7"), numeric=True)
+    locus = Locus(model="iiwa_offsets", variables=tuple(tm.variables), parameters={},
+                  shape=tuple(tm.matrix.shape), method="svm",
+                  components=(Component(equations=_straight_elbow(tm), dimension=5),))
+    report = cross_check(locus, tm.matrix, tm.variables, angles=tm.angles, samples=6,
+                         rng=np.random.default_rng(0))
+    (comp,) = report.components
+    assert not comp.ok, comp.message
+    regular = [p for p in comp.points if p.precise == "regular"]
+    assert regular
+    # the failure is the extended-precision verdict's: in double precision these points
+    # look singular
+    assert all(p.sigma_ratio <= ON_LOCUS_RTOL for p in regular)
+    assert all(p.precise_ratio > 1e-16 for p in regular)

@@ -151,6 +151,35 @@ def test_points_near_a_multiple_root_are_refined(monkeypatch):
     report = _check("planar2r", cubed)
     assert report.ok, render_check_text(report)
     assert all(abs(np.sin(p.q[1])) < 1e-12 for p in report.components[0].points)
-    # without the refinement the same points are regular beyond RANK_RTOL: the check needs it
+    # without the refinement the extended-precision decision still finds them singular ...
     monkeypatch.setattr(Equations, "refined", lambda self, q: np.asarray(q, dtype=float))
+    report = _check("planar2r", cubed)
+    assert report.ok and any(p.precise == "singular" for p in report.components[0].points)
+    # ... and without either the same points are regular beyond RANK_RTOL: the check needs one
+    monkeypatch.setattr(Equations, "precise", lambda self, q, digits: None)
     assert not _check("planar2r", cubed).ok
+
+
+def test_extended_precision_separates_singular_from_nearly_singular():
+    """Above PRECISE_CHECK_FLOOR the double ratio decides nothing; 50 and 100 digits do."""
+    from rankloci.numeric.crosscheck import _decided, _point
+    from rankloci.numeric.equations import Equations, NumericMatrix
+    from rankloci.tolerances import ON_LOCUS_RTOL, PRECISE_CHECK_FLOOR
+
+    x, y = sp.symbols("x y")
+    # singular on x = 1, a double root of the equation: a point 1e-6 away shows 1e-6
+    nm = NumericMatrix(sp.Matrix([[x - 1, 0], [0, 1 + y**2]]), (x, y))
+    eqs = Equations([(x - 1)**2], (x, y), {})
+    p = _point(nm, [1 + 1e-6, 0.3])
+    assert PRECISE_CHECK_FLOOR < p.sigma_ratio and p.sigma_ratio > ON_LOCUS_RTOL
+    d = _decided(nm, eqs, p)
+    assert d.precise == "singular" and not d.regular and d.precise_ratio < 1e-40
+    # regular on x = 1 by 1e-12: looks singular in double precision
+    nm = NumericMatrix(sp.Matrix([[x - 1 + sp.Rational(1, 10**12), 0], [0, 1]]), (x, y))
+    eqs = Equations([x - 1], (x, y), {})
+    p = _point(nm, [1.0, 0.3])
+    assert PRECISE_CHECK_FLOOR < p.sigma_ratio <= ON_LOCUS_RTOL
+    d = _decided(nm, eqs, p)
+    assert d.precise == "regular" and d.regular
+    assert abs(d.precise_ratio - 1e-12) < 1e-20
+    assert d.to_dict()["precise"]["verdict"] == "regular"
