@@ -27,6 +27,7 @@ import time
 import traceback
 
 from ..errors import LocusTimeout, RanklociError
+from .output import shortened
 
 __all__ = ["run_limited", "LimitExceeded", "KILL_GRACE", "DEFAULT_MEMORY_MB"]
 
@@ -98,7 +99,7 @@ def run_limited(work, *, timeout: float | None, memory_mb: int | None, progress=
                 child.join()
                 raise LimitExceeded(_death(child.exitcode, memory_mb, last)) from None
             if kind == "progress":
-                last = payload
+                last = shortened(payload)
                 if progress:
                     progress(payload)
             elif kind == "result":

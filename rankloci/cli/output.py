@@ -20,13 +20,33 @@ import time
 from pathlib import Path
 
 __all__ = ["progress_printer", "clear_status", "detach_progress", "require_module",
-           "show_warning", "write_atomic", "STATUS_DELAY"]
+           "show_warning", "write_atomic", "shortened", "STATUS_DELAY", "PROGRESS_LINE_MAX"]
 
 #: Seconds after the first progress message before a terminal gets the status line: a run
 #: that ends sooner shows none.
 STATUS_DELAY = 1.0
 
+#: Characters of a progress message shown on stderr, and in the error line of a run that ran
+#: out of its limits: the equations of a component found on a long chain can run to
+#: megabytes of digits, which a line of progress does not need.
+PROGRESS_LINE_MAX = 300
+
 _SPINNER = "|/-\\"
+
+
+def shortened(message: str, limit: int = PROGRESS_LINE_MAX) -> str:
+    """``message`` cut to ``limit`` characters, saying how many were left out.
+
+    Examples
+    --------
+    >>> shortened("x" * 10, 4)
+    'xxxx ... (6 more characters)'
+    >>> shortened("short")
+    'short'
+    """
+    if len(message) <= limit:
+        return message
+    return f"{message[:limit]} ... ({len(message) - limit} more characters)"
 
 
 class ProgressHandler(logging.Handler):
@@ -49,7 +69,7 @@ class ProgressHandler(logging.Handler):
         message = record.getMessage()
         stream = sys.stderr
         if not _is_terminal(stream):
-            print(f"rankloci: {message}", file=stream, flush=True)
+            print(f"rankloci: {shortened(message)}", file=stream, flush=True)
             return
         now = self.clock()
         self.start = now if self.start is None else self.start

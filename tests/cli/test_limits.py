@@ -31,6 +31,23 @@ def test_a_step_that_never_returns_is_killed_at_the_limit():
     assert "entering a step that never returns" in str(err.value)
 
 
+def _stuck_after_a_long_message(progress):
+    progress("component found: " + "123456789*sin(q1) + " * 5000)
+    while True:
+        pass
+
+
+def test_the_error_line_keeps_the_last_progress_short():
+    """A progress message of 100 kB (a component's equations) is cut in the error line."""
+    from rankloci.cli.output import PROGRESS_LINE_MAX
+
+    with pytest.raises(LimitExceeded, match="did not finish") as err:
+        run_limited(_stuck_after_a_long_message, timeout=0.5, memory_mb=0)
+    message = str(err.value)
+    assert "component found: 123456789*sin(q1)" in message and "more characters" in message
+    assert len(message) < PROGRESS_LINE_MAX + 200
+
+
 def _hungry(progress):
     chunks = []
     while True:
