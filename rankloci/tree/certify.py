@@ -171,15 +171,18 @@ def _float_newton(ring: PolyRing, eqs, cols, g, cache: dict) -> np.ndarray | Non
                   lambda: [q.derivative(j) for q in eqs for j in cols])
     sized = _compiled(ring, cache, "F sized", lambda: eqs, sized=True)
     x = np.array(g, dtype=float)
-    for _ in range(FLOAT_NEWTON_STEPS):
-        try:
-            step = np.linalg.solve(J(x).reshape(k, k), F(x))
-        except np.linalg.LinAlgError:
-            return None
-        x[cols] -= step
-        if not np.all(np.isfinite(x)):
-            return None
-    values, size = sized(x)
+    # a Newton iteration that runs away overflows on its way to inf: that is its failure,
+    # caught below, not a warning for the user
+    with np.errstate(over="ignore", invalid="ignore"):
+        for _ in range(FLOAT_NEWTON_STEPS):
+            try:
+                step = np.linalg.solve(J(x).reshape(k, k), F(x))
+            except np.linalg.LinAlgError:
+                return None
+            x[cols] -= step
+            if not np.all(np.isfinite(x)):
+                return None
+        values, size = sized(x)
     resid = np.abs(values) / np.maximum(size, 1e-300)
     return x if np.all(resid <= ROOT_XTOL) else None
 

@@ -149,15 +149,23 @@ def _scan_points(ctx: "Context", branch: "Branch") -> list:
     offsets, ``800 sin q4 + cos q4 = P = 0`` holds on ``sin q3 = 0`` (singular) and on a
     regular piece; every one of 15 solves from random starts went to the first.
     """
-    from ..tolerances import EXCLUSION_CERTIFY_RTOL, ROOT_XTOL
-
     if not branch.implicit:
         return []
-    sampler, ring = ctx.sampler, ctx.ring
-    angles, others, params = sampler.unknowns(branch)
-    na, no = len(angles), len(others)
-    if not na + no:
+    angles, others, params = ctx.sampler.unknowns(branch)
+    if not len(angles) + len(others):
         return []
+    # the lines run through angles of +-pi, where a half-angle tangent is infinite: such
+    # values are nan and skipped, and numpy need not warn of them
+    with np.errstate(all="ignore"):
+        return _scan(ctx, branch, angles, others, params)
+
+
+def _scan(ctx, branch, angles, others, params) -> list:
+    """The search of :func:`_scan_points`."""
+    from ..tolerances import EXCLUSION_CERTIFY_RTOL, ROOT_XTOL
+
+    sampler, ring = ctx.sampler, ctx.ring
+    na, no = len(angles), len(others)
     rng = np.random.default_rng(len(branch.conditions) + 1)
     fixed = sampler._fixed
     eqs = list(branch.implicit)
