@@ -98,7 +98,7 @@ class PreciseProbe:
         ring = self.ring
         na, base = ring.n_angles, 2 * ring.n_angles
         with mpmath.workdps(PRECISE_DPS):
-            x = [mpmath.mpf(float(v)) for v in g]
+            x = self._exact_start(g)
             eqs = list(branch.conditions)
             if not eqs:
                 return x
@@ -123,6 +123,26 @@ class PreciseProbe:
                 for j in range(len(ring.others)):
                     x[base + j] -= step[na + j]
             return None
+
+    def _exact_start(self, g) -> list:
+        """``g`` in the working precision, with the relations of the generators exact.
+
+        Each surd generator gets its value sqrt(p) in full precision and each pair
+        (C, S) = (cos q/2, sin q/2) is put back on the unit circle: in double precision both
+        are off by ~1e-16, and a matrix that is singular only modulo those relations shows
+        that much of a ratio, regular to every digit after (the Jaco2's entries in sqrt(3)
+        made the branch of its one component look regular at 40 digits).
+        """
+        ring = self.ring
+        x = [mpmath.mpf(float(v)) for v in g]
+        for i in range(ring.n_angles):
+            C, S = x[2 * i], x[2 * i + 1]
+            r = mpmath.sqrt(C * C + S * S)
+            if r:
+                x[2 * i], x[2 * i + 1] = C / r, S / r
+        for k, prime in enumerate(ring.surds):
+            x[ring.surd_start + k] = mpmath.sqrt(prime)
+        return x
 
     def ratio(self, branch: Branch, g) -> float | None:
         """sigma_min / sigma_max of the matrix at ``g`` refined onto ``branch`` (None: no point).
