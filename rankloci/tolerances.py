@@ -359,6 +359,7 @@ PRECISE_CHECK_FLOOR = 1e-14
 PRECISE_CHECK_DIGITS = (50, 100)
 #: Singular: the ratio at the higher precision is at most this times the lower one's.
 PRECISE_FALL = 1e-4
-#: Regular: the two ratios agree to this, relative.  Anything between is left undecided, and
-#: the double-precision verdict stands.
+#: Regular: the two ratios agree to this, relative, and lie above PRECISE_CHECK_FLOOR (below
+#: it a stable ratio can come from data rounded to double precision).  Anything else is left
+#: undecided, and the double-precision verdict stands.
 PRECISE_STABLE_RTOL = 1e-6

@@ -170,7 +170,9 @@ def _decided(nm: NumericMatrix, eqs: Equations, p: PointCheck) -> PointCheck:
     r_lo, r_hi = nm.precise_ratio(x_lo, lo), nm.precise_ratio(x_hi, hi)
     if r_hi <= PRECISE_FALL * r_lo:
         verdict = "singular"
-    elif abs(r_hi - r_lo) <= PRECISE_STABLE_RTOL * r_lo:
+    elif abs(r_hi - r_lo) <= PRECISE_STABLE_RTOL * r_lo and r_hi > PRECISE_CHECK_FLOOR:
+        # a stable ratio below the floor is what data rounded to double precision give
+        # (a float parameter against its exact reading): not evidence of a regular point
         verdict = "regular"
     else:
         return p
