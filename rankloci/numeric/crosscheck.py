@@ -329,6 +329,9 @@ def render_check_text(report: CheckReport) -> str:
         if len(eqs) > 30:
             eqs = eqs[:27] + "..."
         detail = c.message or f"max sigma ratio {c.max_ratio:.1e}"
+        precise = sum(p.precise == "singular" for p in c.points)
+        if c.ok and precise:
+            detail += f" ({precise} decided singular in {PRECISE_CHECK_DIGITS[1]} digits)"
         lines.append(f"{'on ' + eqs:<34} {len(c.points):>6}  {'ok' if c.ok else 'FAIL':<6} {detail}")
     for eqs in report.skipped:
         lines.append(f"{'on ' + ', '.join(eqs)[:31]:<34} {'-':>6}  {'skip':<6} parameter conditions")

@@ -96,16 +96,25 @@ def _straight_elbow(tm):
 def test_the_check_rejects_a_nearly_singular_component(urdf):
     """Double precision calls the widened straight elbow singular; 50 and 100 digits do not."""
     from rankloci.locus import Component, Locus
-    from rankloci.numeric.crosscheck import cross_check
+    from rankloci.numeric.crosscheck import cross_check, render_check_text
     from rankloci.tolerances import ON_LOCUS_RTOL
 
     tm = task_matrix(load_model(str(urdf), tip_link="link_7"), numeric=True)
+    q = {v.name: v for v in tm.variables}
+    # a component of the offset arm's locus: singular, though double precision shows 1e-11
+    flipped = (sp.cos(q["q3"] / 2), 800 * sp.sin(q["q4"]) - 1,
+               800 * sp.sin(q["q2"]) * sp.sin(q["q4"]) + sp.sin(q["q2"]) * sp.cos(q["q4"])
+               - sp.sin(q["q4"]))
     locus = Locus(model="iiwa_offsets", variables=tuple(tm.variables), parameters={},
                   shape=tuple(tm.matrix.shape), method="svm",
-                  components=(Component(equations=_straight_elbow(tm), dimension=5),))
+                  components=(Component(equations=_straight_elbow(tm), dimension=5),
+                              Component(equations=flipped, dimension=4)))
     report = cross_check(locus, tm.matrix, tm.variables, angles=tm.angles, samples=6,
                          rng=np.random.default_rng(0))
-    (comp,) = report.components
+    comp, singular = report.components
+    assert singular.ok, singular.message
+    assert any(p.precise == "singular" and p.sigma_ratio > 1e-14 for p in singular.points)
+    assert "decided singular in 100 digits" in render_check_text(report).splitlines()[3]
     assert not comp.ok, comp.message
     regular = [p for p in comp.points if p.precise == "regular"]
     assert regular
