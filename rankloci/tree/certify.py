@@ -36,7 +36,7 @@ from ..algebra import PolyRing
 from ..tolerances import EXCLUSION_CERTIFY_RTOL, EXCLUSION_RTOL, ROOT_XTOL
 from .branch import Branch
 
-__all__ = ["certified_point", "admitted_near"]
+__all__ = ["certified_point", "admitted_near", "at_dyadic"]
 
 #: Working precision of the ball arithmetic: coefficients of several hundred digits are exact
 #: balls, and 256 bits leave ~70 digits after cancellations of one part in 1e6 and more.
@@ -273,7 +273,7 @@ def _value(p, vals, memo: dict | None = None):
     too, so the enclosure is rigorous.  ``memo`` keeps those derivatives.
     """
     mids = [_exact(v) for v in vals]
-    center = flint.arb(_at_dyadic(p, mids, memo))
+    center = flint.arb(at_dyadic(p, mids, memo))
     moved = [j for j, v in enumerate(vals) if not v.rad().is_zero()]
     if not moved:
         return center
@@ -294,11 +294,11 @@ def _value(p, vals, memo: dict | None = None):
             d = d[0]
         if upper is None:
             upper = [abs(m) + _exact(v.rad()) for m, v in zip(mids, vals)]
-        err += _exact(vals[j].rad()) * _at_dyadic(d, upper, memo)
+        err += _exact(vals[j].rad()) * at_dyadic(d, upper, memo)
     return center + flint.arb(0, flint.arb(err)) if err else center
 
 
-def _at_dyadic(p, xs, memo: dict | None = None) -> "flint.fmpq":
+def at_dyadic(p, xs, memo: dict | None = None) -> "flint.fmpq":
     """``p(*xs)`` exactly, for rationals ``xs`` whose denominators are powers of two.
 
     With ``xs = a / 2**e`` (integers ``a``) and ``p = P / den`` (``P`` with integer

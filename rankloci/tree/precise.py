@@ -34,6 +34,7 @@ import numpy as np
 
 from ..algebra import PolyRing
 from .branch import Branch
+from .certify import at_dyadic
 
 __all__ = ["PreciseProbe"]
 
@@ -53,31 +54,41 @@ class PreciseProbe:
         self.M = M
         self._terms: dict = {}
         self._grads: dict = {}
+        self._memo: dict = {}
+        self._last = None
         self.calls = 0
 
-    def _compiled(self, p):
-        """The terms of ``p`` as (exponent tuples, mpf coefficients), kept by identity."""
+    def _abs(self, p):
+        """``p`` with every coefficient made positive (its value at |x| is the size of its
+        terms at x), kept by identity."""
         got = self._terms.get(id(p))
         if got is None or got[0] is not p:
-            mons = [tuple((i, int(e)) for i, e in enumerate(m) if e) for m in p.monoms()]
-            coeffs = [mpmath.mpf(int(c.p)) / int(c.q) for c in p.coeffs()]
-            got = (p, mons, coeffs)
+            got = (p, p.context().from_dict({m: abs(c) for m, c in zip(p.monoms(), p.coeffs())}))
             self._terms[id(p)] = got
-        return got[1], got[2]
+        return got[1]
+
+    def _point(self, x):
+        """``x`` and ``|x|`` as exact dyadic rationals (the last point is kept)."""
+        key = tuple(v._mpf_ for v in x)
+        if self._last is None or self._last[0] != key:
+            xs = [_dyadic(v) for v in x]
+            self._last = (key, xs, [abs(v) for v in xs])
+        return self._last[1], self._last[2]
 
     def _value(self, p, x):
-        """``p`` at ``x`` and the size of its terms (sum of their absolute values)."""
+        """``p`` at ``x`` and the size of its terms (sum of their absolute values).
+
+        Evaluated exactly, in integers, at the dyadic rationals that the working-precision
+        numbers ``x`` are (:func:`.certify.at_dyadic`), then rounded to the working precision:
+        no rounding inside the sum, whatever cancellation it has, and about a hundred times
+        faster than a term-by-term sum in mpmath.
+        """
         if p.is_zero():
             return mpmath.mpf(0), mpmath.mpf(0)
-        mons, coeffs = self._compiled(p)
-        total, size = mpmath.mpf(0), mpmath.mpf(0)
-        for mon, c in zip(mons, coeffs):
-            t = c
-            for i, e in mon:
-                t *= x[i] ** e
-            total += t
-            size += abs(t)
-        return total, size
+        xs, ax = self._point(x)
+        v = at_dyadic(p, xs, self._memo)
+        size = at_dyadic(self._abs(p), ax, self._memo)
+        return mpmath.mpf(int(v.p)) / int(v.q), mpmath.mpf(int(size.p)) / int(size.q)
 
     def _gradient(self, p):
         got = self._grads.get(id(p))
@@ -234,6 +245,15 @@ def _minimum_norm_step(A, F):
     except ZeroDivisionError:
         return None
     return A.T * y
+
+
+def _dyadic(v) -> "flint.fmpq":
+    """The exact value of the mpf ``v``: a rational whose denominator is a power of two."""
+    import flint
+
+    sign, man, exp, _ = v._mpf_
+    man = -int(man) if sign else int(man)
+    return flint.fmpq(man) * 2 ** exp if exp >= 0 else flint.fmpq(man, 2 ** (-exp))
 
 
 def as_array(x) -> np.ndarray:

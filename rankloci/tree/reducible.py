@@ -64,7 +64,7 @@ def ranked_points(ctx: "Context", branch: "Branch") -> tuple[list, list]:
         sampler.rng = stream
     special = _special_points(ctx, branch)
     pts = list(sampler.points(branch)) + wider + _scan_points(ctx, branch) + special
-    from ..tolerances import LEAF_REGULAR_RTOL
+    from ..tolerances import LEAF_PRECISE_FLOOR, LEAF_REGULAR_RTOL
 
     regular, singular = [], []
     degenerate = _degenerate_pairs(ctx, branch, pts)
@@ -79,10 +79,12 @@ def ranked_points(ctx: "Context", branch: "Branch") -> tuple[list, list]:
         if bad.any():
             continue
         A, S = ctx.probe.evaluated(ctx.M, g)
-        if scaled_ratio(A, S) > LEAF_REGULAR_RTOL and numeric_rank(A, S) == full:
+        ratio = scaled_ratio(A, S)
+        if ratio > LEAF_REGULAR_RTOL and numeric_rank(A, S) == full:
             regular.append(g)
             continue
-        verdict = ctx.precise.singular(branch, g) if precise and k < n_sampled else None
+        asked = precise and k < n_sampled and ratio > LEAF_PRECISE_FLOOR
+        verdict = ctx.precise.singular(branch, g) if asked else None
         if verdict is False:
             regular.append(g)
         elif verdict or numeric_rank(A, S) < full:

@@ -131,17 +131,17 @@ def test_dyadic_evaluation_is_exact():
     """The integer (homogenised) evaluation of the ball arithmetic equals the rational one."""
     import flint
 
-    from rankloci.tree.certify import _at_dyadic
+    from rankloci.tree.certify import at_dyadic
 
     p = DIFF * SUM ** 3 / 7 - 5 * Cq + flint.fmpq(7, 2)
     rng = np.random.default_rng(3)
     for _ in range(20):
         xs = [flint.fmpq(int(rng.integers(-2**60, 2**60)), 2 ** int(rng.integers(0, 300)))
               for _ in range(4)]
-        assert _at_dyadic(p, xs, {}) == p(*xs)
+        assert at_dyadic(p, xs, {}) == p(*xs)
     # a denominator that is no power of two takes the rational route, with the same value
     xs = [flint.fmpq(1, 3), flint.fmpq(2), flint.fmpq(-5, 8), flint.fmpq(0)]
-    assert _at_dyadic(p, xs, {}) == p(*xs)
+    assert at_dyadic(p, xs, {}) == p(*xs)
 
 
 def test_a_zero_with_a_singular_jacobian_is_not_proved():
