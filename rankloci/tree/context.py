@@ -154,8 +154,10 @@ class Context:
         # degenerate geometry brings regular real points below the numeric tolerance:
         # the real points decide, in extended precision (see .precise)
         if pts and self.precise.affordable(branch):
-            # the first point not shown regular ends the test
-            if all(self.precise.singular(branch, g) is False for g in pts):
+            # the first point not shown regular ends the test; a point singular to rounding
+            # in double precision (LEAF_PRECISE_FLOOR) ends it without the extended precision
+            if all(not self._clearly_singular(g) and self.precise.singular(branch, g) is False
+                   for g in pts):
                 self.annotate(node, outcome=Outcome.COVERED,
                               note="regular at its real points (extended precision)")
                 return
@@ -168,6 +170,14 @@ class Context:
         self.leaves.append((branch, node))
         self.progress(f"component found at branch {node} ({outcome}): "
                       f"{', '.join(sp.sstr(self.ring.to_sympy(c)) for c in branch.conditions)}")
+
+    def _clearly_singular(self, g) -> bool:
+        """Is the whole matrix singular to rounding at ``g`` in double precision?"""
+        from ..tolerances import LEAF_PRECISE_FLOOR
+        from .probe import scaled_ratio
+
+        A, S = self.probe.evaluated(self.M, g)
+        return scaled_ratio(A, S) <= LEAF_PRECISE_FLOOR
 
     def leaves_below(self, parent: int, children, outcome: Outcome, **attrs):
         """One node per child branch below ``parent``: a leaf, or empty without real points."""
