@@ -395,7 +395,7 @@ def _norm(A) -> float:
 
 
 def admitted_near(ring: PolyRing, branch: Branch, g: np.ndarray, movable, rng, *,
-                  step: float, radius: float, tries: int = 4) -> bool:
+                  step: float, radius: float, tries: int = 4, cache: dict | None = None) -> bool:
     """Is there a proved point of ``branch``, every exclusion nonzero, within ``radius`` of ``g``?
 
     ``g`` is a point of the branch's equations at which an exclusion
@@ -412,7 +412,9 @@ def admitted_near(ring: PolyRing, branch: Branch, g: np.ndarray, movable, rng, *
     angles = [i for i in range(ring.n_angles) if 2 * i in movable and 2 * i + 1 in movable]
     rest = [j for j in movable if j >= 2 * ring.n_angles]
     theta = 2 * np.arctan2(g[[2 * i + 1 for i in angles]], g[[2 * i for i in angles]])
-    cache: dict = {}
+    # evaluators and ball-arithmetic conversions of the branch's polynomials, kept by the
+    # caller between calls on the same branch (they do not depend on g)
+    cache = {} if cache is None else cache
     for _ in range(tries):
         start = np.array(g, dtype=float)
         t = theta + step * rng.standard_normal(len(angles))

@@ -80,6 +80,7 @@ class Context:
         # its own random stream, so that the numeric samples do not depend on it
         self.modular = ModularProbe(self.ring, rng.spawn(1)[0])
         self.precise = PreciseProbe(self.ring, self.M)
+        self._closure_caches: dict = {}
         self.substituted = SubstitutedMatrices(self.ring)
         # sibling branches often substitute into a block without changing it
         self._dets = PolyMemo(MEMO_MAX_TERMS)
@@ -170,6 +171,15 @@ class Context:
         self.leaves.append((branch, node))
         self.progress(f"component found at branch {node} ({outcome}): "
                       f"{', '.join(sp.sstr(self.ring.to_sympy(c)) for c in branch.conditions)}")
+
+    def closure_cache(self, leaf: Branch) -> dict:
+        """The evaluators and conversions of ``leaf``'s polynomials that the closure proofs
+        of :func:`.prune.in_closure` keep between points (kept by the leaf's identity)."""
+        got = self._closure_caches.get(id(leaf))
+        if got is None or got[0] is not leaf:
+            got = (leaf, {})
+            self._closure_caches[id(leaf)] = got
+        return got[1]
 
     def _clearly_singular(self, g) -> bool:
         """Is the whole matrix singular to rounding at ``g`` in double precision?"""

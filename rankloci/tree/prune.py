@@ -99,7 +99,8 @@ def in_closure(ctx: "Context", leaf: Branch, g, k: int = 0) -> bool:
     angles, others, params = ctx.sampler.unknowns(leaf)
     movable = [j for i in angles for j in (2 * i, 2 * i + 1)] + list(others) + list(params)
     return admitted_near(ctx.ring, leaf, g, movable, np.random.default_rng(k),
-                         step=NEAR_ADMITTED_STEP, radius=NEAR_ADMITTED_RADIUS)
+                         step=NEAR_ADMITTED_STEP, radius=NEAR_ADMITTED_RADIUS,
+                         cache=ctx.closure_cache(leaf))
 
 
 def dense(ctx: "Context", leaf: Branch) -> bool:
