@@ -231,22 +231,36 @@ class Equations:
         if self._f is None:
             return np.asarray(q, dtype=float)
         m = len(self._variables)
-        f, jac, excluded = self._newton_functions()
         with mpmath.workdps(REFINE_DIGITS):
-            x0 = [mpmath.mpf(float(v)) for v in q]
-            x = mpmath.matrix(x0 + [1 / v if v else mpmath.mpf(1) for v in excluded(*x0)])
+            x = self._newton_start(q)
             for _ in range(REFINE_STEPS):
-                F = mpmath.matrix(f(*x))
-                D = mpmath.matrix(jac(*x))
-                try:
-                    step = D.T * mpmath.lu_solve(D * D.T, F)
-                except ZeroDivisionError:
+                nxt = self._newton_step(x, self._newton_functions()[0](*x))
+                if nxt is None:
                     break
                 before = [float(v) for v in x[:m]]
-                x = x - step
+                x = nxt
                 if [float(v) for v in x[:m]] == before:
                     break
             return np.array([float(x[i]) for i in range(m)])
+
+    def _newton_start(self, q):
+        """``q`` in the working precision, with ``t_i = 1 / e_i(q)`` appended."""
+        import mpmath
+
+        x0 = [mpmath.mpf(float(v)) for v in q]
+        excluded = self._newton_functions()[2]
+        return mpmath.matrix(x0 + [1 / v if v else mpmath.mpf(1) for v in excluded(*x0)])
+
+    def _newton_step(self, x, F):
+        """``x`` after one least-norm Newton step on the values ``F`` there; None where the
+        Jacobian's rows are dependent."""
+        import mpmath
+
+        D = mpmath.matrix(self._newton_functions()[1](*x))
+        try:
+            return x - D.T * mpmath.lu_solve(D * D.T, mpmath.matrix(F))
+        except ZeroDivisionError:
+            return None
 
     def precise(self, q, digits: int):
         """``q`` moved onto the equations in ``digits`` digits, as mpmath numbers, or None.
@@ -262,26 +276,23 @@ class Equations:
 
         if self._f is None:
             return [mpmath.mpf(float(v)) for v in q]
-        f, jac, excluded = self._newton_functions()
+        from ..tolerances import EXCLUSION_CERTIFY_RTOL
+
+        f = self._newton_functions()[0]
         m, k = len(self._variables), len(self._exprs)
         with mpmath.workdps(digits):
             target = mpmath.mpf(10) ** -(digits - 10)
             scales = [mpmath.mpf(float(s)) for s in self.scales]
-            x0 = [mpmath.mpf(float(v)) for v in q]
-            x = mpmath.matrix(x0 + [1 / v if v else mpmath.mpf(1) for v in excluded(*x0)])
+            x = self._newton_start(q)
             for _ in range(4 * REFINE_STEPS):
-                F = mpmath.matrix(f(*x))
-                if max(abs(F[i]) / (scales[i] if i < k else 1) for i in range(F.rows)) <= target:
-                    from ..tolerances import EXCLUSION_CERTIFY_RTOL
-
+                F = f(*x)
+                if max(abs(F[i]) / (scales[i] if i < k else 1) for i in range(len(F))) <= target:
                     point = [x[i] for i in range(m)]
                     if self.admits(np.array([float(v) for v in point]), EXCLUSION_CERTIFY_RTOL):
                         return point
                     return None
-                D = mpmath.matrix(jac(*x))
-                try:
-                    x = x - D.T * mpmath.lu_solve(D * D.T, F)
-                except ZeroDivisionError:
+                x = self._newton_step(x, F)
+                if x is None:
                     return None
             return None
 

@@ -157,8 +157,7 @@ class Context:
         if pts and self.precise.affordable(branch):
             # the first point not shown regular ends the test; a point singular to rounding
             # in double precision (LEAF_PRECISE_FLOOR) ends it without the extended precision
-            if all(not self._clearly_singular(g) and self.precise.singular(branch, g) is False
-                   for g in pts):
+            if all(self.real_verdict(branch, g) is False for g in pts):
                 self.annotate(node, outcome=Outcome.COVERED,
                               note="regular at its real points (extended precision)")
                 return
@@ -181,13 +180,21 @@ class Context:
             self._closure_caches[id(leaf)] = got
         return got[1]
 
-    def _clearly_singular(self, g) -> bool:
-        """Is the whole matrix singular to rounding at ``g`` in double precision?"""
+    def real_verdict(self, branch: Branch, g, ratio: float | None = None) -> bool | None:
+        """Is the whole matrix singular at the real point of ``branch`` next to ``g``?
+
+        Singular where its sigma_min/sigma_max (rows scaled; ``ratio`` when the caller has
+        it) is at most LEAF_PRECISE_FLOOR in double precision, decided in extended precision
+        (:mod:`.precise`) otherwise; None where that is undecided.
+        """
         from ..tolerances import LEAF_PRECISE_FLOOR
         from .probe import scaled_ratio
 
-        A, S = self.probe.evaluated(self.M, g)
-        return scaled_ratio(A, S) <= LEAF_PRECISE_FLOOR
+        if ratio is None:
+            ratio = scaled_ratio(*self.probe.evaluated(self.M, g))
+        if ratio <= LEAF_PRECISE_FLOOR:
+            return True
+        return self.precise.singular(branch, g)
 
     def leaves_below(self, parent: int, children, outcome: Outcome, **attrs):
         """One node per child branch below ``parent``: a leaf, or empty without real points."""

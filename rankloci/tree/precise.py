@@ -56,7 +56,6 @@ class PreciseProbe:
         self._grads: dict = {}
         self._memo: dict = {}
         self._last = None
-        self.calls = 0
 
     def _abs(self, p):
         """``p`` with every coefficient made positive (its value at |x| is the size of its
@@ -76,19 +75,24 @@ class PreciseProbe:
         return self._last[1], self._last[2]
 
     def _value(self, p, x):
-        """``p`` at ``x`` and the size of its terms (sum of their absolute values).
+        """``p`` at ``x``, exactly, rounded to the working precision.
 
-        Evaluated exactly, in integers, at the dyadic rationals that the working-precision
-        numbers ``x`` are (:func:`.certify.at_dyadic`), then rounded to the working precision:
-        no rounding inside the sum, whatever cancellation it has, and about a hundred times
-        faster than a term-by-term sum in mpmath.
+        Evaluated in integers at the dyadic rationals that the working-precision numbers
+        ``x`` are (:func:`.certify.at_dyadic`): no rounding inside the sum, whatever
+        cancellation it has, and about a hundred times faster than a term-by-term sum in
+        mpmath.
         """
         if p.is_zero():
-            return mpmath.mpf(0), mpmath.mpf(0)
-        xs, ax = self._point(x)
-        v = at_dyadic(p, xs, self._memo)
-        size = at_dyadic(self._abs(p), ax, self._memo)
-        return mpmath.mpf(int(v.p)) / int(v.q), mpmath.mpf(int(size.p)) / int(size.q)
+            return mpmath.mpf(0)
+        v = at_dyadic(p, self._point(x)[0], self._memo)
+        return mpmath.mpf(int(v.p)) / int(v.q)
+
+    def _size(self, p, x):
+        """The size of ``p``'s terms at ``x`` (the sum of their absolute values)."""
+        if p.is_zero():
+            return mpmath.mpf(0)
+        v = at_dyadic(self._abs(p), self._point(x)[1], self._memo)
+        return mpmath.mpf(int(v.p)) / int(v.q)
 
     def _gradient(self, p):
         got = self._grads.get(id(p))
@@ -116,12 +120,12 @@ class PreciseProbe:
             for _ in range(PRECISE_STEPS):
                 F, worst = [], mpmath.mpf(0)
                 for p in eqs:
-                    v, s = self._value(p, x)
+                    v, s = self._value(p, x), self._size(p, x)
                     F.append(v)
                     worst = max(worst, abs(v) / s if s else mpmath.mpf(0))
                 if worst <= PRECISE_RESIDUAL:
                     return x
-                A = mpmath.matrix([[self._value(d, x)[0] for d in self._gradient(p)]
+                A = mpmath.matrix([[self._value(d, x) for d in self._gradient(p)]
                                    for p in eqs])
                 step = _minimum_norm_step(A, mpmath.matrix(F))
                 if step is None:
@@ -163,14 +167,13 @@ class PreciseProbe:
         """
         from ..tolerances import PRECISE_DPS, PRECISE_RESIDUAL
 
-        self.calls += 1
         x = self.refine(branch, g)
         if x is None:
             return None
         with mpmath.workdps(PRECISE_DPS):
             rows = []
             for row in self.M:
-                vals = [self._value(p, x) for p in row]
+                vals = [(self._value(p, x), self._size(p, x)) for p in row]
                 norm = mpmath.sqrt(sum(v * v for v, _ in vals))
                 size = mpmath.sqrt(sum(s * s for _, s in vals))
                 if not norm > PRECISE_RESIDUAL * size:
@@ -198,7 +201,7 @@ class PreciseProbe:
             if x is None:
                 continue
             with mpmath.workdps(PRECISE_DPS):
-                vals = [[self._value(p, x)[0] for p in row] for row in M]
+                vals = [[self._value(p, x) for p in row] for row in M]
                 norms = [mpmath.sqrt(sum(v * v for v in row)) for row in vals]
                 if not all(norms):
                     continue
@@ -221,9 +224,9 @@ class PreciseProbe:
         return None if r is None else r <= PRECISE_SINGULAR_RTOL
 
 
-#: Terms of a branch's conditions above which its points are not refined: the evaluation
-#: runs term by term in Python (about 20 ms a point for the offset arm's leaves, with 160
-#: terms), and leaves of 8- and 9-joint chains have conditions of thousands of terms.
+#: Terms of a branch's conditions above which its points are not refined: each Gauss-Newton
+#: step evaluates the conditions and their gradients exactly, and leaves of 8- and 9-joint
+#: chains have conditions of thousands of terms.
 PRECISE_MAX_TERMS = 2000
 #: Gauss-Newton steps before a refinement that has not converged is given up.
 PRECISE_STEPS = 30
@@ -255,7 +258,3 @@ def _dyadic(v) -> "flint.fmpq":
     man = -int(man) if sign else int(man)
     return flint.fmpq(man) * 2 ** exp if exp >= 0 else flint.fmpq(man, 2 ** (-exp))
 
-
-def as_array(x) -> np.ndarray:
-    """An extended-precision point as a float vector."""
-    return np.array([float(v) for v in x])

@@ -64,7 +64,7 @@ def ranked_points(ctx: "Context", branch: "Branch") -> tuple[list, list]:
         sampler.rng = stream
     special = _special_points(ctx, branch)
     pts = list(sampler.points(branch)) + wider + _scan_points(ctx, branch) + special
-    from ..tolerances import LEAF_PRECISE_FLOOR, LEAF_REGULAR_RTOL
+    from ..tolerances import LEAF_REGULAR_RTOL
 
     regular, singular = [], []
     degenerate = _degenerate_pairs(ctx, branch, pts)
@@ -83,8 +83,7 @@ def ranked_points(ctx: "Context", branch: "Branch") -> tuple[list, list]:
         if ratio > LEAF_REGULAR_RTOL and numeric_rank(A, S) == full:
             regular.append(g)
             continue
-        asked = precise and k < n_sampled and ratio > LEAF_PRECISE_FLOOR
-        verdict = ctx.precise.singular(branch, g) if asked else None
+        verdict = ctx.real_verdict(branch, g, ratio) if precise and k < n_sampled else None
         if verdict is False:
             regular.append(g)
         elif verdict or numeric_rank(A, S) < full:
