@@ -42,29 +42,28 @@ __all__ = ["certified_point", "admitted_near", "at_dyadic"]
 #: balls, and 256 bits leave ~70 digits after cancellations of one part in 1e6 and more.
 PRECISION_BITS = 256
 #: Newton steps in doubles from a start 1e-3 off the equations (admitted_near), to within
-#: rounding of the zero; then in ball arithmetic, where quadratic convergence from 1e-15
-#: passes 2**-200 in four steps (the rest is margin for ill-conditioned pivots).
+#: rounding of the zero.
 FLOAT_NEWTON_STEPS = 8
-NEWTON_STEPS = 4
+#: Then at most this many refinement steps in ``PRECISION_BITS``-bit arithmetic: the residual F
+#: exact at the point, its Jacobian in doubles (mixed-precision refinement).  Each step gains
+#: about 53 - log2(cond) bits, so from the double zero two or three steps reach NEWTON_SETTLED;
+#: the rest is margin for ill-conditioned pivots.
+NEWTON_STEPS = 6
+#: The refinement stops once a step is below this relative to max(1, |pivot|): the Krawczyk
+#: box (BOX_RTOL) is then 2**20 times the distance left to the zero.
+NEWTON_SETTLED = 2.0 ** -120
 #: Radius of the Krawczyk box, relative to max(1, |pivot|): far above the Newton residual
-#: (2**-200), far below any distance at which two zeros of a regular system could be told
+#: (NEWTON_SETTLED), far below any distance at which two zeros of a regular system could be told
 #: apart in double precision.
 BOX_RTOL = 2.0 ** -100
-#: Krawczyk's test is not attempted when the Jacobian at the refined zero has a condition number
-#: (max-row-sum norms) above this: a zero on a piece of the system of excess dimension, whose
-#: Jacobian is singular there to 30 of the working precision's 77 digits.  The test would need J
-#: to vary over the box (radius 2**-100 of the pivots) by less than 1e-30 of its size, which a
-#: trigonometric polynomial's J does not.  Measured at the final Newton point: every passed test
-#: had a condition number below 1e12 (49 on panda's finger chain, 1295 on tiago's arm), while
-#: 370 of panda's 442 failed ones were above 1e27 (most 1e72 to 1e84).  Skipping the test decides
-#: nothing: the point stays unproved, as a failed test leaves it.
-SINGULAR_COND = 1e30
-#: The ball arithmetic is not started at all when the Jacobian at the zero found in doubles has a
-#: condition number (max-row-sum norms, in doubles) above this.  That point is within rounding of
-#: the zero the ball Newton steps refine, so the two Jacobians agree to about 1e-16 relative and
-#: their condition numbers agree wherever they are below 1e15; every passed test had one below
-#: 1e12 (see SINGULAR_COND), and the double one saturates near 1e16 on a singular Jacobian.  Like
-#: SINGULAR_COND, this decides only whether a proof is attempted.
+#: Krawczyk's test is not attempted when the double Jacobian at the zero found in doubles, or at
+#: the refined zero, has a condition number (max-row-sum norms) above this: a zero on a piece of
+#: the system of excess dimension, whose Jacobian is singular there.  The double condition number
+#: saturates near 1e16 on a singular Jacobian; the test needs the double inverse to be a good
+#: one, and J to vary little over the box.  Measured with the test run in ball arithmetic up to
+#: 1e30: every passed test had a condition number below 1e12 (49 on panda's finger chain, 1295 on
+#: tiago's arm), while 370 of panda's 442 failed ones were above 1e27 (most 1e72 to 1e84).
+#: Skipping the test decides nothing: the point stays unproved, as a failed test leaves it.
 FLOAT_SINGULAR_COND = 1e14
 #: Pivot columns whose smallest singular value is below this times the largest are no chart
 #: of the branch at the point (a point where components meet); the point stays undecided.
@@ -139,7 +138,9 @@ def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable,
         for j, prime in enumerate(ring.surds):
             vals[ring.surd_start + j] = flint.arb(prime).sqrt()
         if eqs:
-            box = _krawczyk(eqs, cols, vals, cache.setdefault("balls", {}))
+            jac = _compiled(ring, cache, ("J",) + tuple(cols),
+                            lambda: [q.derivative(j) for q in eqs for j in cols])
+            box = _krawczyk(eqs, cols, vals, cache.setdefault("balls", {}), jac)
             if box is None:
                 return None
         else:
@@ -332,10 +333,17 @@ def at_dyadic(p, xs, memo: dict | None = None) -> "flint.fmpq":
     return flint.fmpq(P(*(y.p for y in scaled), scale), den * scale ** D)
 
 
-def _krawczyk(eqs, cols, vals, memo: dict) -> list | None:
+def _krawczyk(eqs, cols, vals, memo: dict, jac) -> list | None:
     """``vals`` with the pivots ``cols`` on a box holding a unique zero of ``eqs``; else None.
 
-    ``memo`` keeps derived polynomials between calls on the same ``eqs`` (see :func:`_value`).
+    The point is refined by Newton steps whose residual is exact and whose
+    Jacobian is the double one (``jac``: generator values -> the k x k
+    derivatives in ``cols``, row by row).  Krawczyk's operator
+    ``K = (I - Y J(box)) delta - Y F(x)`` encloses the zeros in the box for
+    any matrix ``Y``; an approximate inverse of J, here the double one, only
+    makes it contract.  So only F at the point and J over the box are
+    enclosed rigorously.  ``memo`` keeps derived polynomials between calls on
+    the same ``eqs`` (see :func:`_value`).
     """
     k = len(eqs)
     key = ("gradients", tuple(id(q) for q in eqs), tuple(cols))
@@ -344,54 +352,48 @@ def _krawczyk(eqs, cols, vals, memo: dict) -> list | None:
     grads = memo[key][0]
     vals = list(vals)
 
-    def system(at):
-        F = flint.arb_mat(k, 1, [_value(q, at, memo) for q in eqs])
-        J = flint.arb_mat(k, k, [_value(d, at, memo) for row in grads for d in row])
-        return F, J
+    def jacobian(at):
+        with np.errstate(all="ignore"):
+            A = np.asarray(jac(np.array([float(v.mid()) for v in at])), dtype=float)
+        return A.reshape(k, k)
 
-    for it in range(NEWTON_STEPS):
-        F, J = system(vals)
+    with np.errstate(all="ignore"):
+        for _ in range(NEWTON_STEPS):
+            F = flint.arb_mat(k, 1, [_value(q, vals, memo) for q in eqs])
+            A = jacobian(vals)
+            residual = np.array([float(F[i, 0].mid()) for i in range(k)])
+            try:
+                step = np.linalg.solve(A, residual)
+            except np.linalg.LinAlgError:
+                return None
+            if not np.all(np.isfinite(step)):
+                return None
+            scale = [max(1.0, abs(float(vals[j].mid()))) for j in cols]
+            if all(abs(step[i]) <= NEWTON_SETTLED * scale[i] for i in range(k)):
+                break
+            for i, j in enumerate(cols):
+                vals[j] = (vals[j] - flint.arb(float(step[i]))).mid()
+        else:
+            return None
         try:
-            step = J.mid().solve(F.mid())
-        except (ZeroDivisionError, ValueError):
+            inverse = np.linalg.inv(A)
+        except np.linalg.LinAlgError:
             return None
-        if it >= 2 and _condition(J) > SINGULAR_COND:
-            # two steps from the double zero the point is within ~1e-30 of the exact one,
-            # where the condition number is already that of the zero (see SINGULAR_COND)
-            return None
-        for i, j in enumerate(cols):
-            vals[j] = (vals[j] - step[i, 0]).mid()
-    F, J = system(vals)
-    try:
-        Y = J.mid().inv().mid()
-    except (ZeroDivisionError, ValueError):
-        return None
-    if _norm(Y) * _norm(J.mid()) > SINGULAR_COND:
-        return None     # the box's derivative bounds, the costliest part, are not computed
+        if not np.all(np.isfinite(inverse)) or \
+                np.linalg.norm(inverse, np.inf) * np.linalg.norm(A, np.inf) > FLOAT_SINGULAR_COND:
+            return None     # the box's derivative bounds, the costliest part, are not computed
+    Y = flint.arb_mat(k, k, [float(x) for x in inverse.ravel()])
     radii = [BOX_RTOL * max(1.0, abs(float(vals[j]))) for j in cols]
     box = list(vals)
     for i, j in enumerate(cols):
         box[j] = flint.arb(vals[j].mid(), radii[i])
-    _, Jbox = system(box)
+    Jbox = flint.arb_mat(k, k, [_value(d, box, memo) for row in grads for d in row])
     delta = flint.arb_mat(k, 1, [box[j] - vals[j] for j in cols])
     eye = flint.arb_mat(k, k, [1 if a == b else 0 for a in range(k) for b in range(k)])
     K = (eye - Y * Jbox) * delta - Y * F
     if not all((K[i, 0]).abs_upper() < radii[i] for i in range(k)):
         return None
     return box
-
-
-def _condition(J) -> float:
-    """The condition number of the midpoint of the arb matrix ``J`` (max-row-sum norms)."""
-    try:
-        return _norm(J.mid().inv().mid()) * _norm(J.mid())
-    except (ZeroDivisionError, ValueError):
-        return float("inf")
-
-
-def _norm(A) -> float:
-    """The largest absolute row sum of the arb matrix ``A`` (its midpoints), as a float."""
-    return max(sum(abs(float(A[i, j].mid())) for j in range(A.ncols())) for i in range(A.nrows()))
 
 
 def admitted_near(ring: PolyRing, branch: Branch, g: np.ndarray, movable, rng, *,

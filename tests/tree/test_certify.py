@@ -146,16 +146,25 @@ def test_dyadic_evaluation_is_exact():
 
 def test_a_zero_with_a_singular_jacobian_is_not_proved():
     """At a double root of the system (sin^2 of half the difference), the Jacobian at the
-    refined zero is singular to working precision (SINGULAR_COND): nothing is proved."""
+    refined zero is singular (FLOAT_SINGULAR_COND) or the refinement does not settle:
+    nothing is proved."""
     import flint
 
     from rankloci.tree.certify import PRECISION_BITS, _krawczyk
 
+    def jac(eq):
+        return RING.compile([eq.derivative(1)])
+
     with flint.ctx.workprec(PRECISION_BITS):
         vals = [flint.arb(float(x)) for x in generators(0.4 + 1e-9, 0.4)]
-        assert _krawczyk([DIFF ** 2], [1], vals, {}) is None
-        # the simple root next to it is proved
-        assert _krawczyk([DIFF], [1], vals, {}) is not None
+        assert _krawczyk([DIFF ** 2], [1], vals, {}, jac(DIFF ** 2)) is None
+        # the simple root next to it is proved: the box holds the exact zero of the pivot,
+        # sin(q/2) = cos(q/2) sin(r/2) / cos(r/2) with the other generators as given
+        box = _krawczyk([DIFF], [1], vals, {}, jac(DIFF))
+        assert box is not None
+        exact = vals[0] * vals[3] / vals[2]
+        assert box[1].overlaps(exact) and box[1].rad() < 1e-25
+        assert not box[1].overlaps(exact + flint.arb(2) ** -90)
 
 
 def test_a_singular_jacobian_in_doubles_skips_the_ball_arithmetic(monkeypatch):
