@@ -56,12 +56,14 @@ def _regular(ctx: "Context", M, points, size: int, branch):
     return regular
 
 
-def choose_columns(ctx: "Context", M, points, candidates: int = 12, *, branch=None):
+def choose_columns(ctx: "Context", M, points, candidates: int = 12, *, branch=None,
+                   skip=()):
     """n columns whose square block is regular at the points, and its determinant.
 
     Among up to ``candidates`` regular blocks (smallest entries first) the
     one with the fewest determinant terms wins: its factors, and so the
-    branches below it, are the simplest.
+    branches below it, are the simplest.  Column sets in ``skip`` are not
+    taken.
     """
     n, m = len(M), len(M[0])
     size = [sum(len(M[i][j]) for i in range(n)) for j in range(m)]
@@ -74,7 +76,7 @@ def choose_columns(ctx: "Context", M, points, candidates: int = 12, *, branch=No
     regular = _regular(ctx, M, points, n, branch)
     rows = list(range(n))
     for cols in ranked:
-        if not regular(rows, list(cols)):
+        if list(cols) in skip or not regular(rows, list(cols)):
             continue
         sub = [[row[c] for c in cols] for row in M]
         ctx.tick()

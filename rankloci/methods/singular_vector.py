@@ -22,11 +22,12 @@ A matrix with more rows than columns is handled through its transpose
 from __future__ import annotations
 
 from ..algebra import transpose
+from ..errors import LocusError
 from ..locus import Outcome
 from ..tree.branch import Branch
 from ..tree.context import Context
 from ..tree import prune
-from ..tree.cover import children
+from ..tree.cover import children, distinct
 from .blocks import choose_columns
 from .null_vectors import left_null_vectors
 
@@ -75,11 +76,12 @@ def _svm(ctx: Context, M, branch, parent, level):
     ctx.annotate(node, columns=[c + 1 for c in cols], outcome=Outcome.REFINED, level=level)
     ctx.progress(f"branch {node}: {n}x{m} matrix, determinant of columns {[c + 1 for c in cols]}")
     branches = []
+    seen: set = set()
     for f in ctx.factors(D):
         if rest and ctx.parameter_only(f):
             ctx.special_parameters(f, f"det of columns {[c + 1 for c in cols]} at branch {node}")
             continue
-        branches.extend(children(ctx, branch, f))
+        branches.extend(distinct(children(ctx, branch, f), seen))
     if not rest:
         ctx.leaves_below(node, branches, Outcome.NO_REDUNDANT_COLUMN, shape=_shape(M), k=1)
         return
@@ -141,8 +143,9 @@ def _reduce(ctx: Context, M, cols, rest, branch, parent, level):
     for g in degenerate:
         below = below.excluding(g)
     _svm(ctx, Jdag, below, node, level + 1)
+    seen = set()
     for g in degenerate:
-        for child in children(ctx, branch, g):
+        for child in distinct(children(ctx, branch, g), seen):
             if prune.known(ctx, child):
                 continue
             sub = ctx.add_node(node, child, outcome=Outcome.REFINED, note="null vectors degenerate")
@@ -167,7 +170,34 @@ def _minor_branch(ctx: Context, M, branch, parent):
     if ctx.rank(Mb, branch, pts) < len(Mb):
         ctx.leaf(branch, parent, Outcome.ALL_MINORS_VANISH)
         return
-    cols, D = choose_columns(ctx, Mb, pts, candidates=MINOR_CANDIDATES, branch=branch)
+    cols, D = _nonvanishing_minor(ctx, Mb, branch, pts)
     ctx.annotate(parent, columns=[c + 1 for c in cols])
     ctx.split(branch, parent, D, "a minor on a branch",
               lambda child, node: _minor_branch(ctx, M, child, node))
+
+
+def _nonvanishing_minor(ctx: Context, Mb, branch, pts):
+    """Columns of a maximal minor of ``Mb`` that does not vanish on ``branch``, and the minor.
+
+    A block is taken as regular on the branch from its rank at the branch's
+    points; on nearly degenerate geometry a sample point can be close
+    enough to the branch's equations (1e-15 of their term size) and still
+    far enough from their zeros for a block singular on the whole branch to
+    look regular there (tiago's arm).  Such a minor has an equation of the
+    branch among its factors: it splits nothing, and the next block is
+    taken.  When every candidate does so the last one stands, and the
+    branch is analysed again below it.
+    """
+    skip = []
+    while True:
+        try:
+            cols, D = choose_columns(ctx, Mb, pts, candidates=MINOR_CANDIDATES, branch=branch,
+                                     skip=skip)
+        except LocusError:
+            if not skip:
+                raise
+            return skip[-1], last
+        if not any(f == e or f == -e for f in ctx.factors(D) for e in branch.implicit):
+            return cols, D
+        skip.append(cols)
+        last = D

@@ -214,11 +214,12 @@ class Context:
         :meth:`special_parameters`) and not followed, unless
         ``keep_parameter_only``.  ``then(child, node)`` carries on below.
         """
+        seen: set = set()       # the factors' branches can coincide: each is followed once
         for f in self.factors(p):
             if self.parameter_only(f) and not keep_parameter_only:
                 self.special_parameters(f, where)
                 continue
-            for child in cover.children(self, branch, f):
+            for child in cover.distinct(cover.children(self, branch, f), seen):
                 then(child, self.add_node(parent, child, outcome=Outcome.REFINED))
 
     # --- decisions on a branch ---------------------------------------------------------------
