@@ -294,22 +294,26 @@ def _vanish_at(funcs, points, nvars: int, rng) -> bool:
     exclusions nonzero lie arbitrarily near (tested by projecting small
     perturbations back onto the equations).
     """
-    f, g, gscale = funcs
+    f, g, gscale, f_rows = funcs
     for x in points:
         if np.any(np.abs(np.array(f(*x), dtype=float)) > CONTAINED_RTOL):
             return False
         if g is not None and np.any(np.abs(np.array(g(*x), dtype=float))
                                     <= CONTAINED_EXCLUSION_RTOL * gscale):
-            if not _near_admitted(f, g, gscale, x, nvars, rng):
+            if not _near_admitted(f_rows, g, gscale, x, nvars, rng):
                 return False
     return True
 
 
-def _near_admitted(f, g, gscale, x, nvars, rng, tries: int = 6) -> bool:
-    """Are there points of {f = 0} with g != 0 within NEAR_ADMITTED_RADIUS of ``x``?"""
+def _near_admitted(f_rows, g, gscale, x, nvars, rng, tries: int = 6) -> bool:
+    """Are there points of {f = 0} with g != 0 within NEAR_ADMITTED_RADIUS of ``x``?
+
+    ``f_rows`` maps rows of configurations (variables, then parameters) to rows of
+    equation values.
+    """
     def rows(Y):
-        return np.array([np.array(f(*np.concatenate([y, x[nvars:]])), dtype=float).ravel()
-                         for y in Y])
+        return f_rows(np.concatenate([Y, np.broadcast_to(x[nvars:], (len(Y), len(x) - nvars))],
+                                     axis=1))
 
     for _ in range(tries):
         y0 = x[:nvars] + NEAR_ADMITTED_STEP * rng.standard_normal(nvars)
@@ -410,11 +414,17 @@ def _remove_contained(ctx: Context, cands: list[_Candidate]) -> list[_Candidate]
             def f(*x, raw=raw):
                 return np.array(raw(*x), dtype=float).ravel()
 
+            def f_rows(X, raw=raw):
+                # one call for all rows: an equation's value is an array over the rows, or
+                # a number where it does not depend on them
+                return np.stack([np.broadcast_to(np.asarray(v, dtype=float), (len(X),))
+                                 for v in raw(*X.T)], axis=1)
+
             excl = [sp.expand(e / _coefficient_size(sp.expand(e.subs(pvals))))
                     for e in c.excluding]
             g = sp.lambdify(syms, excl, modules="numpy") if excl else None
             gscale = np.ones(len(excl)) if excl else None
-            compiled[k] = (f, g, gscale)
+            compiled[k] = (f, g, gscale, f_rows)
         return compiled[k]
 
     keep = []
