@@ -20,7 +20,7 @@ import sympy as sp
 from ..algebra import transpose
 from ..locus import Component, Outcome
 from ..numeric.equations import normalised
-from ..numeric.gauss_newton import gauss_newton
+from ..numeric.gauss_newton import gauss_newton_rows
 from ..tolerances import (CONTAINED_EXCLUSION_RTOL, CONTAINED_RTOL, DIMENSION_RTOL,
                           DIMENSION_STEP, NEAR_ADMITTED_EXCLUSION_RTOL, NEAR_ADMITTED_RADIUS,
                           NEAR_ADMITTED_STEP)
@@ -315,12 +315,14 @@ def _near_admitted(f_rows, g, gscale, x, nvars, rng, tries: int = 6) -> bool:
         return f_rows(np.concatenate([Y, np.broadcast_to(x[nvars:], (len(Y), len(x) - nvars))],
                                      axis=1))
 
-    for _ in range(tries):
-        y0 = x[:nvars] + NEAR_ADMITTED_STEP * rng.standard_normal(nvars)
-        y = gauss_newton(rows, y0)
-        if y is None or np.max(np.abs(rows(y[None, :])[0])) > CONTAINED_RTOL \
-                or np.max(np.abs(y - x[:nvars])) > NEAR_ADMITTED_RADIUS:
-            continue
+    # every start at once: one evaluation of the equations per Gauss-Newton step
+    Y = gauss_newton_rows(rows, x[:nvars] + NEAR_ADMITTED_STEP * rng.standard_normal((tries, nvars)))
+    Y = Y[np.all(np.isfinite(Y), axis=1)]
+    if not len(Y):
+        return False
+    near = (np.max(np.abs(rows(Y)), axis=1) <= CONTAINED_RTOL) & \
+        (np.max(np.abs(Y - x[:nvars]), axis=1) <= NEAR_ADMITTED_RADIUS)
+    for y in Y[near]:
         vals = np.abs(np.array(g(*np.concatenate([y, x[nvars:]])), dtype=float))
         if np.all(vals > NEAR_ADMITTED_EXCLUSION_RTOL * gscale):
             return True
