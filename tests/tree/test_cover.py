@@ -79,3 +79,47 @@ def test_exceptional_piece_never_carries_a_circle_factor():
     for o in out:
         assert all(str(c) != circle for c in o.conditions), [str(c) for c in o.conditions]
     assert len(out) == 1
+
+
+def test_distinct_keeps_the_first_of_equal_branches_across_calls():
+    """Branches with the same conditions and exclusions are the same set: ``distinct`` keeps the
+    first, in order, and with a shared ``seen`` also drops those taken by an earlier call."""
+    from rankloci.tree.cover import distinct
+
+    ctx = _context()
+    Cx, Sx, Cy, Sy = ctx.ring.gens
+    a, b, c = (Branch((Sx,), (), (Sx,)), Branch((Cy,), (), (Cy,)), Branch((Sx,), (), (Sx,)))
+    assert distinct([a, b, c]) == [a, b]
+    seen: set = set()
+    assert distinct([b], seen) == [b]
+    assert distinct([a, c, b], seen) == [a]
+
+
+def test_a_minor_vanishing_on_its_branch_is_passed_over(monkeypatch):
+    """On the branch {E = 0}, a minor with E among its factors splits nothing: it vanishes on
+    the whole branch.  ``_nonvanishing_minor`` passes over its columns and takes the next
+    block; when no other block is left the last one stands."""
+    from rankloci.errors import LocusError
+    from rankloci.methods import singular_vector
+
+    ctx = _context()
+    Cx, Sx, Cy, Sy = ctx.ring.gens
+    E = Cx * Sy - Sx * Cy                      # sin((y - x)/2): irreducible
+    branch = Branch((E,), (), (E,))
+    offered = {(): ([0, 1], E * (Cx + 2 * Sy)), ((0, 1),): ([1, 2], Cx + 3 * Sy)}
+    calls = []
+
+    def choose(ctx, M, pts, *, candidates, branch, skip):
+        calls.append([tuple(s) for s in skip])
+        key = tuple(tuple(s) for s in skip)
+        if key not in offered:
+            raise LocusError("no regular square block found")
+        return offered[key]
+
+    monkeypatch.setattr(singular_vector, "choose_columns", choose)
+    cols, D = singular_vector._nonvanishing_minor(ctx, None, branch, [])
+    assert (cols, D) == ([1, 2], Cx + 3 * Sy) and calls == [[], [(0, 1)]]
+    # only the vanishing minor on offer: it stands
+    offered.pop(((0, 1),))
+    cols, D = singular_vector._nonvanishing_minor(ctx, None, branch, [])
+    assert (cols, D) == ([0, 1], E * (Cx + 2 * Sy))
