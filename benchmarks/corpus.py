@@ -28,7 +28,8 @@ A chain passes when all three hold.  The results go to ``benchmarks/corpus.md``
 and ``benchmarks/corpus.json``.  Usage::
 
     python benchmarks/corpus.py [--timeout SECONDS] [--jobs N] [--robots a,b,...]
-                                [--max-per-robot N] [--seed N] [--output PATH] [--render]
+                                [--max-per-robot N] [--min-joints N] [--seed N]
+                                [--output PATH] [--render]
 
 ``tests/io/test_corpus.py`` imports this module and grades a subset with the
 same functions.
@@ -708,6 +709,8 @@ def render_markdown(rows, skipped, outside, meta) -> str:
     ]
     for note in meta.get("notes", ()):
         lines += [note, ""]
+    if meta.get("min_joints", MIN_JOINTS) > MIN_JOINTS:
+        lines += [f"Only the chains with {meta['min_joints']} or more joints.", ""]
     if meta.get("max_per_robot"):
         lines += [f"At most {meta['max_per_robot']} chains per robot (the shortest first).", ""]
     degenerate = sum(r["status"] == "pass" and bool(r.get("degenerate")) for r in rows)
@@ -757,6 +760,8 @@ def main(argv=None) -> int:
     ap.add_argument("--robots", default="", help="comma-separated robot names (default: all)")
     ap.add_argument("--max-per-robot", type=int, default=0,
                     help="at most this many chains per robot, the shortest first (0: all)")
+    ap.add_argument("--min-joints", type=int, default=MIN_JOINTS,
+                    help="only the chains with at least this many movable joints (the frontier)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--output", default=str(HERE / "corpus"))
     ap.add_argument("--render", action="store_true",
@@ -781,6 +786,7 @@ def main(argv=None) -> int:
     if args.robots:
         wanted = set(args.robots.split(","))
         chains = [c for c in chains if c.robot in wanted]
+    chains = [c for c in chains if c.n >= args.min_joints]
     if args.max_per_robot:
         kept = []
         for robot in sorted({c.robot for c in chains}):
@@ -806,6 +812,7 @@ def main(argv=None) -> int:
     meta = {"python": platform.python_version(), "machine": platform.machine(),
             "timeout_s": args.timeout, "jobs": args.jobs, "seed": args.seed,
             "max_per_robot": args.max_per_robot, "robots": args.robots or "all",
+            "min_joints": args.min_joints,
             "example_robot_data": version("example-robot-data"), "pinocchio": version("pin"),
             "tolerances": {"SOUND_RTOL": SOUND_RTOL, "PROBE_SINGULAR_RTOL": PROBE_SINGULAR_RTOL,
                            "COVER_RESIDUAL": COVER_RESIDUAL, "MAPPING_RTOL": MAPPING_RTOL}}

@@ -298,3 +298,15 @@ def test_grading_rejects_a_reference_with_joints_out_of_order(ur5_case):
                                    chain.task)
     g = corpus.grade(model, tm, locus, ref, np.random.default_rng(SEED))
     assert not g["ok"] and g["reason"].startswith("mapping:"), g["reason"]
+
+
+def test_the_table_of_the_long_chains_says_it_holds_only_them():
+    """``--min-joints 8`` runs only the frontier; its table must say so, the full one not."""
+    meta = {"example_robot_data": "6.0.0", "pinocchio": "3", "seed": 0, "python": "3.11",
+            "machine": "x86_64", "jobs": 2, "timeout_s": 60.0}
+    row = {"robot": "tiago", "file": "t.urdf", "base": "b", "tip": "t", "n": 8, "task": "full",
+           "status": "pass", "reason": "", "locus_s": 39.0, "components": 12}
+    long = corpus.render_markdown([row], [], 0, meta | {"min_joints": 8})
+    assert "Only the chains with 8 or more joints." in long
+    full = corpus.render_markdown([row], [], 0, meta | {"min_joints": corpus.MIN_JOINTS})
+    assert "or more joints" not in full
