@@ -294,9 +294,9 @@ def _vanish_at(funcs, points, nvars: int, rng) -> bool:
     exclusions nonzero lie arbitrarily near (tested by projecting small
     perturbations back onto the equations).
     """
-    f, g, gscale, f_rows = funcs
+    f_rows, g, gscale = funcs
     for x in points:
-        if np.any(np.abs(np.array(f(*x), dtype=float)) > CONTAINED_RTOL):
+        if np.any(np.abs(f_rows(np.asarray(x, dtype=float)[None, :])[0]) > CONTAINED_RTOL):
             return False
         if g is not None and np.any(np.abs(np.array(g(*x), dtype=float))
                                     <= CONTAINED_EXCLUSION_RTOL * gscale):
@@ -316,7 +316,8 @@ def _near_admitted(f_rows, g, gscale, x, nvars, rng, tries: int = 6) -> bool:
                                      axis=1))
 
     # every start at once: one evaluation of the equations per Gauss-Newton step
-    Y = gauss_newton_rows(rows, x[:nvars] + NEAR_ADMITTED_STEP * rng.standard_normal((tries, nvars)))
+    starts = x[:nvars] + NEAR_ADMITTED_STEP * rng.standard_normal((tries, nvars))
+    Y = gauss_newton_rows(rows, starts)
     Y = Y[np.all(np.isfinite(Y), axis=1)]
     if not len(Y):
         return False
@@ -413,9 +414,6 @@ def _remove_contained(ctx: Context, cands: list[_Candidate]) -> list[_Candidate]
                       for e in c.equations]
             raw = sp.lambdify(syms, scaled, modules="numpy")
 
-            def f(*x, raw=raw):
-                return np.array(raw(*x), dtype=float).ravel()
-
             def f_rows(X, raw=raw):
                 # one call for all rows: an equation's value is an array over the rows, or
                 # a number where it does not depend on them
@@ -426,7 +424,7 @@ def _remove_contained(ctx: Context, cands: list[_Candidate]) -> list[_Candidate]
                     for e in c.excluding]
             g = sp.lambdify(syms, excl, modules="numpy") if excl else None
             gscale = np.ones(len(excl)) if excl else None
-            compiled[k] = (f, g, gscale, f_rows)
+            compiled[k] = (f_rows, g, gscale)
         return compiled[k]
 
     keep = []

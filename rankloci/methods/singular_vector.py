@@ -188,16 +188,16 @@ def _nonvanishing_minor(ctx: Context, Mb, branch, pts):
     taken.  When every candidate does so the last one stands, and the
     branch is analysed again below it.
     """
-    skip = []
+    skip, vanishing = [], None
     while True:
         try:
             cols, D = choose_columns(ctx, Mb, pts, candidates=MINOR_CANDIDATES, branch=branch,
                                      skip=skip)
         except LocusError:
-            if not skip:
+            if vanishing is None:
                 raise
-            return skip[-1], last
+            return vanishing
         if not any(f == e or f == -e for f in ctx.factors(D) for e in branch.implicit):
             return cols, D
         skip.append(cols)
-        last = D
+        vanishing = cols, D

@@ -352,15 +352,11 @@ def _krawczyk(eqs, cols, vals, memo: dict, jac) -> list | None:
     grads = memo[key][0]
     vals = list(vals)
 
-    def jacobian(at):
-        with np.errstate(all="ignore"):
-            A = np.asarray(jac(np.array([float(v.mid()) for v in at])), dtype=float)
-        return A.reshape(k, k)
-
     with np.errstate(all="ignore"):
         for _ in range(NEWTON_STEPS):
             F = flint.arb_mat(k, 1, [_value(q, vals, memo) for q in eqs])
-            A = jacobian(vals)
+            A = np.asarray(jac(np.array([float(v.mid()) for v in vals])), dtype=float)
+            A = A.reshape(k, k)
             residual = np.array([float(F[i, 0].mid()) for i in range(k)])
             try:
                 step = np.linalg.solve(A, residual)
