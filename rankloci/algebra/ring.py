@@ -90,6 +90,9 @@ def _check_angle_multiples(expr, angles):
 #: holds an integer exponent table of its terms (about 100 bytes a term), so the memo stays
 #: within about 50 MB.
 COMPILE_MEMO_TERMS = 500_000
+#: Evaluations of at most this many (term, generator, point) factors gather them all at once;
+#: larger ones gather per generator, without that temporary.
+SMALL_GATHER = 20_000
 
 
 @dataclass(frozen=True, eq=False)
@@ -529,6 +532,9 @@ def _evaluator(coeffs, npoly, owner, used, present, starts, powers, exponents, c
     absolute values) from one product of the terms: ``|c x**e| = |c| |x|**e`` bit for bit, so
     the sizes equal those of the absolute evaluator at ``|x|``.
     """
+    flat = cols[None, :] * (top + 1) + mons          # (term, generator) -> row of the power table
+    odd = np.arange(top + 1) % 2 == 1
+
     def evaluate(x):
         """Values at one point (shape (nv,)) or at a batch of points (shape (B, nv))."""
         x = np.asarray(x, dtype=float)
@@ -540,6 +546,19 @@ def _evaluator(coeffs, npoly, owner, used, present, starts, powers, exponents, c
             if not len(used):
                 terms = np.tile(coeffs, (len(X), 1))
                 axis = 1
+            elif len(X) <= 64 and len(X) * flat.size <= SMALL_GATHER:
+                # few terms and points: one gather of every factor, then the products in
+                # the order of the loop below (bit for bit its values, a third of its calls)
+                xu = X[:, used].T                                   # (generator, point)
+                pw = np.abs(xu)[:, None, :] ** powers               # (generator, power, point)
+                neg = xu < 0
+                if neg.any():
+                    pw *= np.where(neg[:, None, :] & odd[None, :, None], -1.0, 1.0)
+                factors = pw.reshape(-1, len(X))[flat]              # (term, generator, point)
+                terms = coeffs[:, None] * factors[:, 0, :]
+                for j in range(1, len(used)):
+                    terms *= factors[:, j, :]
+                axis = 0
             elif len(X) <= 64:
                 # terms x points, one gather of the power table per generator used:
                 # no (point, term, generator) temporary (2-3x faster for large J)

@@ -127,8 +127,14 @@ class BranchSampler:
         for sub in reversed(branch.substitutions):
             got = self._sub_eval.get(id(sub))
             if got is None or got[0] is not sub:
-                got = (sub, ring.compile(list(sub.values)))
+                got = (sub, _substitution_evaluator(ring, sub))
                 self._sub_eval[id(sub)] = got
+            if isinstance(got[1], tuple):
+                # constant values (q = 0, q = pi, x = c): the columns are set, nothing evaluated
+                # (on panda's finger chain half of all evaluator calls were such constants)
+                for col, v in got[1]:
+                    G[:, col] = v
+                continue
             vals = got[1](G)
             if sub.kind == "linear":
                 G[:, sub.index] = vals[:, 0]
@@ -240,3 +246,16 @@ class BranchSampler:
         return found
 
 
+
+
+def _substitution_evaluator(ring: PolyRing, sub):
+    """How :meth:`BranchSampler.generators_batch` applies ``sub``: the compiled evaluator of its
+    values, or, when they are constants, the (column, value) pairs it sets."""
+    if not all(v.is_constant() for v in sub.values):
+        return ring.compile(list(sub.values))
+    vals = [float(v.leading_coefficient()) if not v.is_zero() else 0.0 for v in sub.values]
+    if sub.kind == "linear":
+        return ((sub.index, vals[0]),)
+    norm = np.hypot(vals[0], vals[1])
+    c, s = (vals[0] / norm, vals[1] / norm) if norm > 0 else (np.nan, np.nan)
+    return ((2 * sub.index, c), (2 * sub.index + 1, s))
