@@ -547,8 +547,8 @@ def _evaluator(coeffs, npoly, owner, used, present, starts, powers, exponents, c
                 terms = np.tile(coeffs, (len(X), 1))
                 axis = 1
             elif len(X) <= 64 and len(X) * flat.size <= SMALL_GATHER:
-                # few terms and points: one gather of every factor, then the products in
-                # the order of the loop below (bit for bit its values, a third of its calls)
+                # few terms and points: one gather of every factor instead of one per
+                # generator, multiplied in the order of the loop below (bit for bit its values)
                 xu = X[:, used].T                                   # (generator, point)
                 pw = np.abs(xu)[:, None, :] ** powers               # (generator, power, point)
                 neg = xu < 0

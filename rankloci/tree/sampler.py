@@ -246,8 +246,6 @@ class BranchSampler:
         return found
 
 
-
-
 def _substitution_evaluator(ring: PolyRing, sub):
     """How :meth:`BranchSampler.generators_batch` applies ``sub``: the compiled evaluator of its
     values, or, when they are constants, the (column, value) pairs it sets."""
