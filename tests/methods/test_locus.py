@@ -544,3 +544,29 @@ def _check_tree(locus):
     unfinished = [n for n in leaves if tree.nodes[n]["outcome"] == "refined"]
     assert not unfinished, f"leaves marked 'refined' (a stop reason is missing): {unfinished}"
     assert len(leaves) >= len(locus.components) or locus.degenerate
+
+
+@pytest.mark.parametrize("name", ["planar4r", "pa10", pytest.param("mobile10", marks=pytest.mark.slow)])
+def test_pair_conditions_left_implicit_give_the_same_locus(name, monkeypatch):
+    """A condition a*C + b*S with large a and b stays an implicit equation instead of being
+    substituted (rankloci.tree.branch.PAIR_MAX_TERMS).  With every such condition implicit, the
+    locus is the same set, point by point in both directions, as with the substitutions."""
+    import rankloci.tree.branch as branch
+
+    tm, substituted = H.locus_of(name, True)
+    monkeypatch.setattr(branch, "PAIR_MAX_TERMS", 2)
+    declined = []
+    solve = branch.solve_condition
+
+    def counting(f, ring):
+        sub, exceptional = solve(f, ring)
+        if sub is None and any(branch._pair_parts(f, ring, i) is not None
+                               for i in range(ring.n_angles) if ring.variable_indices(f) &
+                               {2 * i, 2 * i + 1}):
+            declined.append(f)
+        return sub, exceptional
+
+    monkeypatch.setattr(branch, "solve_condition", counting)
+    implicit = compute_locus(tm, "svm", rng=np.random.default_rng(0))
+    assert declined, f"{name}: no pair condition was left implicit: the test exercises nothing"
+    _check_agreement(tm, substituted, implicit, f"{name}, pair conditions implicit")
