@@ -29,6 +29,7 @@ from ..tree.branch import Branch
 from ..tree.context import Context
 from ..tree.modular import evaluate
 from ..tree.cover import children
+from ..tree.reducible import special_points
 from .null_vectors import left_null_vectors
 from .readable import readable_equations
 
@@ -178,7 +179,7 @@ def _with_exclusions(ctx: Context, cand: _Candidate) -> _Candidate:
             if ctx.parameter_only(g):
                 continue
             for part in children(ctx, closure, g):
-                pts = ctx.sampler.points(part)
+                pts = list(ctx.sampler.points(part)) + special_points(ctx, part)
                 if any(ctx.probe.rank_at(ctx.M, x) == full for x in pts):
                     expr = ctx.ring.to_sympy(g)
                     if expr.could_extract_minus_sign():

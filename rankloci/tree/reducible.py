@@ -27,7 +27,7 @@ if TYPE_CHECKING:
     from .branch import Branch
     from .context import Context
 
-__all__ = ["LEAF_POINTS", "ranked_points", "split_on_minor"]
+__all__ = ["LEAF_POINTS", "ranked_points", "special_points", "split_on_minor"]
 
 #: Points sampled on a leaf before it is recorded.  The sampler's first three points decide
 #: the rank of a branch; a regular piece of a reducible leaf attracted 1 to 3 of 5 random solves
@@ -62,7 +62,7 @@ def ranked_points(ctx: "Context", branch: "Branch") -> tuple[list, list]:
         wider = list(sampler.points(branch, count=LEAF_POINTS))
     finally:
         sampler.rng = stream
-    special = _special_points(ctx, branch)
+    special = special_points(ctx, branch)
     pts = list(sampler.points(branch)) + wider + _scan_points(ctx, branch) + special
     from ..tolerances import LEAF_REGULAR_RTOL
 
@@ -243,7 +243,7 @@ def _solve_on_line(sampler, branch, angles, others, params, ev, x, k, is_angle, 
     return out
 
 
-def _special_points(ctx: "Context", branch: "Branch") -> list:
+def special_points(ctx: "Context", branch: "Branch") -> list:
     """Points of ``branch`` (within ROOT_XTOL, exclusions above EXCLUSION_RTOL) among random
     starts with each free angle at a random multiple of pi/2 with probability one half."""
     from ..tolerances import EXCLUSION_RTOL, ROOT_XTOL

@@ -52,7 +52,7 @@ def test_both_pieces_are_seen_among_the_leaf_points():
 def test_special_starts_reach_the_coordinate_piece():
     """cos z = 0 fixes z at +-pi/2: starts with angles at multiples of pi/2 land on it exactly."""
     ctx, branch = _reducible_leaf()
-    pts = reducible._special_points(ctx, branch)
+    pts = reducible.special_points(ctx, branch)
     assert any(abs(np.cos(_angles(ctx, g)[2])) < 1e-12 for g in pts)
 
 
