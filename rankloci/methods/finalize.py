@@ -163,6 +163,9 @@ def _with_exclusions(ctx: Context, cand: _Candidate) -> _Candidate:
     that level is nonzero.  Where the equations of the leaf and a factor g
     of d vanish together at points where J has full rank, the equations
     alone would describe too much: g != 0 becomes part of the component.
+    Full rank is tested at the sample points of each part of {g = 0} and at
+    its exact points with angles at multiples of pi/2 (a coordinate piece
+    like cos q3 = 0, which the root finder's random starts can all miss).
     """
     branch = cand.branch
     keep = []
