@@ -36,8 +36,8 @@ pytest.importorskip("pinocchio", reason="Pinocchio (PyPI package 'pin', in the t
 
 REPO = Path(__file__).resolve().parents[2]
 SEED = 0
-#: The slowest cases here (PR2's and panda's fingers, tiago_dual's arm) take 40-50 s alone; a locus still
-#: running after this is a regression.
+#: The slowest cases here (PR2's and panda's fingers, tiago_dual's arm) take 40-50 s alone; a
+#: locus still running after this is a regression.
 TIME_LIMIT_S = 120.0
 
 
