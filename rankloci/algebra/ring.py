@@ -93,6 +93,12 @@ COMPILE_MEMO_TERMS = 500_000
 #: Evaluations of at most this many (term, generator, point) factors gather them all at once;
 #: larger ones gather per generator, without that temporary.
 SMALL_GATHER = 20_000
+#: Evaluations at more than 64 points gather every (point, term, generator) factor at once
+#: when there are at most this many; larger ones go 64 points at a time.  The temporary of
+#: one gather is 8 bytes a factor: at 2048 points of an equation of 2210 terms in 11
+#: generators (centauro's arm) it took 170 ms against 34 ms in chunks, while for 56 terms the
+#: single gather is as fast (2.3 ms against 2.1 ms).
+MANY_GATHER = 1_000_000
 
 
 @dataclass(frozen=True, eq=False)
@@ -540,6 +546,12 @@ def _evaluator(coeffs, npoly, owner, used, present, starts, powers, exponents, c
         x = np.asarray(x, dtype=float)
         single = x.ndim == 1
         X = x[None, :] if single else x
+        if len(X) > 64 and len(X) * flat.size > MANY_GATHER:
+            parts = [evaluate(X[i:i + 64]) for i in range(0, len(X), 64)]
+            if sized:
+                return (np.concatenate([p[0] for p in parts]),
+                        np.concatenate([p[1] for p in parts]))
+            return np.concatenate(parts)
         out = np.zeros((len(X), npoly))
         size = np.zeros((len(X), npoly)) if sized else None
         if len(owner):

@@ -134,3 +134,27 @@ def test_small_batches_gathered_at_once_give_the_per_generator_values(batch, mon
     assert np.array_equal(at_once[1], ring.compile(polys, absolute=True)(G))
     per_generator = ring.compile(polys, sized=True)(G)
     assert all(np.array_equal(s, p) for s, p in zip(sized, per_generator))
+
+
+@pytest.mark.parametrize("batch", [65, 300])
+def test_large_batches_are_evaluated_64_points_at_a_time(batch, monkeypatch):
+    """Above MANY_GATHER factors, a batch of more than 64 points is evaluated in chunks of
+    64: the values and sizes are those of each chunk evaluated alone, bit for bit, and
+    those of the single gather to rounding."""
+    import rankloci.algebra.ring as ring_module
+
+    ring = _ring()
+    polys = [ring.from_sympy(e) for e in EXPRS]
+    G = _generators(ring, np.random.default_rng(5).uniform(-3, 3, (batch, 4)))
+    whole = ring.compile(polys, sized=True)(G)
+    monkeypatch.setattr(ring_module, "MANY_GATHER", 0)
+    values, sizes = ring.compile(polys, sized=True)(G)
+    plain = ring.compile(polys)(G)
+    assert values.shape == sizes.shape == plain.shape == (batch, len(EXPRS))
+    for i in range(0, batch, 64):
+        chunk = ring.compile(polys, sized=True)(G[i:i + 64])
+        assert np.array_equal(values[i:i + 64], chunk[0])
+        assert np.array_equal(sizes[i:i + 64], chunk[1])
+        assert np.array_equal(plain[i:i + 64], chunk[0])
+    np.testing.assert_allclose(values, whole[0], rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(sizes, whole[1], rtol=1e-12, atol=1e-12)
