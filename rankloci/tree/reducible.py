@@ -43,6 +43,13 @@ SPECIAL_STARTS = 2048
 SPECIAL_POINTS = 64
 #: Regular blocks whose determinants are compared; the one with fewest terms splits the branch.
 MINOR_CANDIDATES = 3
+#: Groups of special starts at which some of a leaf's equations vanish exactly, and not all,
+#: solved for the rest with their angles at multiples of pi/2 held (see special_solved_points),
+#: and starts solved per group.
+SPECIAL_SOLVES = 8
+SPECIAL_SOLVE_ROWS = 2
+#: Of the special starts at which some equations vanish, those whose held angles are sought.
+SPECIAL_PARTIAL_ROWS = 64
 
 
 def ranked_points(ctx: "Context", branch: "Branch") -> tuple[list, list]:
@@ -63,7 +70,8 @@ def ranked_points(ctx: "Context", branch: "Branch") -> tuple[list, list]:
     finally:
         sampler.rng = stream
     special = special_points(ctx, branch)
-    pts = list(sampler.points(branch)) + wider + _scan_points(ctx, branch) + special
+    pts = (list(sampler.points(branch)) + wider + _scan_points(ctx, branch)
+           + special_solved_points(ctx, branch) + special)
     from ..tolerances import LEAF_REGULAR_RTOL
 
     regular, singular = [], []
@@ -251,13 +259,7 @@ def special_points(ctx: "Context", branch: "Branch") -> list:
     if not branch.implicit:
         return []
     sampler, ring = ctx.sampler, ctx.ring
-    angles, others, params = sampler.unknowns(branch)
-    rng = np.random.default_rng(len(branch.conditions))
-    X = np.concatenate([rng.uniform(-np.pi, np.pi, (SPECIAL_STARTS, len(angles))),
-                        rng.uniform(-2.0, 2.0, (SPECIAL_STARTS, len(others) + len(params)))],
-                       axis=1)
-    snap = rng.random((SPECIAL_STARTS, len(angles))) < 0.5
-    X[:, :len(angles)][snap] = rng.integers(-1, 3, int(snap.sum())) * (np.pi / 2)
+    (angles, others, params), X, _ = _special_starts(ctx, branch)
     G = sampler.generators_batch(branch, angles, others, params, X)
     ok = ~np.isnan(G).any(axis=1)
     G = G[ok]
@@ -270,6 +272,114 @@ def special_points(ctx: "Context", branch: "Branch") -> list:
         V, size = ring.compile(nz, sized=True)(G)
         hit &= np.min(np.abs(V / np.maximum(size, 1e-300)), axis=1) > EXCLUSION_RTOL
     return list(G[hit][:SPECIAL_POINTS])
+
+
+def _special_starts(ctx: "Context", branch: "Branch"):
+    """The starts of :func:`special_points`: unknown rows, and which angles are snapped."""
+    angles, others, params = ctx.sampler.unknowns(branch)
+    rng = np.random.default_rng(len(branch.conditions))
+    X = np.concatenate([rng.uniform(-np.pi, np.pi, (SPECIAL_STARTS, len(angles))),
+                        rng.uniform(-2.0, 2.0, (SPECIAL_STARTS, len(others) + len(params)))],
+                       axis=1)
+    snap = rng.random((SPECIAL_STARTS, len(angles))) < 0.5
+    X[:, :len(angles)][snap] = rng.integers(-1, 3, int(snap.sum())) * (np.pi / 2)
+    return (angles, others, params), X, snap
+
+
+def special_solved_points(ctx: "Context", branch: "Branch") -> list:
+    """Points of ``branch`` solved from special starts at which some of its equations vanish.
+
+    A leaf's equations can hold on its singular piece and on a smaller piece of their own
+    that fixes some angles at multiples of pi/2 and is cut out by the other equations there:
+    on tiago's 9-joint thumb chain, a leaf of three equations (dimension 5 in 7 unknowns)
+    whose first two vanish wherever q4 = 0 and q6 = 3 pi/2, the third cutting a regular piece
+    of dimension 4 out of that.  Neither random solves (they go to the larger piece) nor the
+    exact special points (the third equation is not solved by angles at multiples of pi/2)
+    reach it.  Here the starts of :func:`special_points` at which some equations vanish
+    exactly, and not all, are grouped by which do and by their snapped angles; those angles
+    are held and the rest solved (Gauss-Newton), for up to SPECIAL_SOLVES groups, round
+    robin over the patterns of vanishing equations.  The points found are no exact points:
+    they are accepted as the sampler accepts its own (ROOT_XTOL, EXCLUSION_RTOL).
+    """
+    from ..numeric.gauss_newton import gauss_newton_rows
+    from ..tolerances import EXCLUSION_RTOL, ROOT_XTOL
+
+    if len(branch.implicit) < 2:
+        return []
+    sampler, ring = ctx.sampler, ctx.ring
+    (angles, others, params), X, snap = _special_starts(ctx, branch)
+    G = sampler.generators_batch(branch, angles, others, params, X)
+    ok = ~np.isnan(G).any(axis=1)
+    eqs = list(branch.implicit)
+    sized = ring.compile(eqs, sized=True)
+    R, size = sized(G[ok])
+    zero = np.zeros((len(X), len(eqs)), dtype=bool)
+    zero[ok] = np.abs(R / np.maximum(size, 1e-300)) <= ROOT_XTOL
+    partial = np.flatnonzero(zero.any(axis=1) & ~zero.all(axis=1))[:SPECIAL_PARTIAL_ROWS]
+    rng = np.random.default_rng(len(branch.conditions) + 2)
+    groups: dict = {}
+    for r in partial:
+        # the snapped angles that the vanishing equations need: each is let go in turn (a
+        # random value) and stays so when those equations still vanish; an angle held at a
+        # special value for nothing would keep the solved point special (a multiple of pi/2
+        # at which the matrix drops rank for reasons of its own)
+        base, held = X[r].copy(), []
+        for j in np.flatnonzero(snap[r]):
+            trial = base.copy()
+            trial[j] = rng.uniform(-np.pi, np.pi)
+            Gt = sampler.generators_batch(branch, angles, others, params, trial[None, :])
+            if np.isnan(Gt).any():
+                held.append(j)
+                continue
+            V, S = sized(Gt)
+            if (np.abs(V[0] / np.maximum(S[0], 1e-300)) <= ROOT_XTOL)[zero[r]].all():
+                base = trial
+            else:
+                held.append(j)
+        key = (tuple(zero[r]), tuple(held), tuple(np.round(base[held] / (np.pi / 2)).astype(int)))
+        groups.setdefault(key, []).append(base)
+    by_pattern: dict = {}
+    for key, rows in groups.items():
+        by_pattern.setdefault(key[0], []).append((key[1], rows))
+    chosen = []
+    queues = list(by_pattern.values())
+    while queues and len(chosen) < SPECIAL_SOLVES:
+        queues = [q for q in queues if q]
+        for q in queues:
+            if len(chosen) < SPECIAL_SOLVES:
+                chosen.append(q.pop(0))
+    nz = list(branch.nonzero)
+    nz_sized = ring.compile(nz, sized=True) if nz else None
+    found = []
+    with np.errstate(all="ignore"):
+        for held, rows in chosen:
+            rows = rows[:SPECIAL_SOLVE_ROWS]
+            free = np.setdiff1d(np.arange(X.shape[1]), held)
+            if not len(free):
+                continue
+            for base in rows:
+
+                def residual(Y, base=base, free=free):
+                    Z = np.repeat(base[None, :], len(Y), axis=0)
+                    Z[:, free] = Y
+                    Gz = sampler.generators_batch(branch, angles, others, params, Z)
+                    V, S = sized(Gz)
+                    V = V / np.maximum(S, 1e-300)
+                    V[np.isnan(Gz).any(axis=1)] = 1e3
+                    return V
+
+                Y = gauss_newton_rows(residual, base[free][None, :])
+                Z = base[None, :].copy()
+                Z[:, free] = Y
+                Gz = sampler.generators_batch(branch, angles, others, params, Z)
+                if np.isnan(Gz).any() or not np.max(np.abs(residual(Y))) <= ROOT_XTOL:
+                    continue
+                if nz:
+                    V, S = nz_sized(Gz)
+                    if not np.min(np.abs(V / np.maximum(S, 1e-300))) > EXCLUSION_RTOL:
+                        continue
+                found.append(Gz[0])
+    return found
 
 
 def split_on_minor(ctx: "Context", branch: "Branch", node: int, regular, outcome: Outcome) -> bool:

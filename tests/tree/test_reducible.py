@@ -78,3 +78,34 @@ def test_reducible_leaf_is_split_into_singular_leaves_only():
                       *[(1.0, 0.0), (0.0, 1.0)][rng.integers(2)], np.cos(z / 2), np.sin(z / 2)])
         assert any(all(ctx.probe.vanishes(c, [g]) for c in leaf.conditions)
                    for leaf, _ in ctx.leaves), g
+
+
+def test_special_solves_reach_a_piece_cut_out_at_held_angles():
+    """E1 = sin x cos z + sin y sin w, E2 = sin x sin w + sin y cos z, E3 = 2 sin x - sin y hold
+    on sin x = sin y = 0 (z, w free: where [sin x, sin y (2 + cos z cos w)] loses rank) and on
+    {cos z = 0, sin w = 0, sin y = 2 sin x}, a regular curve.  No start with angles at multiples
+    of pi/2 is a point of that curve with sin x != 0 (sin x = sin y / 2 is no such multiple),
+    but E1 and E2 vanish wherever z and w are held at such values: the special solves hold
+    them, solve E3, and land on it."""
+    RAW4 = ('variables = ["x", "y", "z", "w"]\n'
+            'matrix = [["sin(x)", "sin(y)*(2 + cos(z)*cos(w))"]]\n')
+    tm = task_matrix(parse_model(RAW4, name="raw"), frame="auto")
+    ctx = Context(tm, method="svm", rng=np.random.default_rng(0))
+    x, y, z, w = tm.variables
+    E = [sp.sin(x) * sp.cos(z) + sp.sin(y) * sp.sin(w),
+         sp.sin(x) * sp.sin(w) + sp.sin(y) * sp.cos(z), 2 * sp.sin(x) - sp.sin(y)]
+    (branch,) = cover(ctx, Branch(), [ctx.ring.from_sympy(e) for e in E])
+    assert len(branch.implicit) == 3
+    exact = reducible.special_points(ctx, branch)
+    assert exact and all(ctx.probe.rank_at(ctx.M, g) == 0 for g in exact)
+    solved = reducible.special_solved_points(ctx, branch)
+    regular = [g for g in solved if ctx.probe.rank_at(ctx.M, g) == 1]
+    assert regular
+    for g in regular:
+        ax, ay, az, aw = _angles(ctx, g)
+        assert abs(np.cos(az)) < 1e-12 and abs(np.sin(aw)) < 1e-12
+        assert abs(2 * np.sin(ax) - np.sin(ay)) < 1e-10 and abs(np.sin(ax)) > 1e-3
+    # the held angles are only those the vanishing equations need: x and y are solved free
+    assert len({round(_angles(ctx, g)[0], 6) for g in regular}) == len(regular)
+    reg, _ = reducible.ranked_points(ctx, branch)
+    assert any(any(np.array_equal(g, h) for h in reg) for g in regular)
