@@ -315,6 +315,53 @@ def special_solved_points(ctx: "Context", branch: "Branch") -> list:
     R, size = sized(G[ok])
     zero = np.zeros((len(X), len(eqs)), dtype=bool)
     zero[ok] = np.abs(R / np.maximum(size, 1e-300)) <= ROOT_XTOL
+    chosen = _held_groups(ctx, branch, (angles, others, params), X, snap, zero, sized)
+    nz = list(branch.nonzero)
+    nz_sized = ring.compile(nz, sized=True) if nz else None
+    found = []
+    with np.errstate(all="ignore"):
+        for held, rows in chosen:
+            rows = rows[:SPECIAL_SOLVE_ROWS]
+            free = np.setdiff1d(np.arange(X.shape[1]), held)
+            if not len(free):
+                continue
+            for base in rows:
+
+                def residual(Y, base=base, free=free):
+                    Z = np.repeat(base[None, :], len(Y), axis=0)
+                    Z[:, free] = Y
+                    Gz = sampler.generators_batch(branch, angles, others, params, Z)
+                    V, S = sized(Gz)
+                    V = V / np.maximum(S, 1e-300)
+                    V[np.isnan(Gz).any(axis=1)] = 1e3
+                    return V
+
+                Y = gauss_newton_rows(residual, base[free][None, :])
+                Z = base[None, :].copy()
+                Z[:, free] = Y
+                Gz = sampler.generators_batch(branch, angles, others, params, Z)
+                if np.isnan(Gz).any() or not np.max(np.abs(residual(Y))) <= ROOT_XTOL:
+                    continue
+                if nz:
+                    V, S = nz_sized(Gz)
+                    if not np.min(np.abs(V / np.maximum(S, 1e-300))) > EXCLUSION_RTOL:
+                        continue
+                found.append(Gz[0])
+    return found
+
+
+def _held_groups(ctx: "Context", branch: "Branch", unknowns, X, snap, zero, sized) -> list:
+    """(held columns, starts) to solve for :func:`special_solved_points`.
+
+    The starts at which some equations vanish (``zero``, a row per start) and not all, each
+    with only the snapped angles those equations need held, grouped by which equations vanish
+    and which angles are held at which values: up to SPECIAL_SOLVES groups, taken round robin
+    over the patterns of vanishing equations.
+    """
+    from ..tolerances import ROOT_XTOL
+
+    angles, others, params = unknowns
+    sampler = ctx.sampler
     partial = np.flatnonzero(zero.any(axis=1) & ~zero.all(axis=1))[:SPECIAL_PARTIAL_ROWS]
     rng = np.random.default_rng(len(branch.conditions) + 2)
     groups: dict = {}
@@ -348,38 +395,7 @@ def special_solved_points(ctx: "Context", branch: "Branch") -> list:
         for q in queues:
             if len(chosen) < SPECIAL_SOLVES:
                 chosen.append(q.pop(0))
-    nz = list(branch.nonzero)
-    nz_sized = ring.compile(nz, sized=True) if nz else None
-    found = []
-    with np.errstate(all="ignore"):
-        for held, rows in chosen:
-            rows = rows[:SPECIAL_SOLVE_ROWS]
-            free = np.setdiff1d(np.arange(X.shape[1]), held)
-            if not len(free):
-                continue
-            for base in rows:
-
-                def residual(Y, base=base, free=free):
-                    Z = np.repeat(base[None, :], len(Y), axis=0)
-                    Z[:, free] = Y
-                    Gz = sampler.generators_batch(branch, angles, others, params, Z)
-                    V, S = sized(Gz)
-                    V = V / np.maximum(S, 1e-300)
-                    V[np.isnan(Gz).any(axis=1)] = 1e3
-                    return V
-
-                Y = gauss_newton_rows(residual, base[free][None, :])
-                Z = base[None, :].copy()
-                Z[:, free] = Y
-                Gz = sampler.generators_batch(branch, angles, others, params, Z)
-                if np.isnan(Gz).any() or not np.max(np.abs(residual(Y))) <= ROOT_XTOL:
-                    continue
-                if nz:
-                    V, S = nz_sized(Gz)
-                    if not np.min(np.abs(V / np.maximum(S, 1e-300))) > EXCLUSION_RTOL:
-                        continue
-                found.append(Gz[0])
-    return found
+    return chosen
 
 
 def split_on_minor(ctx: "Context", branch: "Branch", node: int, regular, outcome: Outcome) -> bool:
