@@ -81,6 +81,7 @@ def compute_locus(tm, method: str = "svm", *, rng=None, progress=None,
     ['sin(q2)']
     """
     from ..tree.context import Context
+    from ..tree.reducible import refine_leaves
     from .determinant import determinant_tree
     from .finalize import finalize
     from .singular_vector import singular_vector_tree
@@ -107,6 +108,7 @@ def compute_locus(tm, method: str = "svm", *, rng=None, progress=None,
     grow = {"svm": singular_vector_tree, "subdeterminant": subdeterminant_tree,
             "determinant": determinant_tree}[method]
     degenerate = grow(ctx)
+    refine_leaves(ctx)
     components = [lift_directions(c, [r for r, _ in pivots], shape[0]) for c in finalize(ctx)]
     return Locus(model=tm.name, variables=tm.variables, parameters=dict(tm.parameters),
                  shape=shape, method=method,

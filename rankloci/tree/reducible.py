@@ -27,7 +27,8 @@ if TYPE_CHECKING:
     from .branch import Branch
     from .context import Context
 
-__all__ = ["LEAF_POINTS", "ranked_points", "special_points", "split_on_minor"]
+__all__ = ["LEAF_POINTS", "ranked_points", "refine_leaves", "special_points",
+           "special_solved_points", "split_on_minor"]
 
 #: Points sampled on a leaf before it is recorded.  The sampler's first three points decide
 #: the rank of a branch; a regular piece of a reducible leaf attracted 1 to 3 of 5 random solves
@@ -70,8 +71,7 @@ def ranked_points(ctx: "Context", branch: "Branch") -> tuple[list, list]:
     finally:
         sampler.rng = stream
     special = special_points(ctx, branch)
-    pts = (list(sampler.points(branch)) + wider + _scan_points(ctx, branch)
-           + special_solved_points(ctx, branch) + special)
+    pts = list(sampler.points(branch)) + wider + _scan_points(ctx, branch) + special
     from ..tolerances import LEAF_REGULAR_RTOL
 
     regular, singular = [], []
@@ -286,6 +286,40 @@ def _special_starts(ctx: "Context", branch: "Branch"):
     return (angles, others, params), X, snap
 
 
+def refine_leaves(ctx: "Context") -> None:
+    """Split the leaves on which :func:`special_solved_points` finds regular points.
+
+    Run once the tree is grown, on the leaves whose sample points do not all lie on other
+    leaves (:func:`.prune.known`): a leaf inside others is dropped by finalize whatever its
+    pieces.  On PR2's 9-joint finger chains the special solves found regular points on four
+    leaves of that kind; split during the tree, their pieces made it grow from 41 s to
+    50-57 s, with the same locus.  A split's new leaves are checked in turn.
+    """
+    from ..tolerances import LEAF_REGULAR_RTOL
+    from . import prune
+
+    checked = set()
+    while True:
+        todo = [(b, n) for b, n in ctx.leaves if b.key not in checked]
+        if not todo:
+            return
+        for branch, node in todo:
+            checked.add(branch.key)
+            if prune.known(ctx, branch):
+                continue
+            regular = []
+            for g in special_solved_points(ctx, branch):
+                A, S = ctx.probe.evaluated(ctx.M, g)
+                if scaled_ratio(A, S) > LEAF_REGULAR_RTOL and numeric_rank(A, S) == ctx.full_rank:
+                    regular.append(g)
+            if not regular:
+                continue
+            at = next(i for i, (b, n) in enumerate(ctx.leaves) if b is branch and n == node)
+            del ctx.leaves[at]
+            if not split_on_minor(ctx, branch, node, regular, ctx.tree.nodes[node]["outcome"]):
+                ctx.leaves.insert(at, (branch, node))
+
+
 def special_solved_points(ctx: "Context", branch: "Branch") -> list:
     """Points of ``branch`` solved from special starts at which some of its equations vanish.
 
@@ -357,9 +391,6 @@ def _may_hold_on_smaller_pieces(ctx: "Context", branch: "Branch") -> bool:
     set to at least (unknowns - k) dimensions, so a smaller piece needs a branch of more
     dimensions than that, some equation being implied by the others on it.  The dimension is
     the exact one of :meth:`.modular.ModularProbe.dimension`; undecided, the answer is yes.
-    On PR2's 9-joint finger chains, whose leaves are complete intersections, the special
-    solves found regular points on leaves that finalize drops anyway, and their splits took
-    the chain from 41 s to 55-71 s with the same locus.
     """
     dim = ctx.modular.dimension(branch)
     if dim is None:

@@ -107,5 +107,13 @@ def test_special_solves_reach_a_piece_cut_out_at_held_angles():
         assert abs(2 * np.sin(ax) - np.sin(ay)) < 1e-10 and abs(np.sin(ax)) > 1e-3
     # the held angles are only those the vanishing equations need: x and y are solved free
     assert len({round(_angles(ctx, g)[0], 6) for g in regular}) == len(regular)
-    reg, _ = reducible.ranked_points(ctx, branch)
-    assert any(any(np.array_equal(g, h) for h in reg) for g in regular)
+    # recorded as a leaf, the leaf is split once the tree is grown, into singular leaves only
+    node = ctx.add_node(None, branch)
+    ctx.annotate(node, outcome=Outcome.ALL_MINORS_VANISH)
+    ctx.leaves.append((branch, node))
+    reducible.refine_leaves(ctx)
+    assert ctx.tree.nodes[node]["outcome"] == Outcome.REFINED
+    assert ctx.leaves and all(leaf is not branch for leaf, _ in ctx.leaves)
+    for leaf, _ in ctx.leaves:
+        pts = ctx.sampler.points(leaf, count=reducible.LEAF_POINTS)
+        assert pts and all(ctx.probe.rank_at(ctx.M, g) == 0 for g in pts)
