@@ -137,7 +137,7 @@ class ModularProbe:
             vals[g] = int(self.rng.integers(1, P - 1, dtype=np.uint64))
         vals[ring.surd_start:] = roots
         joint = 2 * ring.n_angles + len(ring.others)
-        codim = sum(1 for sub in branch.substitutions if sub.kind != "linear" or sub.index < joint)
+        codim = self._substituted_joints(branch)
         solved = set()
         for f in branch.implicit:
             # each equation is solved for a generator no earlier equation was solved for,
@@ -199,6 +199,22 @@ class ModularProbe:
         """Rank of the polynomial matrix ``M`` on ``branch``, exactly; None if undecided here."""
         vals = self.values(M, branch)
         return None if vals is None else max(A.rank() for A in vals)
+
+    def _substituted_joints(self, branch: Branch) -> int:
+        """Joint degrees of freedom that the substitutions of ``branch`` fix."""
+        joint = 2 * self.ring.n_angles + len(self.ring.others)
+        return sum(1 for sub in branch.substitutions if sub.kind != "linear" or sub.index < joint)
+
+    def complete_intersection(self, branch: Branch) -> bool | None:
+        """Does every implicit equation of ``branch`` fix one joint degree of freedom?
+
+        Exact; None if undecided here.  When not, some equation is implied by the others on
+        a piece of the branch, and the equations can also hold on smaller pieces.
+        """
+        dim = self.dimension(branch)
+        if dim is None:
+            return None
+        return dim == self._joint_count() - self._substituted_joints(branch) - len(branch.implicit)
 
     def dimension(self, branch: Branch) -> int | None:
         """Dimension of ``branch`` in the joint variables, exactly; None if undecided here.

@@ -263,15 +263,19 @@ def special_points(ctx: "Context", branch: "Branch") -> list:
     G = sampler.generators_batch(branch, angles, others, params, X)
     ok = ~np.isnan(G).any(axis=1)
     G = G[ok]
-    eqs = list(branch.implicit)
-    R, size = ring.compile(eqs, sized=True)(G)
-    R = R / np.maximum(size, 1e-300)
-    hit = np.max(np.abs(R), axis=1) <= ROOT_XTOL
-    nz = list(branch.nonzero)
-    if nz and hit.any():
-        V, size = ring.compile(nz, sized=True)(G)
-        hit &= np.min(np.abs(V / np.maximum(size, 1e-300)), axis=1) > EXCLUSION_RTOL
+    hit = np.max(np.abs(_relative(ring.compile(list(branch.implicit), sized=True), G)),
+                 axis=1) <= ROOT_XTOL
+    if branch.nonzero and hit.any():
+        V = _relative(ring.compile(list(branch.nonzero), sized=True), G)
+        hit &= np.min(np.abs(V), axis=1) > EXCLUSION_RTOL
     return list(G[hit][:SPECIAL_POINTS])
+
+
+def _relative(evaluate, G) -> np.ndarray:
+    """Values of a sized evaluator (``PolyRing.compile(..., sized=True)``) at the rows ``G``,
+    each over the size of its terms."""
+    V, S = evaluate(G)
+    return V / np.maximum(S, 1e-300)
 
 
 def _special_starts(ctx: "Context", branch: "Branch"):
@@ -346,41 +350,35 @@ def special_solved_points(ctx: "Context", branch: "Branch") -> list:
     ok = ~np.isnan(G).any(axis=1)
     eqs = list(branch.implicit)
     sized = ring.compile(eqs, sized=True)
-    R, size = sized(G[ok])
     zero = np.zeros((len(X), len(eqs)), dtype=bool)
-    zero[ok] = np.abs(R / np.maximum(size, 1e-300)) <= ROOT_XTOL
+    zero[ok] = np.abs(_relative(sized, G[ok])) <= ROOT_XTOL
     chosen = _held_groups(ctx, branch, (angles, others, params), X, snap, zero, sized)
-    nz = list(branch.nonzero)
-    nz_sized = ring.compile(nz, sized=True) if nz else None
+    nz_sized = ring.compile(list(branch.nonzero), sized=True) if branch.nonzero else None
     found = []
     with np.errstate(all="ignore"):
         for held, rows in chosen:
-            rows = rows[:SPECIAL_SOLVE_ROWS]
             free = np.setdiff1d(np.arange(X.shape[1]), held)
             if not len(free):
                 continue
-            for base in rows:
+            # the starts of a group differ only in their free columns
+            base = rows[0]
 
-                def residual(Y, base=base, free=free):
-                    Z = np.repeat(base[None, :], len(Y), axis=0)
-                    Z[:, free] = Y
-                    Gz = sampler.generators_batch(branch, angles, others, params, Z)
-                    V, S = sized(Gz)
-                    V = V / np.maximum(S, 1e-300)
-                    V[np.isnan(Gz).any(axis=1)] = 1e3
-                    return V
-
-                Y = gauss_newton_rows(residual, base[free][None, :])
-                Z = base[None, :].copy()
+            def residual(Y, base=base, free=free):
+                Z = np.repeat(base[None, :], len(Y), axis=0)
                 Z[:, free] = Y
                 Gz = sampler.generators_batch(branch, angles, others, params, Z)
-                if np.isnan(Gz).any() or not np.max(np.abs(residual(Y))) <= ROOT_XTOL:
-                    continue
-                if nz:
-                    V, S = nz_sized(Gz)
-                    if not np.min(np.abs(V / np.maximum(S, 1e-300))) > EXCLUSION_RTOL:
-                        continue
-                found.append(Gz[0])
+                V = _relative(sized, Gz)
+                V[np.isnan(Gz).any(axis=1)] = 1e3
+                return V
+
+            Y = gauss_newton_rows(residual, np.array(rows[:SPECIAL_SOLVE_ROWS])[:, free])
+            Z = np.repeat(base[None, :], len(Y), axis=0)
+            Z[:, free] = Y
+            Gz = sampler.generators_batch(branch, angles, others, params, Z)
+            ok = ~np.isnan(Gz).any(axis=1) & (np.max(np.abs(residual(Y)), axis=1) <= ROOT_XTOL)
+            if nz_sized is not None:
+                ok &= np.min(np.abs(_relative(nz_sized, Gz)), axis=1) > EXCLUSION_RTOL
+            found.extend(Gz[ok])
     return found
 
 
@@ -389,16 +387,10 @@ def _may_hold_on_smaller_pieces(ctx: "Context", branch: "Branch") -> bool:
 
     Only when they are no complete intersection: k equations cut every piece of their zero
     set to at least (unknowns - k) dimensions, so a smaller piece needs a branch of more
-    dimensions than that, some equation being implied by the others on it.  The dimension is
-    the exact one of :meth:`.modular.ModularProbe.dimension`; undecided, the answer is yes.
+    dimensions than that (:meth:`.modular.ModularProbe.complete_intersection`, exact);
+    undecided, the answer is yes.
     """
-    dim = ctx.modular.dimension(branch)
-    if dim is None:
-        return True
-    ring = ctx.ring
-    joint = 2 * ring.n_angles + len(ring.others)
-    fixed = sum(1 for s in branch.substitutions if s.kind != "linear" or s.index < joint)
-    return dim > ring.n_angles + len(ring.others) - fixed - len(branch.implicit)
+    return not ctx.modular.complete_intersection(branch)
 
 
 def _held_groups(ctx: "Context", branch: "Branch", unknowns, X, snap, zero, sized) -> list:
@@ -429,8 +421,7 @@ def _held_groups(ctx: "Context", branch: "Branch", unknowns, X, snap, zero, size
             if np.isnan(Gt).any():
                 held.append(j)
                 continue
-            V, S = sized(Gt)
-            if (np.abs(V[0] / np.maximum(S[0], 1e-300)) <= ROOT_XTOL)[zero[r]].all():
+            if (np.abs(_relative(sized, Gt)[0]) <= ROOT_XTOL)[zero[r]].all():
                 base = trial
             else:
                 held.append(j)
