@@ -288,24 +288,20 @@ def _merge_zero_pi(cands: list[_Candidate]) -> list[_Candidate]:
     return cands
 
 
-def _vanish_at(funcs, points, nvars: int, rng) -> bool:
-    """Is every point in the component whose numeric functions are ``funcs``?
+def _admitted(funcs, x, nvars: int, rng) -> bool:
+    """Is ``x``, a point of the equations' zero set, in the component whose numeric functions
+    are ``funcs``?
 
-    The equations (scaled by their coefficient sizes) must vanish at each point
-    (``CONTAINED_RTOL``).  A point
+    It is where no exclusion vanishes (``CONTAINED_EXCLUSION_RTOL``).  A point
     where an exclusion vanishes too may still be in the closure of the
     component: it is, when points of the equations' zero set with the
     exclusions nonzero lie arbitrarily near (tested by projecting small
     perturbations back onto the equations).
     """
-    f_rows, g, gscale = funcs
-    for x in points:
-        if np.any(np.abs(f_rows(np.asarray(x, dtype=float)[None, :])[0]) > CONTAINED_RTOL):
-            return False
-        if g is not None and np.any(np.abs(np.array(g(*x), dtype=float))
-                                    <= CONTAINED_EXCLUSION_RTOL * gscale):
-            if not _near_admitted(f_rows, g, gscale, x, nvars, rng):
-                return False
+    _, g, gscale = funcs
+    if g is not None and np.any(np.abs(np.array(g(*x), dtype=float))
+                                <= CONTAINED_EXCLUSION_RTOL * gscale):
+        return _near_admitted(*funcs, x, nvars, rng)
     return True
 
 
@@ -369,8 +365,20 @@ def _points_on(ctx: Context, xs, others, functions) -> bool:
     that the equations alone place has been placed.
     """
     n = len(ctx.tm.variables)
-    rest = [x for x in xs
-            if not any(not k.comp.equations or _vanish_at(functions(k), [x], n, ctx.rng)
+    X = np.array(xs, dtype=float)
+    vanish = {}
+
+    def zero_set(k):
+        # where the equations of k (scaled by their coefficient sizes) vanish
+        # (CONTAINED_RTOL), at every point in one call; compiled only when first needed
+        if k not in vanish:
+            vanish[k] = (np.ones(len(X), dtype=bool) if not k.comp.equations else
+                         ~np.any(np.abs(functions(k)[0](X)) > CONTAINED_RTOL, axis=1))
+        return vanish[k]
+
+    rest = [x for i, x in enumerate(X)
+            if not any(not k.comp.equations
+                       or (zero_set(k)[i] and _admitted(functions(k), x, n, ctx.rng))
                        for k in others)]
     return all(any(k.branch is not None and prune.on_leaf(ctx, k.branch, x) for k in others)
                for x in rest)
