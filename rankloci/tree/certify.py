@@ -74,7 +74,7 @@ PIVOT_CHOICES = 6
 
 def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable,
                     pivots=None, cache: dict | None = None, *,
-                    numeric_above: float | None = None) -> np.ndarray | None:
+                    numeric_above: float | None = None, accept=None) -> np.ndarray | None:
     """``g`` moved onto a proved point of ``branch`` at which every exclusion is nonzero.
 
     Parameters
@@ -96,6 +96,11 @@ def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable,
         Where every exclusion at the point solved in doubles is above this
         times the size of its terms, that point is returned without a proof
         (the standard a branch's samples are held to, EXCLUSION_RTOL).
+    accept : callable, optional
+        A test of the point solved in doubles (generator values -> bool); where it
+        fails, nothing is proved and None is returned.  The proved zero lies within
+        ``BOX_RTOL`` of that point, so a test of where it lies is decided before the
+        proof, which costs far more.
 
     Returns
     -------
@@ -106,13 +111,7 @@ def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable,
     """
     solved = _substituted(ring, branch)
     cache = {} if cache is None else cache
-    if "system" not in cache:
-        # kept for the calls that share the cache: the ball arithmetic's memo holds
-        # conversions of these very polynomials (by identity)
-        cache["system"] = (
-            [q for q in (branch.reduce(e, ring) for e in branch.implicit) if not q.is_zero()],
-            [branch.reduce(p, ring) for p in branch.nonzero])
-    eqs, excl = cache["system"]
+    eqs, excl = _system(ring, branch, cache)
     if any(p.is_zero() for p in excl):
         return None
     if any(ring.variable_indices(q) & solved for q in eqs + excl):
@@ -127,7 +126,8 @@ def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable,
     if cols is None:
         return None
     g = _float_newton(ring, eqs, cols, g, cache) if eqs else np.asarray(g, dtype=float)
-    if g is None or not _worth_proving(ring, excl, g, cache):
+    if g is None or (accept is not None and not accept(g)) or \
+            not _worth_proving(ring, excl, g, cache):
         return None
     if numeric_above is not None and _worth_proving(ring, excl, g, cache, numeric_above):
         return np.asarray(g, dtype=float)
@@ -138,8 +138,7 @@ def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable,
         for j, prime in enumerate(ring.surds):
             vals[ring.surd_start + j] = flint.arb(prime).sqrt()
         if eqs:
-            jac = _compiled(ring, cache, ("J",) + tuple(cols),
-                            lambda: [q.derivative(j) for q in eqs for j in cols])
+            jac = _jacobian(ring, eqs, cols, cache)
             box = _krawczyk(eqs, cols, vals, cache.setdefault("balls", {}), jac)
             if box is None:
                 return None
@@ -153,11 +152,38 @@ def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable,
         return out
 
 
+def _system(ring: PolyRing, branch: Branch, cache: dict):
+    """The branch's implicit equations and exclusions, reduced by its substitutions.
+
+    Kept in ``cache`` for the calls that share it: the ball arithmetic's memo holds
+    conversions of these very polynomials (by identity), and reducing a leaf's equations
+    of thousands of terms costs milliseconds a call.
+    """
+    if "system" not in cache:
+        cache["system"] = (
+            [q for q in (branch.reduce(e, ring) for e in branch.implicit) if not q.is_zero()],
+            [branch.reduce(p, ring) for p in branch.nonzero])
+    return cache["system"]
+
+
 def _compiled(ring: PolyRing, cache: dict, key, polys, *, sized: bool = False):
     """``ring.compile(polys(), sized=sized)`` under ``key`` in ``cache``."""
     if key not in cache:
         cache[key] = ring.compile(polys(), sized=sized)
     return cache[key]
+
+
+def _jacobian(ring: PolyRing, eqs, cols, cache: dict):
+    """Evaluator of the derivatives of ``eqs`` (the branch's, of ``cache``) in ``cols``: generator
+    values -> the k x len(cols) matrix, row by row.
+
+    Each column is compiled once per branch and shared by every choice of columns: the
+    candidates (of an angle pair, the component of smaller magnitude at the point) change
+    from point to point.
+    """
+    fs = [_compiled(ring, cache, ("dJ", j), lambda j=j: [q.derivative(j) for q in eqs])
+          for j in cols]
+    return lambda x: np.stack([np.asarray(f(x), dtype=float) for f in fs], axis=-1).ravel()
 
 
 def _float_newton(ring: PolyRing, eqs, cols, g, cache: dict) -> np.ndarray | None:
@@ -168,8 +194,7 @@ def _float_newton(ring: PolyRing, eqs, cols, g, cache: dict) -> np.ndarray | Non
     """
     k = len(eqs)
     F = _compiled(ring, cache, "F", lambda: eqs)
-    J = _compiled(ring, cache, ("J",) + tuple(cols),
-                  lambda: [q.derivative(j) for q in eqs for j in cols])
+    J = _jacobian(ring, eqs, cols, cache)
     sized = _compiled(ring, cache, "F sized", lambda: eqs, sized=True)
     x = np.array(g, dtype=float)
     # a Newton iteration that runs away overflows on its way to inf: that is its failure,
@@ -191,8 +216,7 @@ def _float_newton(ring: PolyRing, eqs, cols, g, cache: dict) -> np.ndarray | Non
 def _float_condition(ring: PolyRing, eqs, cols, g, cache: dict) -> float:
     """Condition number (max-row-sum norms) of the equations' Jacobian in ``cols`` at ``g``."""
     k = len(eqs)
-    J = _compiled(ring, cache, ("J",) + tuple(cols),
-                  lambda: [q.derivative(j) for q in eqs for j in cols])
+    J = _jacobian(ring, eqs, cols, cache)
     A = J(np.asarray(g, dtype=float)).reshape(k, k)
     with np.errstate(all="ignore"):
         try:
@@ -242,8 +266,7 @@ def _pivots(ring: PolyRing, eqs, cand, g, cache: dict) -> list[int] | None:
 
 def _regular_choices(ring: PolyRing, eqs, cand, g, cache: dict) -> list:
     """Pivot sets (one generator per equation) with a regular Jacobian at ``g``, best first."""
-    J = _compiled(ring, cache, ("J",) + tuple(cand),
-                  lambda: [q.derivative(j) for q in eqs for j in cand])
+    J = _jacobian(ring, eqs, cand, cache)
     J = J(np.asarray(g, dtype=float)).reshape(len(eqs), len(cand))
     norms = np.linalg.norm(J, axis=1)
     if not np.all(np.isfinite(J)) or not np.all(norms > 0):
@@ -413,6 +436,12 @@ def admitted_near(ring: PolyRing, branch: Branch, g: np.ndarray, movable, rng, *
     # evaluators and ball-arithmetic conversions of the branch's polynomials, kept by the
     # caller between calls on the same branch (they do not depend on g)
     cache = {} if cache is None else cache
+
+    def near(x):
+        back = 2 * np.arctan2(x[[2 * i + 1 for i in angles]], x[[2 * i for i in angles]])
+        moved = np.abs((back - theta + np.pi) % (2 * np.pi) - np.pi)
+        return bool(np.all(moved <= radius) and np.all(np.abs(x[rest] - g[rest]) <= radius))
+
     for _ in range(tries):
         start = np.array(g, dtype=float)
         t = theta + step * rng.standard_normal(len(angles))
@@ -420,13 +449,11 @@ def admitted_near(ring: PolyRing, branch: Branch, g: np.ndarray, movable, rng, *
         start[[2 * i + 1 for i in angles]] = np.sin(t / 2)
         start[rest] = start[rest] + step * rng.standard_normal(len(rest))
         for cols in _pivot_choices(ring, branch, start, movable, cache):
-            got = certified_point(ring, branch, start, movable, pivots=cols, cache=cache,
-                                  numeric_above=EXCLUSION_RTOL)
-            if got is None:
-                continue
-            back = 2 * np.arctan2(got[[2 * i + 1 for i in angles]], got[[2 * i for i in angles]])
-            moved = np.abs((back - theta + np.pi) % (2 * np.pi) - np.pi)
-            if np.all(moved <= radius) and np.all(np.abs(got[rest] - g[rest]) <= radius):
+            # a zero farther than ``radius`` is no proof of this closure: its distance is
+            # tested on the zero in doubles, before the proof (on centauro's arm, 2.5 s of
+            # failed tests went to proving points that were then found too far)
+            if certified_point(ring, branch, start, movable, pivots=cols, cache=cache,
+                               numeric_above=EXCLUSION_RTOL, accept=near) is not None:
                 return True
     return False
 
@@ -439,7 +466,7 @@ def _pivot_choices(ring: PolyRing, branch: Branch, g, movable, cache: dict) -> l
     other: each is tried.
     """
     solved = _substituted(ring, branch)
-    eqs = [q for q in (branch.reduce(e, ring) for e in branch.implicit) if not q.is_zero()]
+    eqs = _system(ring, branch, cache)[0]
     cand = _coordinates(ring, g, set(movable) - solved)
     if not eqs:
         return [[]]
