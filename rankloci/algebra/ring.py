@@ -357,7 +357,7 @@ class PolyRing:
         ctx = flint.fmpq_mpoly_ctx.get(tuple(names), "degrevlex")
         return ctx, ctx.gens(), symbols
 
-    def to_sympy(self, p, *, full_angles: bool = True) -> sp.Expr:
+    def to_sympy(self, p, *, full_angles: bool = True, exact: bool = False) -> sp.Expr:
         """Readable trigonometric form of a homogeneous polynomial.
 
         Pairs of even degree are written with cos q and sin q (using
@@ -365,23 +365,25 @@ class PolyRing:
         leaves sin q to the first power: the normal form modulo
         sin**2 + cos**2 - 1); pairs of odd degree keep half angles.  The
         rational content is cleared so that equations read with integer
-        coefficients.
+        coefficients, unless ``exact``: then the expression equals ``p`` on the
+        circle, as the entries of a vector must (clearing each entry's content
+        on its own would change the vector's direction).
         """
-        key = id(p)
+        key = (id(p), full_angles, exact)
         got = self._to_sympy_cache.get(key)
-        if got is not None and got[0] is p and got[1] == full_angles:
-            return got[2]
-        expr = self._to_sympy(p, full_angles)
+        if got is not None and got[0] is p:
+            return got[1]
+        expr = self._to_sympy(p, full_angles, exact)
         if len(self._to_sympy_cache) > 4096:
             self._to_sympy_cache.clear()
-        self._to_sympy_cache[key] = (p, full_angles, expr)
+        self._to_sympy_cache[key] = (p, expr)
         return expr
 
     @functools.cached_property
     def _to_sympy_cache(self) -> dict:
         return {}
 
-    def _to_sympy(self, p, full_angles):
+    def _to_sympy(self, p, full_angles, exact=False):
         if p.is_zero():
             return sp.Integer(0)
         ctx, gens, symbols = self._display
@@ -421,11 +423,18 @@ class PolyRing:
         if total.is_zero():
             return sp.Integer(0)
         coeffs = total.coeffs()
+        if exact:
+            return self._sympy_terms(total, symbols)
         num = functools.reduce(lambda x, y: x.gcd(y), [flint.fmpz(c.p) for c in coeffs])
         den = functools.reduce(lambda x, y: x * y // x.gcd(y), [flint.fmpz(c.q) for c in coeffs])
         total = total * flint.fmpq(den, num)
         if len(coeffs) == 1 and total.coeffs()[0] < 0:
             total = -total
+        return self._sympy_terms(total, symbols)
+
+    @staticmethod
+    def _sympy_terms(total, symbols) -> sp.Expr:
+        """The sympy sum of the terms of ``total`` (a polynomial in the display generators)."""
         terms = []
         for mon, coeff in zip(total.monoms(), total.coeffs()):
             factors = [sym ** e for sym, e in zip(symbols, mon) if e]

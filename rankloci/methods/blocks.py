@@ -116,7 +116,7 @@ def choose_block(ctx: "Context", A, r, points, candidates: int = 24, *, branch=N
         rows, cols = next(((list(rs), list(cs)) for rs in itertools.combinations(range(n), r)
                            for cs in itertools.combinations(range(m), r)
                            if regular(list(rs), list(cs))), (rows, cols))
-    if math.comb(n, r) * math.comb(m, r) > MAX_BLOCKS:
+    if candidates == 0 or math.comb(n, r) * math.comb(m, r) > MAX_BLOCKS:
         return rows, cols
 
     sizes: list[int] = []           # terms of every determinant scored

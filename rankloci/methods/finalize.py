@@ -12,6 +12,7 @@ where they are small.
 from __future__ import annotations
 
 import dataclasses
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -219,7 +220,11 @@ def _symbolic_direction(ctx, branch, pts, drop):
     if len(M) > len(M[0]):
         M = transpose(M)
     n = len(M)
-    vecs, _ = left_null_vectors(ctx, M, n - 1, pts, max_terms=MAX_DIRECTION_COFACTOR_TERMS)
+    # any regular block gives the same vector once its common factor is divided out: the
+    # block is not searched for a determinant with few factors (on centauro's arm that search
+    # took 0.6 s, for directions that are then too large to show)
+    vecs, _ = left_null_vectors(ctx, M, n - 1, pts, max_terms=MAX_DIRECTION_COFACTOR_TERMS,
+                                candidates=0)
     if not vecs:
         return ()
     u = vecs[0]
@@ -227,7 +232,14 @@ def _symbolic_direction(ctx, branch, pts, drop):
         return ()
     if all(p.is_zero() for p in u):
         return ()
-    return (tuple(ctx.ring.to_sympy(p) if not p.is_zero() else sp.Integer(0) for p in u),)
+    # each entry exactly (an equation's content may be cleared, a vector entry's may not),
+    # then the content common to all entries divided out, so that the vector reads with
+    # integer coefficients
+    exprs = [ctx.ring.to_sympy(p, exact=True) if not p.is_zero() else sp.Integer(0) for p in u]
+    contents = [e.as_content_primitive()[0] for e in exprs if e != 0]
+    num = functools.reduce(sp.igcd, [c.p for c in contents])
+    den = functools.reduce(sp.ilcm, [c.q for c in contents])
+    return (tuple(sp.expand(e * den / num) for e in exprs),)
 
 
 def _merge_zero_pi(cands: list[_Candidate]) -> list[_Candidate]:

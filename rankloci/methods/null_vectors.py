@@ -23,16 +23,19 @@ if TYPE_CHECKING:
 __all__ = ["left_null_vectors"]
 
 
-def left_null_vectors(ctx: "Context", A, rank, points, *, branch=None, max_terms=None):
+def left_null_vectors(ctx: "Context", A, rank, points, *, branch=None, max_terms=None,
+                      candidates: int = 24):
     """Left null vectors of ``A`` (n x n, rank ``rank`` on the branch), fraction free.
 
     Returns the vectors and the polynomial ``d`` (the determinant of the
     regular block used): the vectors are independent wherever d != 0.  With
     ``max_terms``, no vectors are returned (and the remaining cofactors are
-    not formed) once the cofactors formed hold more terms than that.
+    not formed) once the cofactors formed hold more terms than that.  ``candidates`` is
+    passed to :func:`~.blocks.choose_block`: 0 takes the block pivoting proposes, where the
+    factors of d do not matter.
     """
     n = len(A)
-    rows, cols = choose_block(ctx, A, rank, points, branch=branch)
+    rows, cols = choose_block(ctx, A, rank, points, candidates, branch=branch)
     block = [[A[i][j] for j in cols] for i in rows]
     d = ctx.det(block) if rank else ctx.ring.ctx.constant(1)
     vectors = []

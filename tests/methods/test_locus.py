@@ -395,6 +395,33 @@ def test_components_are_rank_deficient(name, numeric):
                 f"{comp.rank_drop}: {H.describe(comp)} (seed {SEED})")
 
 
+@pytest.mark.parametrize("name, numeric", _model_params(symbolic_too=True))
+def test_symbolic_directions_are_null_vectors(name, numeric):
+    """Where a component's lost direction is given as expressions, they are a null vector of J
+    (left for a wide J, right for a tall one) at points solved onto the component: each entry
+    keeps its own scale and sign (PUMA 560's elbow lost its direction when an entry's content
+    was cleared on its own)."""
+    tm, locus = H.locus_of(name, numeric)
+    values = H.model_tm(name, False).parameters
+    nj = H.numeric_j(H.model_tm(name, True))
+    rng = np.random.default_rng(SEED)
+    syms = list(tm.variables)
+    for comp in H.model_components(locus):
+        for vec in comp.direction:
+            u_of = sp.lambdify(syms, [sp.sympify(x).subs(values) for x in vec], modules="numpy")
+            _, pts = _points_of(comp, tm, rng, n=3, params=values)
+            for q in pts:
+                J = nj(q)
+                u = np.array([np.broadcast_to(x, ()) for x in u_of(*q)], dtype=float)
+                if np.linalg.norm(u) == 0:
+                    continue        # a point where the expressions all vanish: no direction there
+                r = u @ J if J.shape[0] <= J.shape[1] else J @ u
+                rel = np.linalg.norm(r) / (np.linalg.norm(u) * H.singular_values(J)[0])
+                assert rel <= ON_LOCUS_RTOL, (
+                    f"{name}: the direction of {H.describe(comp)} is no null vector at "
+                    f"{H.fmt(q, tm.variables)}: |u J| / (|u| sigma_max) = {rel:.1e} (seed {SEED})")
+
+
 # --- 5. completeness ----------------------------------------------------------------------
 
 N_STARTS = 24
