@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from flint.utils.flint_exceptions import DomainError
+
 from .ring import PolyRing
 
 __all__ = ["laplace_det", "irreducible_factors", "abs_poly", "common_factor", "primitive_vector",
@@ -64,7 +66,7 @@ def irreducible_factors(p, ring: PolyRing):
     p = ring.normal(p)
     if p.is_zero():
         raise ValueError("zero polynomial has no factorisation")
-    _, facs = p.factor()
+    _, facs = _without_circles(p, ring).factor()
     out = []
     surds = set(range(ring.surd_start, len(ring.names)))
     for f, _ in facs:
@@ -77,6 +79,28 @@ def irreducible_factors(p, ring: PolyRing):
         lc = f.leading_coefficient()
         out.append(f / lc)
     return out
+
+
+def _without_circles(p, ring: PolyRing):
+    """``p`` divided by every power of ``C**2 + S**2`` that divides it.
+
+    A determinant of a matrix homogeneous in each pair carries such factors to high powers (on
+    centauro's arm, 179388 terms = a factor of 1130 terms times 16 of them), and factoring them
+    with the rest takes FLINT 3 to 30 times as long as dividing them out first (0.43 s against
+    0.15 + 0.015 s there).  Exact division stops early where it fails.
+    """
+    degs = p.degrees()
+    for i in range(ring.n_angles):
+        C, S = ring.C(i), ring.S(i)
+        if degs[2 * i] + degs[2 * i + 1] < 2:
+            continue
+        circle = C * C + S * S
+        while True:
+            try:
+                p = p / circle
+            except DomainError:
+                break
+    return p
 
 
 def _is_circle(f, ring):
