@@ -434,8 +434,8 @@ def _remove_contained(ctx: Context, cands: list[_Candidate]) -> list[_Candidate]
             c = k.comp
             # each equation over the size of its coefficients at the model's values, as an
             # exact (or high-exponent) number: the coefficients may be beyond a float's range
-            scaled = [sp.expand(e / _coefficient_size(sp.expand(e.subs(pvals))))
-                      for e in c.equations]
+            # (a number divides each term of a sum: no second expansion is needed)
+            scaled = [e / _coefficient_size(sp.expand(e.subs(pvals))) for e in c.equations]
             raw = sp.lambdify(syms, scaled, modules="numpy")
 
             def f_rows(X, raw=raw):
@@ -444,8 +444,7 @@ def _remove_contained(ctx: Context, cands: list[_Candidate]) -> list[_Candidate]
                 return np.stack([np.broadcast_to(np.asarray(v, dtype=float), (len(X),))
                                  for v in raw(*X.T)], axis=1)
 
-            excl = [sp.expand(e / _coefficient_size(sp.expand(e.subs(pvals))))
-                    for e in c.excluding]
+            excl = [e / _coefficient_size(sp.expand(e.subs(pvals))) for e in c.excluding]
             g = sp.lambdify(syms, excl, modules="numpy") if excl else None
             gscale = np.ones(len(excl)) if excl else None
             compiled[k] = (f_rows, g, gscale)

@@ -105,11 +105,17 @@ def in_closure(ctx: "Context", leaf: Branch, g, k: int = 0) -> bool:
     """
     from ..tolerances import NEAR_ADMITTED_RADIUS, NEAR_ADMITTED_STEP
 
-    angles, others, params = ctx.sampler.unknowns(leaf)
-    movable = [j for i in angles for j in (2 * i, 2 * i + 1)] + list(others) + list(params)
-    return admitted_near(ctx.ring, leaf, g, movable, np.random.default_rng(k),
-                         step=NEAR_ADMITTED_STEP, radius=NEAR_ADMITTED_RADIUS,
-                         cache=ctx.closure_cache(leaf))
+    cache = ctx.closure_cache(leaf)
+    # the same point is asked about again (a branch's points are tested when it opens and
+    # when the tree is refined): the verdict, a function of the leaf, the point and k, is kept
+    key = ("verdict", np.asarray(g, dtype=float).tobytes(), k)
+    if key not in cache:
+        angles, others, params = ctx.sampler.unknowns(leaf)
+        movable = [j for i in angles for j in (2 * i, 2 * i + 1)] + list(others) + list(params)
+        cache[key] = admitted_near(ctx.ring, leaf, g, movable, np.random.default_rng(k),
+                                   step=NEAR_ADMITTED_STEP, radius=NEAR_ADMITTED_RADIUS,
+                                   cache=cache)
+    return cache[key]
 
 
 def dense(ctx: "Context", leaf: Branch) -> bool:
