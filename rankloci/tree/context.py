@@ -95,6 +95,9 @@ class Context:
         self.exceptional_exclusions: dict = {}
         self.notes: list[str] = []
         self.progress = progress or (lambda msg: None)
+        #: whether messages are read: a message that prints a leaf's conditions costs as much
+        #: as the rest of the leaf's bookkeeping where they have thousands of terms
+        self.reporting = progress is not None
         self.should_stop = should_stop or (lambda: False)
 
     @property
@@ -172,8 +175,9 @@ class Context:
             return
         self.annotate(node, outcome=outcome)
         self.leaves.append((branch, node))
-        self.progress(f"component found at branch {node} ({outcome}): "
-                      f"{', '.join(sp.sstr(self.ring.to_sympy(c)) for c in branch.conditions)}")
+        if self.reporting:
+            self.progress(f"component found at branch {node} ({outcome}): "
+                          f"{', '.join(sp.sstr(self.ring.to_sympy(c)) for c in branch.conditions)}")
 
     def closure_cache(self, leaf: Branch) -> dict:
         """The evaluators and conversions of ``leaf``'s polynomials that the closure proofs
