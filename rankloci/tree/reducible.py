@@ -217,6 +217,8 @@ def _scan(ctx, branch, angles, others, params) -> list:
 
 #: Values of one unknown at which an equation is evaluated in search of sign changes.
 SCAN_GRID = 256
+#: Bisection steps of a line solve decided by one evaluation (of 2**BISECT_LEVELS - 1 points).
+BISECT_LEVELS = 3
 
 
 def _solve_on_line(sampler, branch, angles, others, params, ev, x, k, is_angle, rng):
@@ -234,24 +236,35 @@ def _solve_on_line(sampler, branch, angles, others, params, ev, x, k, is_angle, 
         return None
     j = int(rng.choice(cross))
     a, b, fa = t[j], t[j + 1], v[j]
-    # bisection to rounding, two steps a call: the midpoint and both points the next step
-    # can take are evaluated together (a call costs about as much for three points as for one)
-    X1 = np.repeat(x[None, :], 3, axis=0)
-    for step in range(60):
-        if step % 2 == 0:
-            m = 0.5 * (a + b)
-            X1[:, k] = m, 0.5 * (a + m), 0.5 * (m + b)
-            f3 = ev(sampler.generators_batch(branch, angles, others, params, X1))[0][:, 0]
-            fm = f3[0]
-        else:
-            m, fm = (X1[1, k], f3[1]) if b == X1[0, k] else (X1[2, k], f3[2])
-        if fm == 0 or not np.isfinite(fm):
-            a = b = m
+    # bisection to rounding, BISECT_LEVELS steps a call: every midpoint those steps can take
+    # is evaluated together (a call costs about as much for seven points as for one), each
+    # computed as the step would compute it
+    steps = 0
+    while steps < 60:
+        levels = min(BISECT_LEVELS, 60 - steps)
+        nodes, mids = [(a, b)], []
+        for i in range(2 ** levels - 1):
+            lo_, hi_ = nodes[i]
+            m = 0.5 * (lo_ + hi_)
+            mids.append(m)
+            nodes += [(lo_, m), (m, hi_)]
+        X1 = np.repeat(x[None, :], len(mids), axis=0)
+        X1[:, k] = mids
+        fs = ev(sampler.generators_batch(branch, angles, others, params, X1))[0][:, 0]
+        i, done = 0, False
+        for _ in range(levels):
+            m, fm = mids[i], fs[i]
+            if fm == 0 or not np.isfinite(fm):
+                a = b = m
+                done = True
+                break
+            if np.sign(fm) == np.sign(fa):
+                a, fa, i = m, fm, 2 * i + 2
+            else:
+                b, i = m, 2 * i + 1
+        steps += levels
+        if done:
             break
-        if np.sign(fm) == np.sign(fa):
-            a, fa = m, fm
-        else:
-            b = m
     out = x.copy()
     out[k] = 0.5 * (a + b)
     return out
