@@ -220,9 +220,10 @@ def _symbolic_direction(ctx, branch, pts, drop):
     if len(M) > len(M[0]):
         M = transpose(M)
     n = len(M)
-    # any regular block gives the same vector once its common factor is divided out: the
-    # block is not searched for a determinant with few factors (on centauro's arm that search
-    # took 0.6 s, for directions that are then too large to show)
+    # the cofactors of any block regular on the branch give a null vector there: the block
+    # is not searched for a determinant with few factors, which matters only for the tree's
+    # sub-branches (on centauro's arm that search took 0.6 s, for directions then too large
+    # to show)
     vecs, _ = left_null_vectors(ctx, M, n - 1, pts, max_terms=MAX_DIRECTION_COFACTOR_TERMS,
                                 candidates=0)
     if not vecs:
