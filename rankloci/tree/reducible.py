@@ -361,7 +361,10 @@ def special_solved_points(ctx: "Context", branch: "Branch") -> list:
     from ..numeric.gauss_newton import gauss_newton_rows
     from ..tolerances import EXCLUSION_RTOL, ROOT_XTOL
 
-    if len(branch.implicit) < 2 or not _may_hold_on_smaller_pieces(ctx, branch):
+    # the equations hold on a piece smaller than the branch only when they are no complete
+    # intersection: k equations cut every piece of their zero set to at least (unknowns - k)
+    # dimensions (decided exactly, ModularProbe.complete_intersection; undecided: they may)
+    if len(branch.implicit) < 2 or ctx.modular.complete_intersection(branch):
         return []
     sampler, ring = ctx.sampler, ctx.ring
     (angles, others, params), X, snap = _special_starts(ctx, branch)
@@ -399,17 +402,6 @@ def special_solved_points(ctx: "Context", branch: "Branch") -> list:
                 ok &= np.min(np.abs(_relative(nz_sized, Gz)), axis=1) > EXCLUSION_RTOL
             found.extend(Gz[ok])
     return found
-
-
-def _may_hold_on_smaller_pieces(ctx: "Context", branch: "Branch") -> bool:
-    """Can the equations of ``branch`` hold on a piece of lower dimension than the branch?
-
-    Only when they are no complete intersection: k equations cut every piece of their zero
-    set to at least (unknowns - k) dimensions, so a smaller piece needs a branch of more
-    dimensions than that (:meth:`.modular.ModularProbe.complete_intersection`, exact);
-    undecided, the answer is yes.
-    """
-    return not ctx.modular.complete_intersection(branch)
 
 
 def _held_groups(ctx: "Context", branch: "Branch", unknowns, X, snap, zero, sized) -> list:
