@@ -6,11 +6,11 @@ from flint.utils.flint_exceptions import DomainError
 
 from .ring import PolyRing
 
-__all__ = ["laplace_det", "irreducible_factors", "abs_poly", "common_factor", "primitive_vector",
+__all__ = ["laplace_det", "circle_free_det", "irreducible_factors", "abs_poly", "common_factor", "primitive_vector",
            "transpose", "PolyMemo"]
 
 
-def laplace_det(M, ring: PolyRing | None = None, poll=None):
+def laplace_det(M, ring: PolyRing | None = None, poll=None, *, on_circles: bool = False):
     """Determinant by Laplace expansion along rows, sharing minors (2**n subproducts).
 
     Jacobians are sparse and their entries small; with the minors of the
@@ -20,7 +20,9 @@ def laplace_det(M, ring: PolyRing | None = None, poll=None):
     each (C, S) pair give a homogeneous determinant.  With ``ring``, the
     result is reduced by :meth:`PolyRing.normal`.  ``poll``, when given, is
     called before every product, so that a caller can stop a determinant
-    that runs for minutes (it raises to stop).
+    that runs for minutes (it raises to stop).  With ``on_circles`` (and
+    ``ring``), every product is reduced by :meth:`PolyRing.on_circles`: the
+    result is the determinant's value on the circles, not the polynomial.
     """
     n = len(M)
     if n == 0:
@@ -46,6 +48,8 @@ def laplace_det(M, ring: PolyRing | None = None, poll=None):
             if poll is not None:
                 poll()
             term = a * sub
+            if on_circles:
+                term = ring.on_circles(term)
             if pos % 2:
                 term = -term
             total = term if total is None else total + term
@@ -54,8 +58,28 @@ def laplace_det(M, ring: PolyRing | None = None, poll=None):
         memo[key] = total
         return total
 
+    if on_circles:
+        M = [[ring.on_circles(x) for x in row] for row in M]
     det = minor(0, tuple(range(n)))
     return ring.normal(det) if ring is not None else det
+
+
+def circle_free_det(M, ring: PolyRing, poll=None):
+    """The determinant of ``M`` divided by every power of ``C**2 + S**2`` that divides it.
+
+    ``M`` is homogeneous in each pair by rows or by columns, and so is its determinant,
+    which then carries powers of ``C**2 + S**2`` (= 1 on the circles): on romeo's 8-joint arm a
+    6 x 6 minor of 1185408 terms is one of 213 terms times such powers.  The expansion runs on
+    the circles instead (:meth:`PolyRing.on_circles`), where these powers are 1 and the
+    products stay small (there: 0.01 s against 10 s), and the result is made homogeneous again
+    (:meth:`PolyRing.homogenized`).  The factors that can vanish on the circles are those of
+    the determinant.  A matrix homogeneous in neither way gets the plain determinant.
+    """
+    reduced = laplace_det(M, ring, poll, on_circles=True)
+    try:
+        return ring.homogenized(reduced)
+    except ValueError:
+        return laplace_det(M, ring, poll)
 
 
 def irreducible_factors(p, ring: PolyRing):

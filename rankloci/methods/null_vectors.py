@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from ..algebra import primitive_vector
+from ..algebra import laplace_det, primitive_vector
 from .blocks import choose_block
 
 if TYPE_CHECKING:
@@ -56,5 +56,50 @@ def left_null_vectors(ctx: "Context", A, rank, points, *, branch=None, max_terms
             terms += len(minor)
             if max_terms is not None and terms > max_terms:
                 return [], d
-        vectors.append(primitive_vector(u))
+        scaled = _on_common_scale(ctx.ring, A, order, cols, u)
+        if scaled is None:
+            # A is homogeneous in neither way: the cofactors as they are
+            scaled = [zero] * n
+            for t, r in enumerate(order):
+                rest = [order[s] for s in range(len(order)) if s != t]
+                minor = (laplace_det([[A[x][j] for j in cols] for x in rest], ctx.ring)
+                         if rest else ctx.ring.ctx.constant(1))
+                scaled[r] = minor if t % 2 == 0 else -minor
+        vectors.append(primitive_vector(scaled))
     return vectors, d
+
+
+def _on_common_scale(ring, A, order, cols, u):
+    """The cofactors ``u``, each divided by the same power of C**2 + S**2; None if unknown.
+
+    :meth:`Context.det` divides each minor by its own powers of C**2 + S**2, so that the
+    entries of ``u`` are a null vector on the circles but not, as polynomials, one vector
+    scaled by a common factor, which the branch substitutions (C, S) ~ (b, -a) need.  The
+    true degree of the minor without row r is K - deg(row r) in each pair when ``A`` is
+    homogeneous by rows (and K when by columns): each entry is brought to that degree less
+    the largest common power (:meth:`PolyRing.homogenized`).  None when ``A`` is homogeneous
+    in neither way.
+    """
+    live = [r for r in order if not u[r].is_zero()]
+    if len(live) <= 1:
+        return u
+    na = ring.n_angles
+
+    def shared(entries):
+        degs = {ring.pair_degrees(p) for p in entries if not p.is_zero()}
+        return degs.pop() if len(degs) == 1 else (None if degs else (0,) * na)
+
+    offset = {x: shared(A[x][j] for j in cols) for x in order}
+    if any(o is None for o in offset.values()):
+        if any(shared(A[x][j] for x in order) is None for j in cols):
+            return None
+        offset = {x: (0,) * na for x in order}
+    degs = {r: ring.pair_degrees(u[r]) for r in live}
+    top = [max(degs[r][k] + offset[r][k] for r in live) for k in range(na)]
+    out = list(u)
+    try:
+        for r in live:
+            out[r] = ring.homogenized(u[r], tuple(top[k] - offset[r][k] for k in range(na)))
+    except ValueError:
+        return None
+    return out

@@ -14,7 +14,7 @@ import networkx as nx
 import numpy as np
 import sympy as sp
 
-from ..algebra import PolyMemo, PolyRing, irreducible_factors, laplace_det
+from ..algebra import PolyMemo, PolyRing, circle_free_det, irreducible_factors
 from ..algebra.ring import square_root_primes
 from ..errors import LocusError, LocusTimeout
 from ..locus import Outcome
@@ -264,10 +264,15 @@ class Context:
         return list(self._factors.get((p,), lambda key: irreducible_factors(key[0], self.ring)))
 
     def det(self, block):
-        """The determinant of a square block (a list of rows), reduced (:meth:`PolyRing.normal`)."""
+        """The determinant of a square block (a list of rows), without powers of C**2 + S**2.
+
+        See :func:`~rankloci.algebra.circle_free_det`: the factors that can vanish on the
+        circles are those of the determinant, and cofactors are brought to a common scale
+        by :func:`~rankloci.methods.null_vectors.left_null_vectors`.
+        """
         n = len(block)
         flat = tuple(x for row in block for x in row)
-        return self._dets.get(flat, lambda key: laplace_det(
+        return self._dets.get(flat, lambda key: circle_free_det(
             [list(key[i * n:(i + 1) * n]) for i in range(n)], self.ring, poll=self.tick))
 
     def parameter_only(self, f) -> bool:

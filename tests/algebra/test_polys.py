@@ -4,6 +4,7 @@ defining identities (multilinearity, det(AB) = det(A) det(B), unique factorisati
 from __future__ import annotations
 
 import functools
+import math
 import operator
 
 import flint
@@ -12,8 +13,8 @@ import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from rankloci.algebra import (PolyRing, irreducible_factors, laplace_det, primitive_vector,
-                              transpose)
+from rankloci.algebra import (PolyRing, circle_free_det, irreducible_factors, laplace_det,
+                              primitive_vector, transpose)
 
 x, y = sp.symbols("x y")
 a = sp.Symbol("a")
@@ -123,6 +124,66 @@ def test_det_of_padded_rows_is_homogeneous_of_the_summed_row_degrees(entries):
     want = [sum(col) for col in zip(*row_degrees)]
     for mon in d.monoms():
         assert [mon[2 * k] + mon[2 * k + 1] for k in range(RING.n_angles)] == want
+
+
+@settings(SMALL, max_examples=25)
+@given(square(trig_entries, n_max=3), st.booleans())
+def test_circle_free_det_is_the_det_without_its_circle_powers(entries, columns):
+    """The determinant expanded on the circles and made homogeneous again is exactly the
+    determinant divided by every power of C**2 + S**2 that divides it, for a matrix homogeneous
+    by rows or (transposed) by columns."""
+    rows = RING.from_sympy_rows(sp.Matrix(entries))
+    if columns:
+        rows = transpose(rows)
+    want = laplace_det(rows)
+    if not want.is_zero():
+        for k in range(RING.n_angles):
+            want, _ = _strip(want, _circle(k))
+    assert circle_free_det(rows, RING) == want
+
+
+@SMALL
+@given(st.lists(st.tuples(polys, st.integers(0, 2), st.integers(0, 2)), min_size=1, max_size=3))
+def test_on_circles_and_homogenized_go_back_and_forth(parts):
+    """A polynomial homogeneous in each pair (terms padded to common degrees) is recovered from
+    its reduced form at its own degrees, and both take the same values on the circles."""
+    target = (6, 6)
+    p = CTX.constant(0)
+    for f, i, j in parts:
+        for mon, c in zip(f.monoms(), f.coeffs()):
+            dx, dy = mon[0] + mon[1], mon[2] + mon[3]
+            pad_x, pad_y = target[0] - dx - 2 * i, target[1] - dy - 2 * j
+            term = CTX.from_dict({mon: c})
+            # odd remainders are made up with one more C, so every term has the target degrees
+            term *= RING.C(0) ** (pad_x % 2) * RING.C(1) ** (pad_y % 2)
+            term *= _circle(0) ** (i + pad_x // 2) * _circle(1) ** (j + pad_y // 2)
+            p += term
+    reduced = RING.on_circles(p)
+    assert all(m[0] <= 1 and m[2] <= 1 for m in reduced.monoms())
+    if p.is_zero():
+        assert reduced.is_zero()
+        return
+    assert RING.homogenized(reduced, RING.pair_degrees(p)) == p
+    rest = p
+    for k in range(RING.n_angles):
+        rest, _ = _strip(rest, _circle(k))
+    assert RING.homogenized(reduced) == rest
+    for t in (0.3, 1.9, -2.4):
+        point = [math.cos(t / 2), math.sin(t / 2), math.cos(1.3 * t), math.sin(1.3 * t), 0.7]
+        assert math.isclose(_value(p, point), _value(reduced, point), rel_tol=1e-9, abs_tol=1e-9)
+
+
+def _value(p, point):
+    return sum(float(c) * math.prod(v ** int(e) for v, e in zip(point, m))
+               for m, c in zip(p.monoms(), p.coeffs()))
+
+
+def test_homogenized_refuses_what_no_homogeneous_polynomial_reduces_to():
+    C, S = RING.C(0), RING.S(0)
+    with pytest.raises(ValueError):
+        RING.homogenized(C * S + C, (2, 0))
+    with pytest.raises(ValueError):
+        RING.homogenized(C ** 3, (1, 0))
 
 
 # --- irreducible_factors -----------------------------------------------------------------------
