@@ -155,7 +155,7 @@ class Context:
         if prune.known(self, branch):
             self.annotate(node, outcome=Outcome.KNOWN)
             return
-        if pts and self.rank(self.M, branch, pts) == self.full_rank:
+        if pts and self.regular_throughout(branch, pts):
             self.annotate(node, outcome=Outcome.COVERED)
             return
         # the points modulo a prime can lie on a piece without real points, and nearly
@@ -178,6 +178,22 @@ class Context:
         if self.reporting:
             self.progress(f"component found at branch {node} ({outcome}): "
                           f"{', '.join(sp.sstr(self.ring.to_sympy(c)) for c in branch.conditions)}")
+
+    def regular_throughout(self, branch: Branch, points) -> bool:
+        """Is the whole matrix of full rank at the generic points of every piece of ``branch``?
+
+        Yes when it is at every real sample point.  When it is at none, the exact rank
+        modulo a prime decides (it corrects ranks that near-degenerate geometry pushes
+        below the numeric tolerance, see :meth:`rank`).  When it is at some points and not
+        at others, the branch may be reducible with a singular piece (a rank taken over
+        all points would hide that piece): no, and the caller looks closer.
+        """
+        regular = [self.probe.rank_at(self.M, g) == self.full_rank for g in points]
+        if all(regular):
+            return True
+        if any(regular):
+            return False
+        return self.rank(self.M, branch, points) == self.full_rank
 
     def closure_cache(self, leaf: Branch) -> dict:
         """The evaluators and conversions of ``leaf``'s polynomials that the closure proofs

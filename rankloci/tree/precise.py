@@ -208,7 +208,7 @@ class PreciseProbe:
                 A = mpmath.matrix([[v / nr for v in row] for row, nr in zip(vals, norms)])
                 for cols in combos:
                     B = mpmath.matrix([[A[i, c] for c in cols] for i in range(n)])
-                    if abs(mpmath.det(B)) > PRECISE_SINGULAR_RTOL:
+                    if abs(_det(B)) > PRECISE_SINGULAR_RTOL:
                         return list(cols)
         return None
 
@@ -230,6 +230,32 @@ class PreciseProbe:
 PRECISE_MAX_TERMS = 2000
 #: Gauss-Newton steps before a refinement that has not converged is given up.
 PRECISE_STEPS = 30
+
+
+def _det(B):
+    """The determinant of the square mpmath matrix ``B``, by elimination with partial pivoting.
+
+    ``mpmath.det`` fails with a TypeError on some singular matrices (a column that
+    is zero below the diagonal leaves its pivot unset); here such a column gives 0.
+    """
+    A = B.copy()
+    n = A.rows
+    det = mpmath.mpf(1)
+    for j in range(n):
+        p = max(range(j, n), key=lambda k: abs(A[k, j]))
+        if not A[p, j]:
+            return mpmath.mpf(0)
+        if p != j:
+            for c in range(n):
+                A[p, c], A[j, c] = A[j, c], A[p, c]
+            det = -det
+        det *= A[j, j]
+        for k in range(j + 1, n):
+            f = A[k, j] / A[j, j]
+            if f:
+                for c in range(j + 1, n):
+                    A[k, c] -= f * A[j, c]
+    return det
 
 
 def _minimum_norm_step(A, F):

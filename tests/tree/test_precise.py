@@ -13,7 +13,7 @@ import sympy as sp
 
 from rankloci.algebra import PolyRing
 from rankloci.tree.branch import Branch
-from rankloci.tree.precise import PreciseProbe, _dyadic
+from rankloci.tree.precise import PreciseProbe, _det, _dyadic
 
 q, u, v = sp.symbols("q u v")
 RING = PolyRing((q,), (u, v), (), surds=(3,))
@@ -48,3 +48,19 @@ def test_singular_and_nearly_singular_points_are_told_apart():
     g[4] = 3 ** 0.5
     assert PreciseProbe(RING, singular).singular(b, g) is True
     assert PreciseProbe(RING, nearly).singular(b, g) is False
+
+
+def test_determinant_of_singular_blocks_with_a_zero_column_below_the_diagonal():
+    # mpmath.det fails with a TypeError on the first two (its pivot search finds no row);
+    # regular_columns needs 0 for them
+    singular = [[[1, 2, 3], [0, 0, 5], [0, 0, 7]],
+                [[0, 1], [0, 1]],
+                [[1, 2], [2, 4]]]
+    for rows in singular:
+        assert _det(mpmath.matrix(rows)) == 0
+    rng = np.random.default_rng(0)
+    for n in (1, 2, 3, 5):
+        A = rng.standard_normal((n, n))
+        with mpmath.workdps(30):
+            got = _det(mpmath.matrix(A.tolist()))
+        assert abs(float(got) - np.linalg.det(A)) <= 1e-12 * max(1.0, abs(np.linalg.det(A)))
