@@ -185,15 +185,47 @@ class Context:
         Yes when it is at every real sample point.  When it is at none, the exact rank
         modulo a prime decides (it corrects ranks that near-degenerate geometry pushes
         below the numeric tolerance, see :meth:`rank`).  When it is at some points and not
-        at others, the branch may be reducible with a singular piece (a rank taken over
-        all points would hide that piece): no, and the caller looks closer.
+        at others, the branch may be reducible with a singular piece that a rank taken over
+        all the points would hide (PR2's finger chains): no, and the caller looks closer,
+        unless the branch is below the determinantal dimension bound
+        (:func:`rankloci.verify.dimension_bound`, rank drop 1) at each singular point.
+        Every component of the set where the matrix loses rank has at least that
+        dimension, so a singular piece of a smaller branch lies inside a larger component,
+        reached by a branch of its own.
         """
+        from ..verify import dimension_bound
+
         regular = [self.probe.rank_at(self.M, g) == self.full_rank for g in points]
         if all(regular):
             return True
-        if any(regular):
-            return False
-        return self.rank(self.M, branch, points) == self.full_rank
+        if not any(regular):
+            return self.rank(self.M, branch, points) == self.full_rank
+        joints = self.ring.n_angles + len(self.ring.others)
+        bound = dimension_bound((len(self.M), len(self.M[0])), joints, 1)
+        singular = [g for g, r in zip(points, regular) if not r]
+        return max(self.local_dimension(branch, g) for g in singular) < bound
+
+    def local_dimension(self, branch: Branch, g) -> int:
+        """Dimension of ``branch`` at its point ``g``, numerically.
+
+        The joint variables minus the rank of the conditions' gradient at ``g``
+        (rows scaled to unit norm, DIMENSION_RTOL).  At a singular point of the
+        branch's zero set the gradient loses rank, and the count is an upper bound.
+        """
+        from ..tolerances import DIMENSION_RTOL
+
+        joints = self.ring.n_angles + len(self.ring.others)
+        if not branch.conditions:
+            return joints
+        grads = [d for c in branch.conditions for d in self.ring.gradient(c)]
+        G = np.asarray(self.ring.compile(grads)(np.asarray([g], dtype=float)), dtype=float)
+        G = G.reshape(len(branch.conditions), joints)
+        norms = np.linalg.norm(G, axis=1)
+        G = G[norms > 0] / norms[norms > 0, None]
+        if not len(G):
+            return joints
+        s = np.linalg.svd(G, compute_uv=False)
+        return joints - int(np.sum(s > DIMENSION_RTOL * s[0]))
 
     def closure_cache(self, leaf: Branch) -> dict:
         """The evaluators and conversions of ``leaf``'s polynomials that the closure proofs
