@@ -166,21 +166,11 @@ class PolyRing:
         """
         if not self.surds or p.is_zero():
             return p
-        start = self.surd_start
         degs = p.degrees()
-        if all(degs[start + k] < 2 for k in range(len(self.surds))):
-            return p
-        out = {}
-        for mon, coeff in zip(p.monoms(), p.coeffs()):
-            mon = list(mon)
-            for k, prime in enumerate(self.surds):
-                e = mon[start + k]
-                if e > 1:
-                    coeff = coeff * flint.fmpq(prime) ** (e // 2)
-                    mon[start + k] = e % 2
-            key = tuple(mon)
-            out[key] = out.get(key, 0) + coeff
-        return self.ctx.from_dict({m: c for m, c in out.items() if c != 0})
+        for k, rel in self._relations[self.n_angles:]:
+            if degs[k] >= 2:
+                p = divmod(p, rel)[1]
+        return p
 
     @functools.cached_property
     def ctx(self):

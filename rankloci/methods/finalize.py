@@ -20,9 +20,9 @@ import sympy as sp
 
 from ..algebra import transpose
 from ..locus import Component, Outcome
-from ..numeric.equations import normalised
+from ..numeric.equations import dimension_from_gradient, normalised
 from ..numeric.gauss_newton import gauss_newton_rows
-from ..tolerances import (CONTAINED_EXCLUSION_RTOL, CONTAINED_RTOL, DIMENSION_RTOL,
+from ..tolerances import (CONTAINED_EXCLUSION_RTOL, CONTAINED_RTOL,
                           DIMENSION_STEP, NEAR_ADMITTED_EXCLUSION_RTOL, NEAR_ADMITTED_RADIUS,
                           NEAR_ADMITTED_STEP)
 from ..tree import prune
@@ -130,12 +130,7 @@ def _component(ctx: Context, eqs, branch, pts) -> _Candidate:
             xp[j] += h
             xm[j] -= h
             grads.append((np.array(f(*xp), dtype=float) - np.array(f(*xm), dtype=float)) / (2 * h))
-        G = np.array(grads).T
-        # equations differ in scale by orders of magnitude: compare directions
-        norms = np.linalg.norm(G, axis=1)
-        G = G[norms > 0] / norms[norms > 0, None]
-        s = np.linalg.svd(G, compute_uv=False) if len(G) else np.zeros(1)
-        dim = len(tm.variables) - int(np.sum(s > DIMENSION_RTOL * max(s[0], 1e-300)))
+        dim = dimension_from_gradient(np.array(grads).T)
     # rank drop and lost directions at the sample point
     A = ctx.probe.values(ctx.M, g)
     n, m = A.shape

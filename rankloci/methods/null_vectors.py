@@ -39,34 +39,41 @@ def left_null_vectors(ctx: "Context", A, rank, points, *, branch=None, max_terms
     block = [[A[i][j] for j in cols] for i in rows]
     d = ctx.det(block) if rank else ctx.ring.ctx.constant(1)
     vectors = []
-    zero = ctx.ring.ctx.constant(0)
     terms = 0
     for i in range(n):
         if i in rows:
             continue
         order = rows + [i]
-        u = [zero] * n
-        for t, r in enumerate(order):
-            rest = [order[s] for s in range(len(order)) if s != t]
-            if rest:
-                minor = ctx.det([[A[x][j] for j in cols] for x in rest])
-            else:
-                minor = ctx.ring.ctx.constant(1)
-            u[r] = minor if t % 2 == 0 else -minor
-            terms += len(minor)
-            if max_terms is not None and terms > max_terms:
-                return [], d
+        budget = None if max_terms is None else max_terms - terms
+        u = _cofactors(ctx.ring, A, order, cols, ctx.det, budget)
+        if u is None:
+            return [], d
+        terms += sum(len(p) for p in u)
         scaled = _on_common_scale(ctx.ring, A, order, cols, u)
         if scaled is None:
             # A is homogeneous in neither way: the cofactors as they are
-            scaled = [zero] * n
-            for t, r in enumerate(order):
-                rest = [order[s] for s in range(len(order)) if s != t]
-                minor = (laplace_det([[A[x][j] for j in cols] for x in rest], ctx.ring)
-                         if rest else ctx.ring.ctx.constant(1))
-                scaled[r] = minor if t % 2 == 0 else -minor
+            scaled = _cofactors(ctx.ring, A, order, cols, lambda B: laplace_det(B, ctx.ring))
         vectors.append(primitive_vector(scaled))
     return vectors, d
+
+
+def _cofactors(ring, A, order, cols, det, budget=None):
+    """The signed minors of the rows ``order`` of ``A`` (columns ``cols``), by ``det``.
+
+    Entry r of the result (length len(A)) is the determinant without row r, signed by
+    its place in ``order``; rows outside ``order`` are zero.  None, with the remaining
+    minors not formed, as soon as the minors formed hold more than ``budget`` terms.
+    """
+    u = [ring.ctx.constant(0)] * len(A)
+    terms = 0
+    for t, r in enumerate(order):
+        rest = [order[s] for s in range(len(order)) if s != t]
+        minor = det([[A[x][j] for j in cols] for x in rest]) if rest else ring.ctx.constant(1)
+        u[r] = minor if t % 2 == 0 else -minor
+        terms += len(minor)
+        if budget is not None and terms > budget:
+            return None
+    return u
 
 
 def _on_common_scale(ring, A, order, cols, u):

@@ -11,9 +11,9 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from ..tolerances import EXCLUSION_RTOL, ON_COMPONENT_RESIDUAL
+from ..tolerances import DIMENSION_RTOL, EXCLUSION_RTOL, ON_COMPONENT_RESIDUAL
 
-__all__ = ["NumericMatrix", "Equations", "normalised", "coefficient_norm", "points_on",
+__all__ = ["NumericMatrix", "Equations", "normalised", "dimension_from_gradient", "coefficient_norm", "points_on",
            "minimise_ratio", "descend_to_singular", "ratio_and_gradient", "is_analytic", "MAX_TRIES",
            "STALL_ITERATIONS", "REFINE_DIGITS", "REFINE_STEPS", "COMPLEX_STEP", "ANALYTIC_FUNCTIONS"]
 
@@ -48,6 +48,31 @@ COMPLEX_STEP = 1e-30
 #: the matrix to the symbolic derivative.  Powers (sqrt included) are analytic away from 0.
 ANALYTIC_FUNCTIONS = (sp.sin, sp.cos, sp.tan, sp.exp, sp.log, sp.sinh, sp.cosh, sp.tanh,
                       sp.asin, sp.acos, sp.atan)
+
+
+def dimension_from_gradient(G) -> int:
+    """Local dimension of a zero set, from its equations' gradient ``G`` at a point.
+
+    ``G`` has one row per equation and one column per variable.  Equations differ in
+    scale by orders of magnitude, so the rows are compared as directions (scaled to
+    unit norm) and singular values at most DIMENSION_RTOL times the largest count as
+    zero.  At a singular point of the zero set the gradient loses rank, and the
+    count is an upper bound.
+
+    Examples
+    --------
+    >>> dimension_from_gradient(np.array([[2.0, 0.0, 0.0], [1e-9, 0.0, 0.0]]))
+    2
+    >>> dimension_from_gradient(np.zeros((1, 3)))
+    3
+    """
+    G = np.atleast_2d(np.asarray(G, dtype=float))
+    norms = np.linalg.norm(G, axis=1)
+    G = G[norms > 0] / norms[norms > 0, None]
+    if not len(G):
+        return G.shape[1]
+    s = np.linalg.svd(G, compute_uv=False)
+    return G.shape[1] - int(np.sum(s > DIMENSION_RTOL * s[0]))
 
 
 def is_analytic(expressions) -> bool:

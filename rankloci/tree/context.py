@@ -209,23 +209,16 @@ class Context:
         """Dimension of ``branch`` at its point ``g``, numerically.
 
         The joint variables minus the rank of the conditions' gradient at ``g``
-        (rows scaled to unit norm, DIMENSION_RTOL).  At a singular point of the
-        branch's zero set the gradient loses rank, and the count is an upper bound.
+        (see :func:`rankloci.numeric.equations.dimension_from_gradient`).
         """
-        from ..tolerances import DIMENSION_RTOL
+        from ..numeric.equations import dimension_from_gradient
 
         joints = self.ring.n_angles + len(self.ring.others)
         if not branch.conditions:
             return joints
         grads = [d for c in branch.conditions for d in self.ring.gradient(c)]
         G = np.asarray(self.ring.compile(grads)(np.asarray([g], dtype=float)), dtype=float)
-        G = G.reshape(len(branch.conditions), joints)
-        norms = np.linalg.norm(G, axis=1)
-        G = G[norms > 0] / norms[norms > 0, None]
-        if not len(G):
-            return joints
-        s = np.linalg.svd(G, compute_uv=False)
-        return joints - int(np.sum(s > DIMENSION_RTOL * s[0]))
+        return dimension_from_gradient(G.reshape(len(branch.conditions), joints))
 
     def closure_cache(self, leaf: Branch) -> dict:
         """The evaluators and conversions of ``leaf``'s polynomials that the closure proofs

@@ -117,3 +117,53 @@ def test_special_solves_reach_a_piece_cut_out_at_held_angles():
     for leaf, _ in ctx.leaves:
         pts = ctx.sampler.points(leaf, count=reducible.LEAF_POINTS)
         assert pts and all(ctx.probe.rank_at(ctx.M, g) == 0 for g in pts)
+
+
+def test_leaf_with_mixed_first_points_is_split():
+    """First sample points on both pieces (PR2's finger chains): the singular piece has the
+    determinantal dimension (1 for a 1 x 2 matrix in 3 joints), so the regular points do not
+    make the leaf covered; it is split, and the singular piece is kept."""
+    ctx, branch = _reducible_leaf()
+    regular, singular = reducible.ranked_points(ctx, branch)
+    mixed = [regular[0]] + singular[:2]
+    assert not ctx.regular_throughout(branch, mixed)
+    ctx.sampler.cache[branch.key + (3,)] = mixed
+    node = ctx.add_node(None, branch)
+    ctx.leaf(branch, node, Outcome.ALL_MINORS_VANISH)
+    assert ctx.tree.nodes[node]["outcome"] == Outcome.REFINED
+    assert ctx.leaves
+    for leaf, _ in ctx.leaves:
+        pts = ctx.sampler.points(leaf, count=reducible.LEAF_POINTS)
+        assert pts and all(ctx.probe.rank_at(ctx.M, g) == 0 for g in pts)
+
+
+#: Half-angle generators (cos q/2, sin q/2), exact at 0, pi/2 and pi.
+_HALF = {0: (1.0, 0.0), 1: (np.sqrt(0.5), np.sqrt(0.5)), 2: (0.0, 1.0)}
+
+
+def _half_angles(*quarters):
+    """The point with angles quarters[i] * pi/2."""
+    return np.array([x for k in quarters for x in _HALF[k]])
+
+
+def test_mixed_points_below_the_dimension_bound_are_covered():
+    """sin y = sin z = sin x cos x = 0 is a finite set of points.  The matrix is singular at
+    those with sin x = 0 and regular at those with cos x = 0.  Points have dimension 0, below the
+    bound 1, so the singular ones lie on a larger component (sin x = sin y = 0, z free), which
+    has a branch of its own.  This branch counts as covered."""
+    tm = task_matrix(parse_model(RAW, name="raw"), frame="auto")
+    ctx = Context(tm, method="svm", rng=np.random.default_rng(0))
+    x, y, z = tm.variables
+    E = [sp.sin(y), sp.sin(z), sp.sin(x) * sp.cos(x)]
+    branch = Branch(tuple(ctx.ring.from_sympy(e) for e in E))
+    singular = _half_angles(0, 2, 0)
+    regular = _half_angles(1, 0, 2)
+    assert ctx.probe.rank_at(ctx.M, singular) == 0
+    assert ctx.probe.rank_at(ctx.M, regular) == 1
+    assert all(ctx.probe.vanishes(c, [singular, regular]) for c in branch.conditions)
+    assert ctx.local_dimension(branch, singular) == 0
+    assert ctx.regular_throughout(branch, [regular, singular])
+    # the same points on the 1-dimensional branch sin y = sin z = 0 with x free are not
+    wide = Branch(tuple(ctx.ring.from_sympy(e) for e in E[:2]))
+    assert ctx.local_dimension(wide, singular) == 1
+    assert not ctx.regular_throughout(wide, [regular, singular])
