@@ -15,7 +15,11 @@ Two checks, both cheap next to the locus itself:
    singular points found by minimising sigma_min/sigma_max from random
    starts must lie on a component (complete).
 
-When the numeric check fails, the locus is computed again with the
+When the numeric check finds a component regular at some of its points,
+the locus is computed again with those configurations as hints: the
+leaves whose equations hold there are split, or keep the exclusion that
+vanishes there (:func:`rankloci.tree.reducible.repair_leaves`).  When it
+still fails, the locus is computed again with the
 model's parameter values substituted (the symbolic analysis assumes generic
 values, and real robots often have special ones), then with other seeds.
 If no attempt passes, the last locus is returned marked incomplete, with
@@ -39,6 +43,10 @@ __all__ = ["Verification", "dimension_bound", "dimension_findings", "verified_lo
 #: component missed by the self-check but found by ``rankloci check --samples 50`` is
 #: possible for small components (reported by that command).
 SELF_CHECK_SAMPLES = 6
+
+#: Rounds of recomputation with the configurations where the check found a component regular
+#: (each adds the new ones): a split leaf's pieces are checked in the next round.
+HINT_ROUNDS = 2
 
 
 @dataclass(frozen=True)
@@ -106,6 +114,14 @@ def _check_problems(report) -> list[str]:
     return out
 
 
+def _regular_points(report, variables) -> list[dict]:
+    """The configurations (variable name -> value) at which the check found a component
+    regular."""
+    names = [str(v) for v in variables]
+    return [dict(zip(names, (float(x) for x in p.q)))
+            for c in report.components for p in c.failures if p.regular]
+
+
 def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF_CHECK_SAMPLES,
                    progress=None):
     """The locus of ``tm``, checked against ``reference`` and recomputed when the check fails.
@@ -113,7 +129,9 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
     Parameters
     ----------
     compute : callable
-        ``compute(tm, seed)`` returns the :class:`~rankloci.locus.Locus` of a task matrix.
+        ``compute(tm, seed)`` returns the :class:`~rankloci.locus.Locus` of a task matrix;
+        ``compute(tm, seed, hints=...)`` the same with the configurations where a check
+        found a component regular (see :func:`~rankloci.methods.compute_locus`).
     tm : TaskMatrix
         The matrix to compute the locus of.
     reference : TaskMatrix
@@ -142,12 +160,18 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
                  (numeric, seed + 1, f"with the model's values, seed {seed + 1}")]
     else:
         plan += [(tm, seed + 1, f"seed {seed + 1}"), (tm, seed + 2, f"seed {seed + 2}")]
-    attempts, locus, problems = [], None, []
-    for k, (t, s, what) in enumerate(plan):
-        if k:
+    attempts, locus, problems, hints, what = [], None, [], [], ""
+    rounds = 0
+    queue = list(plan)
+    while queue:
+        t, s, base = queue.pop(0)
+        what = base if not hints else (
+            f"{base}, with the {len(hints)} configuration{'' if len(hints) == 1 else 's'} "
+            f"where the self-check found a component regular")
+        if attempts:
             progress(f"self-check failed; computing the locus again {what}")
         try:
-            locus = compute(t, s)
+            locus = compute(t, s, hints=tuple(hints)) if hints else compute(t, s)
         except LocusTimeout:
             if locus is None:
                 raise
@@ -160,13 +184,20 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
         attempts.append(f"{what}: {'passed' if not problems else 'failed'}")
         if not problems:
             break
+        new = [q for q in _regular_points(report, reference.variables) if q not in hints]
+        if new and rounds < HINT_ROUNDS:
+            # the configurations where a component is regular go back to the tree, which
+            # splits the leaves or keeps the exclusions that hold there
+            rounds += 1
+            hints += new
+            queue.insert(0, (t, s, base))
     notes = tuple(dimension_findings(locus))
     if problems:
         notes += ("INCOMPLETE: the self-check rejects this locus; "
                   + "; ".join(problems[:4]) + (" ..." if len(problems) > 4 else ""),)
     elif len(attempts) > 1:
         notes += (f"the first computation failed its self-check; this locus is the one "
-                  f"{plan[len(attempts) - 1][2]}",)
+                  f"{what}",)
     verification = Verification(not problems, tuple(attempts), tuple(problems))
     return dataclasses.replace(locus, notes=locus.notes + notes,
                                complete=verification.complete), verification

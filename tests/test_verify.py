@@ -6,6 +6,7 @@ import dataclasses
 
 import numpy as np
 import pytest
+import sympy as sp
 
 from rankloci.io import load_model
 from rankloci.jacobian import task_matrix
@@ -54,6 +55,33 @@ def test_a_locus_missing_its_component_is_recomputed():
     assert v.complete and locus.components
     assert v.attempts[0].endswith("failed") and v.attempts[1].endswith("passed")
     assert any("failed its self-check" in n for n in locus.notes)
+
+
+def test_regular_points_found_by_the_check_go_back_as_hints():
+    """The first locus reports sin q3 = 0 with q2 free, where the planar arm's position is
+    singular only where sin q2 = 0 too.  The check finds it regular at its points, and the
+    next computation gets those configurations."""
+    tm, ref = _planar3r()
+    q2, q3 = tm.variables[1], tm.variables[2]
+    got = []
+
+    def computed(t, seed, hints=()):
+        got.append(hints)
+        locus = _compute(t, seed)
+        if hints:
+            return locus
+        (c,) = locus.components
+        return dataclasses.replace(locus, components=(dataclasses.replace(
+            c, equations=(sp.sin(q3),), solved=(), free=(q2,)),))
+
+    locus, v = verified_locus(computed, tm, ref, seed=0)
+    assert got[0] == () and len(got) == 2 and got[1]
+    for q in got[1]:
+        assert set(q) == {"q1", "q2", "q3"}
+        assert abs(np.sin(q["q3"])) < 1e-6 and abs(np.sin(q["q2"])) > 1e-3
+    assert v.complete and v.attempts[0] == "as computed: failed"
+    assert v.attempts[1].startswith(f"as computed, with the {len(got[1])} configuration")
+    assert v.attempts[1].endswith("passed")
 
 
 def test_a_locus_that_never_passes_is_marked_incomplete():

@@ -135,9 +135,9 @@ def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None,
 
     stop = should_stop if should_stop is not None else _deadline(timeout)
 
-    def compute(t, s):
+    def compute(t, s, hints=()):
         return augmented_locus(model, t, method, seed=s, progress=progress, should_stop=stop,
-                               clock=clock)
+                               clock=clock, hints=hints)
 
     if verify:
         reference = task_matrix(model, task=task, augment=extra)

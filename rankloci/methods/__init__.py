@@ -55,7 +55,7 @@ def method_for(shape, requested: str | None = None, *, strict: bool = True) -> s
 
 
 def compute_locus(tm, method: str = "svm", *, rng=None, progress=None,
-                  should_stop=None, clock=None) -> Locus:
+                  should_stop=None, clock=None, hints=()) -> Locus:
     """Rank-deficiency locus of a :class:`~rankloci.jacobian.TaskMatrix`.
 
     Parameters
@@ -71,6 +71,11 @@ def compute_locus(tm, method: str = "svm", *, rng=None, progress=None,
         raises :class:`~rankloci.errors.LocusTimeout`.
     clock : callable, optional
         Returns seconds; used only to fill ``Locus.seconds``.
+    hints : sequence of dict, optional
+        Configurations (variable name -> value) at which a check of an earlier
+        computation found a component regular: the leaves whose equations hold
+        there are split or keep their exclusions (see
+        :func:`~rankloci.tree.reducible.repair_leaves`).
 
     Examples
     --------
@@ -81,7 +86,7 @@ def compute_locus(tm, method: str = "svm", *, rng=None, progress=None,
     ['sin(q2)']
     """
     from ..tree.context import Context
-    from ..tree.reducible import refine_leaves
+    from ..tree.reducible import refine_leaves, repair_leaves
     from .determinant import determinant_tree
     from .finalize import finalize
     from .singular_vector import singular_vector_tree
@@ -109,6 +114,11 @@ def compute_locus(tm, method: str = "svm", *, rng=None, progress=None,
             "determinant": determinant_tree}[method]
     degenerate = grow(ctx)
     refine_leaves(ctx)
+    if hints:
+        changed = repair_leaves(ctx, hints)
+        ctx.notes.append(f"{changed} of the leaves were split or kept an exclusion at "
+                         f"{len(hints)} configuration{'' if len(hints) == 1 else 's'} where a "
+                         f"check of the first computation found a component regular")
     components = [lift_directions(c, [r for r, _ in pivots], shape[0]) for c in finalize(ctx)]
     return Locus(model=tm.name, variables=tm.variables, parameters=dict(tm.parameters),
                  shape=shape, method=method,

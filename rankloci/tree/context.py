@@ -330,6 +330,21 @@ class Context:
         vals[self.ring.surd_start:] = self.ring.surd_values
         return vals
 
+    def point_at(self, values) -> np.ndarray | None:
+        """The generator vector of a configuration (a dict from variable names to values),
+        with the model's parameter values; None when a variable is missing."""
+        g = self.model_point()
+        na = self.ring.n_angles
+        try:
+            for i, a in enumerate(self.ring.angles):
+                v = float(values[a.name])
+                g[2 * i], g[2 * i + 1] = np.cos(v / 2), np.sin(v / 2)
+            for j, x in enumerate(self.ring.others):
+                g[2 * na + j] = float(values[x.name])
+        except KeyError:
+            return None
+        return g
+
     def special_parameters(self, f, where: str):
         """Note a parameter-only factor that is not analysed further."""
         text = sp.sstr(self.ring.to_sympy(f))

@@ -27,7 +27,7 @@ if TYPE_CHECKING:
     from .branch import Branch
     from .context import Context
 
-__all__ = ["LEAF_POINTS", "ranked_points", "refine_leaves", "special_points",
+__all__ = ["LEAF_POINTS", "ranked_points", "refine_leaves", "repair_leaves", "special_points",
            "special_solved_points", "split_on_minor"]
 
 #: Points sampled on a leaf before it is recorded.  The sampler's first three points decide
@@ -341,6 +341,46 @@ def refine_leaves(ctx: "Context") -> None:
             del ctx.leaves[at]
             if not split_on_minor(ctx, branch, node, regular, ctx.tree.nodes[node]["outcome"]):
                 ctx.leaves.insert(at, (branch, node))
+
+
+def repair_leaves(ctx: "Context", hints) -> int:
+    """Leaves whose equations hold at a configuration of ``hints`` where the matrix is regular.
+
+    ``hints`` are configurations (dicts from variable names to values) at which a check
+    found a component regular: real points of the leaf's equations that no sample reached (on
+    romeo's 8-joint arm, pieces whose equations hold with multiplicity, where the sampler's
+    Gauss-Newton stalls above its acceptance).  At each such point that the leaf excludes (an
+    exclusion vanishes there), the vanishing factors of the exclusion stay in the component,
+    which :func:`~rankloci.methods.finalize` would otherwise have dropped; at a point inside
+    the leaf, the leaf is split on a minor nonzero there.  Returns how many leaves changed.
+    """
+    changed = 0
+    full = ctx.full_rank
+    for q in hints:
+        g = ctx.point_at(q)
+        if g is None:
+            continue
+        A, S = ctx.probe.evaluated(ctx.M, g)
+        if numeric_rank(A, S) < full:
+            continue
+        for branch, node in list(ctx.leaves):
+            if not all(ctx.probe.vanishes(c, [g]) for c in branch.conditions):
+                continue
+            vanishing = [f for p in branch.nonzero if ctx.probe.vanishes(p, [g])
+                         for f in ctx.factors(p) if ctx.probe.vanishes(f, [g])]
+            if vanishing:
+                kept = ctx.exceptional_exclusions.setdefault(branch.key, [])
+                new = [f for f in vanishing if not any(f == k for k in kept)]
+                kept.extend(new)
+                changed += bool(new)
+                continue
+            at = next(i for i, (b, n) in enumerate(ctx.leaves) if b is branch and n == node)
+            del ctx.leaves[at]
+            if split_on_minor(ctx, branch, node, [g], ctx.tree.nodes[node]["outcome"]):
+                changed += 1
+            else:
+                ctx.leaves.insert(at, (branch, node))
+    return changed
 
 
 def special_solved_points(ctx: "Context", branch: "Branch") -> list:

@@ -167,3 +167,41 @@ def test_mixed_points_below_the_dimension_bound_are_covered():
     wide = Branch(tuple(ctx.ring.from_sympy(e) for e in E[:2]))
     assert ctx.local_dimension(wide, singular) == 1
     assert not ctx.regular_throughout(wide, [regular, singular])
+
+
+def test_a_hint_on_the_regular_piece_splits_the_leaf():
+    """A check found the leaf regular at x = y = 0.7, z = pi/2 (a point of the regular piece):
+    the leaf is split, and its pieces are singular."""
+    ctx, branch = _reducible_leaf()
+    node = ctx.add_node(None, branch)
+    ctx.annotate(node, outcome=Outcome.ALL_MINORS_VANISH)
+    ctx.leaves.append((branch, node))
+    assert reducible.repair_leaves(ctx, [{"x": 0.7, "y": 0.7, "z": np.pi / 2}]) == 1
+    assert ctx.tree.nodes[node]["outcome"] == Outcome.REFINED
+    assert ctx.leaves and all(leaf is not branch for leaf, _ in ctx.leaves)
+    for leaf, _ in ctx.leaves:
+        pts = ctx.sampler.points(leaf, count=reducible.LEAF_POINTS)
+        assert pts and all(ctx.probe.rank_at(ctx.M, g) == 0 for g in pts)
+
+
+def test_a_hint_in_an_excluded_set_keeps_the_exclusion():
+    """The same leaf with cos z excluded is singular at all its points; its equations alone
+    also hold on the regular piece, inside {cos z = 0}.  A hint there keeps cos z != 0 in the
+    component (as the factor that vanishes there); a singular hint, or one off the leaf,
+    changes nothing."""
+    ctx, branch = _reducible_leaf()
+    z = ctx.tm.variables[2]
+    branch = branch.excluding(ctx.ring.from_sympy(sp.cos(z)))
+    node = ctx.add_node(None, branch)
+    ctx.annotate(node, outcome=Outcome.ALL_MINORS_VANISH)
+    ctx.leaves.append((branch, node))
+    singular = {"x": 0.0, "y": np.pi, "z": 0.4}
+    off = {"x": 0.3, "y": 0.9, "z": 0.4}
+    assert reducible.repair_leaves(ctx, [singular, off]) == 0
+    assert branch.key not in ctx.exceptional_exclusions
+    assert reducible.repair_leaves(ctx, [{"x": 0.7, "y": np.pi - 0.7, "z": np.pi / 2}]) == 1
+    # the factor of cos z = (cos z/2 - sin z/2)(cos z/2 + sin z/2) that vanishes at z = pi/2
+    (kept,) = ctx.exceptional_exclusions[branch.key]
+    half = sp.cos(z / 2) - sp.sin(z / 2)
+    assert ctx.ring.to_sympy(kept) in (half, -half)
+    assert ctx.leaves == [(branch, node)]
