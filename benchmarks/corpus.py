@@ -105,7 +105,8 @@ PROBE_STARTS = 24
 #: seconds after the limit (counted from the start of the process) is stopped: a time-out.
 LOCUS_GRACE_S = 20.0
 
-#: Once the locus is done, grading gets this many seconds before the process is stopped.
+#: Once the locus is done, grading gets this many seconds before the process is stopped (and
+#: as much again for each step of a failing chain's self-check, see self_checked).
 GRADING_ALLOWANCE_S = 120.0
 
 
@@ -590,7 +591,45 @@ def run_case(chain: Chain, root: Path, *, time_limit: float | None = 60.0, seed:
     out.update(status="pass" if g["ok"] else "fail", reason=g["reason"],
                grade_s=time.perf_counter() - t2,
                grading={k: v for k, v in g.items() if k not in ("ok", "reason")})
+    if not g["ok"]:
+        out["self_check"] = self_checked(model, tm, method, chain, ref, seed, emit=emit,
+                                         partial=out)
     return out
+
+
+def self_checked(model, tm, method, chain: Chain, ref, seed: int, *, emit=None,
+                 partial=None) -> dict:
+    """The locus as `rankloci locus` shows it (self-check, recomputation, hints), graded again.
+
+    Run for the chains whose first computation fails grading: the table says whether the
+    self-check catches the failure (``complete`` false: the locus is shown marked incomplete)
+    or repairs it (the locus shown passes grading).  ``emit`` gets ``partial`` before each
+    step, so that each step gets the grading allowance.
+    """
+    import numpy as np
+
+    from rankloci.jacobian import task_matrix
+    from rankloci.methods import compute_locus
+    from rankloci.verify import verified_locus
+
+    def compute(t, s, hints=()):
+        return compute_locus(t, method, rng=np.random.default_rng(s), hints=hints)
+
+    # the parent process restarts its grading allowance on a "graded" line; "after" keeps the
+    # status that stands if this step is stopped
+    mark = dict(partial or {}, status="graded", after=(partial or {}).get("status"))
+    if emit:
+        emit(mark)
+    t0 = time.perf_counter()
+    reference = task_matrix(model, task=chain.task)
+    locus, v = verified_locus(compute, tm, reference, seed=seed)
+    t1 = time.perf_counter()
+    if emit:
+        emit(mark)
+    g = grade(model, tm, locus, ref, np.random.default_rng(seed))
+    return {"status": "pass" if g["ok"] else "fail", "reason": g["reason"],
+            "complete": v.complete, "attempts": list(v.attempts), "seconds": t1 - t0,
+            "components": sum(c.exists_for_model for c in locus.components)}
 
 
 # --- running the corpus ---------------------------------------------------------------------
@@ -644,7 +683,12 @@ def _run_child(chain: Chain, root: Path, time_limit: float, seed: int) -> dict:
     err_reader.join(timeout=5)
     wall = time.monotonic() - start
     res = res or {"status": "error", "reason": "", "components": None}
-    if stopped:
+    if stopped and res.get("after"):
+        # the chain failed grading and its self-check did not finish
+        res.update(status=res.pop("after"), self_check={
+            "status": "timeout", "reason": "", "complete": None, "attempts": [],
+            "seconds": wall, "components": None})
+    elif stopped:
         if res["status"] == "graded":
             res.update(status="timeout", reason=f"grading did not finish within "
                                                 f"{GRADING_ALLOWANCE_S:g} s after the locus")
@@ -673,6 +717,23 @@ def _child_main(spec: str) -> int:
 
 def _cell(text: str) -> str:
     return text.replace("|", "\\|").replace("\n", " ")
+
+
+def _self_check_text(r) -> str:
+    """What the self-check of `rankloci locus` made of a failing chain, for the table."""
+    sc = r.get("self_check")
+    if not sc:
+        return ""
+    if sc["status"] == "pass":
+        return (f"; the self-check of `rankloci locus` repairs it ({sc['seconds']:.0f} s, "
+                f"{len(sc['attempts'])} computations): the locus shown passes grading "
+                f"({sc['components']} components)")
+    if sc["status"] == "timeout":
+        return ("; the self-check of `rankloci locus` did not finish within the grading "
+                "allowance")
+    shown = "marked incomplete" if not sc["complete"] else "shown as complete"
+    return (f"; after the self-check of `rankloci locus` ({sc['seconds']:.0f} s) the locus is "
+            f"{shown} and fails grading: {_short(sc['reason'], 120)}")
 
 
 def render_markdown(rows, skipped, outside, meta) -> str:
@@ -704,7 +765,9 @@ def render_markdown(rows, skipped, outside, meta) -> str:
         "'time' is the locus alone; 'components' counts those of the model's own locus. "
         "The locus graded is the engine's first computation, without the self-check that "
         "`rankloci locus` runs before it shows a locus (and that recomputes, or marks the "
-        "locus incomplete, when it fails): a *fail* here is a locus that check has to catch.",
+        "locus incomplete, when it fails): a *fail* here is a locus that check has to catch. "
+        "For those chains the table also says what `rankloci locus` shows: the locus after "
+        "its self-check, graded the same way.",
         "",
     ]
     for note in meta.get("notes", ()):
@@ -728,7 +791,8 @@ def render_markdown(rows, skipped, outside, meta) -> str:
     if others:
         lines += ["Chains that do not pass:", ""]
         lines += [f"- {r['status']}: `{r['file']}` {_cell(r['base'])} -> {_cell(r['tip'])} "
-                  f"({r['n']} joints): {_cell(_short(r['reason'], 200))}" for r in others]
+                  f"({r['n']} joints): {_cell(_short(r['reason'], 200))}{_self_check_text(r)}"
+                  for r in others]
         lines += [""]
     lines += [
         "| robot | file | chain | joints | task | time (s) | components | result | reason |",
@@ -743,7 +807,7 @@ def render_markdown(rows, skipped, outside, meta) -> str:
             comps += " (degenerate)"
         lines.append(f"| {r['robot']} | {r['file']} | {_cell(r['base'])} -> {_cell(r['tip'])} | "
                      f"{r['n']} | {r['task']} | {t} | {comps} | {r['status']} | "
-                     f"{_cell(r['reason'])} |")
+                     f"{_cell(r['reason'])}{_cell(_self_check_text(r))} |")
     lines += ["", "Files without chains in the corpus:", ""]
     lines += [f"- `{s['file']}`: {_cell(s['reason'])}" for s in skipped]
     lines += ["", f"{outside} root-to-leaf path(s) with fewer than {MIN_JOINTS} or more than "

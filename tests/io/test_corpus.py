@@ -164,6 +164,30 @@ def test_chain_with_coefficients_past_a_float_is_computed_and_sound(robots, chai
                                      for c in grading["sound"]), res["reason"]
 
 
+@pytest.mark.slow
+def test_self_check_repairs_a_locus_with_regular_pieces(robots, chains):
+    """romeo_laas_small's left wrist (8 joints, axes that do not snap): the first computation
+    reports components whose equations also hold on regular pieces the sampler does not reach
+    (its Gauss-Newton stalls there), and fails grading.  The locus `rankloci locus` shows, after
+    its self-check fed the configurations where it found them regular back to the tree, is
+    complete and passes the same grading."""
+    from rankloci.io import load_model
+    from rankloci.jacobian import task_matrix
+    from rankloci.methods import method_for
+
+    chain = chains[("romeo_description/urdf/romeo_laas_small.urdf", "l_wrist")]
+    path = robots / chain.file
+    model = load_model(str(path), base_link=chain.base, tip_link=chain.tip)
+    tm = task_matrix(model, task=chain.task, frame="auto", numeric=True)
+    ref = corpus.PinocchioJacobian(path.read_text(encoding="utf-8"), chain.joints, chain.tip,
+                                   chain.task)
+    got = corpus.self_checked(model, tm, method_for(tm.shape), chain, ref, SEED)
+    assert got["complete"] is True, got["attempts"]
+    assert got["status"] == "pass", got["reason"]
+    assert got["components"] >= 1
+    assert any("configuration" in a for a in got["attempts"]), got["attempts"]
+
+
 # --- the corpus itself ----------------------------------------------------------------------
 
 def test_corpus_chains_of_known_files(robots, chains):
