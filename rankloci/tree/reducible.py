@@ -348,8 +348,10 @@ def repair_leaves(ctx: "Context", hints) -> int:
 
     ``hints`` are configurations (dicts from variable names to values) at which a check
     found a component regular: real points of the leaf's equations that no sample reached (on
-    romeo's 8-joint arm, pieces whose equations hold with multiplicity, where the sampler's
-    Gauss-Newton stalls above its acceptance).  At each such point that the leaf excludes (an
+    romeo's 8-joint arm, a regular piece inside an exclusion's zero set: 48 of 48 of the
+    sampler's solves from uniform starts, residuals scaled by term sizes, land on the
+    singular piece, least squares on the equations scaled by their largest coefficient lands
+    on the regular one from 4 of 8 starts).  At each such point that the leaf excludes (an
     exclusion vanishes there), the vanishing factors of the exclusion stay in the component,
     which :func:`~rankloci.methods.finalize` would otherwise have dropped; at a point inside
     the leaf, the leaf is split on a minor nonzero there.  Returns how many leaves changed.

@@ -167,8 +167,8 @@ def test_chain_with_coefficients_past_a_float_is_computed_and_sound(robots, chai
 @pytest.mark.slow
 def test_self_check_repairs_a_locus_with_regular_pieces(robots, chains):
     """romeo_laas_small's left wrist (8 joints, axes that do not snap): the first computation
-    reports components whose equations also hold on regular pieces the sampler does not reach
-    (its Gauss-Newton stalls there), and fails grading.  The locus `rankloci locus` shows, after
+    reports components whose equations also hold on regular pieces the sampler does not reach,
+    and fails grading.  The locus `rankloci locus` shows, after
     its self-check fed the configurations where it found them regular back to the tree, is
     complete and passes the same grading."""
     from rankloci.io import load_model
