@@ -335,12 +335,19 @@ def refine_leaves(ctx: "Context") -> None:
                 A, S = ctx.probe.evaluated(ctx.M, g)
                 if scaled_ratio(A, S) > LEAF_REGULAR_RTOL and numeric_rank(A, S) == ctx.full_rank:
                     regular.append(g)
-            if not regular:
-                continue
-            at = next(i for i, (b, n) in enumerate(ctx.leaves) if b is branch and n == node)
-            del ctx.leaves[at]
-            if not split_on_minor(ctx, branch, node, regular, ctx.tree.nodes[node]["outcome"]):
-                ctx.leaves.insert(at, (branch, node))
+            if regular:
+                _split_leaf(ctx, branch, node, regular)
+
+
+def _split_leaf(ctx: "Context", branch: "Branch", node: int, regular) -> bool:
+    """Replace the recorded leaf ``branch`` by its pieces (:func:`split_on_minor` at the
+    ``regular`` points); it stays, in its place, when the minor vanishes on it."""
+    at = next(i for i, (b, n) in enumerate(ctx.leaves) if b is branch and n == node)
+    del ctx.leaves[at]
+    if split_on_minor(ctx, branch, node, regular, ctx.tree.nodes[node]["outcome"]):
+        return True
+    ctx.leaves.insert(at, (branch, node))
+    return False
 
 
 def repair_leaves(ctx: "Context", hints) -> int:
@@ -376,12 +383,7 @@ def repair_leaves(ctx: "Context", hints) -> int:
                 kept.extend(new)
                 changed += bool(new)
                 continue
-            at = next(i for i, (b, n) in enumerate(ctx.leaves) if b is branch and n == node)
-            del ctx.leaves[at]
-            if split_on_minor(ctx, branch, node, [g], ctx.tree.nodes[node]["outcome"]):
-                changed += 1
-            else:
-                ctx.leaves.insert(at, (branch, node))
+            changed += _split_leaf(ctx, branch, node, [g])
     return changed
 
 

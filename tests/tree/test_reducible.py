@@ -32,6 +32,23 @@ def _reducible_leaf():
     return ctx, branch
 
 
+def _recorded(ctx, branch):
+    """``branch`` recorded as a leaf of the tree, as the tree records its components."""
+    node = ctx.add_node(None, branch)
+    ctx.annotate(node, outcome=Outcome.ALL_MINORS_VANISH)
+    ctx.leaves.append((branch, node))
+    return node
+
+
+def _split_into_singular_leaves(ctx, branch, node):
+    """Was ``branch`` (at ``node``) split, and is the matrix singular on every leaf now?"""
+    assert ctx.tree.nodes[node]["outcome"] == Outcome.REFINED
+    assert ctx.leaves and all(leaf is not branch for leaf, _ in ctx.leaves)
+    for leaf, _ in ctx.leaves:
+        pts = ctx.sampler.points(leaf, count=reducible.LEAF_POINTS)
+        assert pts and all(ctx.probe.rank_at(ctx.M, g) == 0 for g in pts)
+
+
 def _angles(ctx, g):
     return [float(2 * np.arctan2(g[2 * i + 1], g[2 * i])) for i in range(ctx.ring.n_angles)]
 
@@ -64,11 +81,7 @@ def test_reducible_leaf_is_split_into_singular_leaves_only():
     ctx.sampler.cache[branch.key + (3,)] = singular[:3]
     node = ctx.add_node(None, branch)
     ctx.leaf(branch, node, Outcome.ALL_MINORS_VANISH)
-    assert ctx.tree.nodes[node]["outcome"] == Outcome.REFINED
-    assert ctx.leaves
-    for leaf, _ in ctx.leaves:
-        pts = ctx.sampler.points(leaf, count=reducible.LEAF_POINTS)
-        assert pts and all(ctx.probe.rank_at(ctx.M, g) == 0 for g in pts)
+    _split_into_singular_leaves(ctx, branch, node)
     # complete: points of the singular piece, z anywhere, lie on a recorded leaf
     rng = np.random.default_rng(1)
     for _ in range(20):
@@ -108,15 +121,9 @@ def test_special_solves_reach_a_piece_cut_out_at_held_angles():
     # the held angles are only those the vanishing equations need: x and y are solved free
     assert len({round(_angles(ctx, g)[0], 6) for g in regular}) == len(regular)
     # recorded as a leaf, the leaf is split once the tree is grown, into singular leaves only
-    node = ctx.add_node(None, branch)
-    ctx.annotate(node, outcome=Outcome.ALL_MINORS_VANISH)
-    ctx.leaves.append((branch, node))
+    node = _recorded(ctx, branch)
     reducible.refine_leaves(ctx)
-    assert ctx.tree.nodes[node]["outcome"] == Outcome.REFINED
-    assert ctx.leaves and all(leaf is not branch for leaf, _ in ctx.leaves)
-    for leaf, _ in ctx.leaves:
-        pts = ctx.sampler.points(leaf, count=reducible.LEAF_POINTS)
-        assert pts and all(ctx.probe.rank_at(ctx.M, g) == 0 for g in pts)
+    _split_into_singular_leaves(ctx, branch, node)
 
 
 def test_leaf_with_mixed_first_points_is_split():
@@ -130,11 +137,7 @@ def test_leaf_with_mixed_first_points_is_split():
     ctx.sampler.cache[branch.key + (3,)] = mixed
     node = ctx.add_node(None, branch)
     ctx.leaf(branch, node, Outcome.ALL_MINORS_VANISH)
-    assert ctx.tree.nodes[node]["outcome"] == Outcome.REFINED
-    assert ctx.leaves
-    for leaf, _ in ctx.leaves:
-        pts = ctx.sampler.points(leaf, count=reducible.LEAF_POINTS)
-        assert pts and all(ctx.probe.rank_at(ctx.M, g) == 0 for g in pts)
+    _split_into_singular_leaves(ctx, branch, node)
 
 
 #: Half-angle generators (cos q/2, sin q/2), exact at 0, pi/2 and pi.
@@ -173,15 +176,9 @@ def test_a_hint_on_the_regular_piece_splits_the_leaf():
     """A check found the leaf regular at x = y = 0.7, z = pi/2 (a point of the regular piece):
     the leaf is split, and its pieces are singular."""
     ctx, branch = _reducible_leaf()
-    node = ctx.add_node(None, branch)
-    ctx.annotate(node, outcome=Outcome.ALL_MINORS_VANISH)
-    ctx.leaves.append((branch, node))
+    node = _recorded(ctx, branch)
     assert reducible.repair_leaves(ctx, [{"x": 0.7, "y": 0.7, "z": np.pi / 2}]) == 1
-    assert ctx.tree.nodes[node]["outcome"] == Outcome.REFINED
-    assert ctx.leaves and all(leaf is not branch for leaf, _ in ctx.leaves)
-    for leaf, _ in ctx.leaves:
-        pts = ctx.sampler.points(leaf, count=reducible.LEAF_POINTS)
-        assert pts and all(ctx.probe.rank_at(ctx.M, g) == 0 for g in pts)
+    _split_into_singular_leaves(ctx, branch, node)
 
 
 def test_a_hint_in_an_excluded_set_keeps_the_exclusion():
@@ -192,9 +189,7 @@ def test_a_hint_in_an_excluded_set_keeps_the_exclusion():
     ctx, branch = _reducible_leaf()
     z = ctx.tm.variables[2]
     branch = branch.excluding(ctx.ring.from_sympy(sp.cos(z)))
-    node = ctx.add_node(None, branch)
-    ctx.annotate(node, outcome=Outcome.ALL_MINORS_VANISH)
-    ctx.leaves.append((branch, node))
+    node = _recorded(ctx, branch)
     singular = {"x": 0.0, "y": np.pi, "z": 0.4}
     off = {"x": 0.3, "y": 0.9, "z": 0.4}
     assert reducible.repair_leaves(ctx, [singular, off]) == 0
