@@ -159,9 +159,11 @@ def _with_exclusions(ctx: Context, cand: _Candidate) -> _Candidate:
     that level is nonzero.  Where the equations of the leaf and a factor g
     of d vanish together at points where J has full rank, the equations
     alone would describe too much: g != 0 becomes part of the component.
-    Full rank is tested at the sample points of each part of {g = 0} and at
+    Full rank is tested at the sample points of each part of {g = 0}, at
     its exact points with angles at multiples of pi/2 (a coordinate piece
-    like cos q3 = 0, which the root finder's random starts can all miss).
+    like cos q3 = 0, which the root finder's random starts can all miss),
+    and, when all of those are singular, at points solved with residuals
+    scaled by coefficients (:meth:`~rankloci.tree.sampler.BranchSampler.coefficient_scaled_points`).
     """
     branch = cand.branch
     keep = []
@@ -179,7 +181,13 @@ def _with_exclusions(ctx: Context, cand: _Candidate) -> _Candidate:
                 continue
             for part in children(ctx, closure, g):
                 pts = list(ctx.sampler.points(part)) + special_points(ctx, part)
-                if any(ctx.probe.rank_at(ctx.M, x) == full for x in pts):
+                regular = any(ctx.probe.rank_at(ctx.M, x) == full for x in pts)
+                if not regular:
+                    # a regular piece of {g = 0} on which terms vanish one by one repels the
+                    # sampler's solves: solved again with residuals scaled by coefficients
+                    regular = any(ctx.probe.rank_at(ctx.M, x) == full
+                                  for x in ctx.sampler.coefficient_scaled_points(part))
+                if regular:
                     expr = ctx.ring.to_sympy(g)
                     if expr.could_extract_minus_sign():
                         expr = -expr

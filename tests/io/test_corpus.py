@@ -165,23 +165,31 @@ def test_chain_with_coefficients_past_a_float_is_computed_and_sound(robots, chai
 
 
 @pytest.mark.slow
-def test_self_check_repairs_a_locus_with_regular_pieces(robots, chains):
-    """romeo_laas_small's left wrist (8 joints, axes that do not snap): the first computation
-    reports components whose equations also hold on regular pieces the sampler does not reach,
-    and fails grading.  The locus `rankloci locus` shows, after
-    its self-check fed the configurations where it found them regular back to the tree, is
-    complete and passes the same grading."""
-    from rankloci.io import load_model
-    from rankloci.jacobian import task_matrix
-    from rankloci.methods import method_for
-
+def test_regular_pieces_inside_an_excluded_set_are_kept_out(robots, chains):
+    """romeo_laas_small's left wrist (8 joints, axes that do not snap): equations of two leaves
+    also hold on regular pieces inside the zero set of an exclusion, pieces the sampler's solves
+    (residuals scaled by term sizes) never reach.  The solves scaled by coefficients find them,
+    the exclusions stay in the components, and the first computation passes grading."""
     chain = chains[("romeo_description/urdf/romeo_laas_small.urdf", "l_wrist")]
-    path = robots / chain.file
-    model = load_model(str(path), base_link=chain.base, tip_link=chain.tip)
-    tm = task_matrix(model, task=chain.task, frame="auto", numeric=True)
-    ref = corpus.PinocchioJacobian(path.read_text(encoding="utf-8"), chain.joints, chain.tip,
-                                   chain.task)
-    got = corpus.self_checked(model, tm, method_for(tm.shape), chain, ref, SEED)
+    res = corpus.run_case(chain, robots, time_limit=TIME_LIMIT_S, seed=SEED)
+    assert res["status"] == "pass", f"{res['status']}: {res['reason']}"
+    assert all(c["points"] >= 1 and c["regular_points"] == 0 for c in res["grading"]["sound"])
+
+
+@pytest.mark.slow
+def test_self_check_repairs_a_locus_with_regular_pieces(robots, chains, monkeypatch):
+    """The same wrist without the solves scaled by coefficients (as the engine was before
+    them): the first computation reports components whose equations also hold on regular
+    pieces, and fails grading.  The locus `rankloci locus` shows, after its self-check fed the
+    configurations where it found them regular back to the tree, is complete and passes the
+    same grading: the self-check catches what the engine's own search misses."""
+    from rankloci.tree.sampler import BranchSampler
+
+    monkeypatch.setattr(BranchSampler, "coefficient_scaled_points", lambda self, branch: [])
+    chain = chains[("romeo_description/urdf/romeo_laas_small.urdf", "l_wrist")]
+    first = corpus.run_case(chain, robots, time_limit=TIME_LIMIT_S, seed=SEED)
+    assert first["status"] == "fail" and "unsound" in first["reason"], first["reason"]
+    got = first["self_check"]     # corpus.self_checked: the locus `rankloci locus` shows
     assert got["complete"] is True, got["attempts"]
     assert got["status"] == "pass", got["reason"]
     assert got["components"] >= 1

@@ -48,3 +48,21 @@ def test_constant_substitutions_set_the_values_the_evaluators_give():
     assert G[0, 4] == 1.0 and G[0, 5] == 0.0 and G[0, 6] == 1.5       # s = 0, u = 3/2
     residuals = RING.compile(list(branch.conditions))(G)
     assert np.max(np.abs(residuals)) < 1e-15
+
+
+def test_coefficient_scaled_solves_reach_a_piece_where_every_term_vanishes():
+    """The Whitney umbrella Sq**2 - Sr**2 * u: on its handle Sq = Sr = 0 every term vanishes on
+    its own, and where u < 0 no other point of the surface is near.  There the equation over
+    the size of its terms is 1 however close a point comes, so the sampler's solves never
+    accept such a point; solved with the equation over its coefficients, some reach it."""
+    branch = _branch(Sq**2 - Sr**2 * U)
+    assert branch.implicit and not branch.substitutions
+    sampler = BranchSampler(RING, {}, np.random.default_rng(0))
+    plain = sampler.points(branch, count=12)
+    assert len(plain) == 12 and all(g[6] >= 0 for g in plain)   # u >= 0: the sheets only
+    scaled = sampler.coefficient_scaled_points(branch, starts=24)
+    handle = [g for g in scaled if g[6] < -1e-3]
+    assert handle
+    for g in handle:
+        assert abs(g[1]) < 1e-5 and abs(g[3]) < 1e-5             # Sq = Sr = 0: q = r = 0
+        assert abs(g[1] ** 2 - g[3] ** 2 * g[6]) <= 1e-10
