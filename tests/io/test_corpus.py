@@ -335,6 +335,28 @@ def test_grading_rejects_a_reference_with_joints_out_of_order(ur5_case):
     assert not g["ok"] and g["reason"].startswith("mapping:"), g["reason"]
 
 
+@pytest.mark.parametrize("file, tip", [("ur_description/urdf/ur5_robot.urdf", "wrist_3_link"),
+                                       ("a1_description/urdf/a1.urdf", "FL_calf")])
+def test_mapping_to_the_base_frame_equals_the_base_frame_jacobian(robots, chains, file, tip):
+    """The grading maps the matrix of the locus (UR5: the middle link's frame about its origin;
+    a1's leg: position rows in the middle frame) to the base frame about the tool numerically;
+    it equals rankloci's symbolic Jacobian in the base frame about the tool."""
+    from rankloci.io import load_model
+    from rankloci.jacobian import task_matrix
+    from rankloci.numeric.equations import NumericMatrix
+
+    chain = chains[(file, tip)]
+    model = load_model(str(robots / chain.file), base_link=chain.base, tip_link=chain.tip)
+    tm = task_matrix(model, task=chain.task, frame="auto", numeric=True)
+    assert tm.frame != "base"
+    mapped = corpus._in_base_frame(model, tm, NumericMatrix(tm.matrix, tm.variables, tm.angles))
+    base = task_matrix(model, task=chain.task, frame="base", point="tool", numeric=True)
+    base_J = NumericMatrix(base.matrix, base.variables, base.angles)
+    for q in np.random.default_rng(SEED).uniform(-np.pi, np.pi, (5, len(tm.variables))):
+        want = base_J(q)
+        assert np.max(np.abs(mapped(q) - want)) <= corpus.MAPPING_RTOL * np.max(np.abs(want))
+
+
 def test_the_table_of_the_long_chains_says_it_holds_only_them():
     """``--min-joints 8`` runs only the frontier; its table must say so, the full one not."""
     meta = {"example_robot_data": "6.0.0", "pinocchio": "3", "seed": 0, "python": "3.11",
