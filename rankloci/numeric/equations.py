@@ -277,13 +277,25 @@ class Equations:
         return mpmath.matrix(x0 + [1 / v if v else mpmath.mpf(1) for v in excluded(*x0)])
 
     def _newton_step(self, x, F):
-        """``x`` after one least-norm Newton step on the values ``F`` there; None where the
-        Jacobian's rows are dependent."""
+        """``x`` after one least-norm Newton step on the values ``F`` there (rows that depend on
+        the others are kept solvable by a ridge at the working precision); None where the
+        Jacobian vanishes."""
         import mpmath
 
         D = mpmath.matrix(self._newton_functions()[1](*x))
+        DDt = D * D.T
+        n = DDt.rows
+        scale = max((abs(DDt[i, i]) for i in range(n)), default=mpmath.mpf(0))
+        if not scale > 0:
+            return None
+        # a ridge at the working precision keeps dependent rows solvable: k equations that cut
+        # a component of more than n - k dimensions (9 of romeo_laas_small's gripper chain, of
+        # dimension 3 in 9 joints) have a Jacobian of lower rank than k everywhere on it
+        ridge = scale * mpmath.mpf(10) ** (-(mpmath.mp.dps - 5))
+        for i in range(n):
+            DDt[i, i] += ridge
         try:
-            return x - D.T * mpmath.lu_solve(D * D.T, mpmath.matrix(F))
+            return x - D.T * mpmath.lu_solve(DDt, mpmath.matrix(F))
         except ZeroDivisionError:
             return None
 

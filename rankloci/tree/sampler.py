@@ -97,8 +97,9 @@ class BranchSampler:
         however close a point comes.  Here each equation is divided by the sum of the absolute
         values of its coefficients instead (the scaling of ``rankloci check``), from
         ``starts`` random starts of a stream of the branch's own, and a point is accepted when
-        every scaled equation is below ROOT_XTOL and the exclusions are above EXCLUSION_RTOL
-        of their terms.  On romeo_laas_small's 8-joint arm, none of 48 solves of
+        every scaled equation is below ROOT_XTOL, every equation below SCALED_ROOT_RTOL of
+        the size of its terms (not a zero of its largest terms only), and the exclusions
+        above EXCLUSION_RTOL of their terms.  On romeo_laas_small's 8-joint arm, none of 48 solves of
         :meth:`points` on a part {g = 0} of a leaf reached its regular piece; 14 of 24 of
         these did.
         """
@@ -109,9 +110,11 @@ class BranchSampler:
         n_x = len(angles) + len(others) + len(params)
         if not eqs or not n_x:
             return []
+        # divided by the largest coefficient exactly first: coefficients of 300 digits are
+        # past the range of a float
+        eqs = [q / max(abs(c) for c in q.coeffs()) for q in eqs]
         values = self.ring.compile(eqs)
         scale = self.ring.compile(eqs, absolute=True)(np.ones((1, len(self.ring.names))))[0]
-        scale = np.where(np.isfinite(scale) & (scale > 0), scale, 1.0)
 
         def residual(X):
             G = self.generators_batch(branch, angles, others, params, X)

@@ -160,6 +160,22 @@ def test_points_near_a_multiple_root_are_refined(monkeypatch):
     assert not _check("planar2r", cubed).ok
 
 
+def test_points_are_refined_onto_equations_with_dependent_gradients():
+    """x - y = 0 and 2 y - 2 x = 0: the gradients are dependent everywhere, as those of a
+    component's equations are when there are more of them than its codimension (nine for a
+    3-dimensional component in nine joints on romeo_laas_small's gripper chain, where the
+    double-precision solves stop 1e-5 away from it, at sigma ratios up to 1e-5).  The
+    least-norm Newton step must still move a point near the line onto it."""
+    from rankloci.numeric.equations import Equations
+
+    x, y = sp.symbols("x y")
+    eqs = Equations([x - y, 2 * y - 2 * x], (x, y), {})
+    q = np.array([0.3, 0.3 + 1e-4])
+    p = eqs.refined(q)
+    assert abs(p[0] - p[1]) <= 1e-15 and np.max(np.abs(p - q)) <= 1e-4
+    assert eqs.settled(q) is not None
+
+
 def test_extended_precision_separates_singular_from_nearly_singular():
     """Above PRECISE_CHECK_FLOOR the double ratio decides nothing; 50 and 100 digits do."""
     from rankloci.numeric.crosscheck import _decided, _point
