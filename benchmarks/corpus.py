@@ -652,7 +652,8 @@ def self_checked(model, tm, method, chain: Chain, ref, seed: int, *, emit=None,
     if emit:
         emit(mark)
     t0 = time.perf_counter()
-    reference = task_matrix(model, task=chain.task)
+    # the matrix `rankloci locus` checks: tm's, with the parameters symbolic
+    reference = task_matrix(model, task=chain.task, frame=tm.frame, point=tm.point)
     locus, v = verified_locus(compute, tm, reference, seed=seed)
     t1 = time.perf_counter()
     if emit:

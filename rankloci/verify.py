@@ -135,8 +135,8 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
     tm : TaskMatrix
         The matrix to compute the locus of.
     reference : TaskMatrix
-        The same matrix in the model's own frame, parameters symbolic (their
-        values are the model's): what the numeric check evaluates.
+        The same matrix with the parameters symbolic (their values are the
+        model's): what the numeric check evaluates.
     seed : int
         Seed of the first computation and of every check.
     samples : int
