@@ -91,17 +91,20 @@ class BranchSampler:
     def coefficient_scaled_points(self, branch: Branch, starts: int = 12) -> list[np.ndarray]:
         """Generator vectors of real points of ``branch`` solved with coefficient-scaled residuals.
 
-        :meth:`points` scales each equation by the size of its terms at the point, which
-        repels the solves from a piece on which every term of an equation vanishes on its
-        own (a product with a vanishing factor): there the scaled value stays of order one
-        however close a point comes.  Here each equation is divided by the sum of the absolute
-        values of its coefficients instead (the scaling of ``rankloci check``), from
-        ``starts`` random starts of a stream of the branch's own, and a point is accepted when
-        every scaled equation is below ROOT_XTOL, every equation below SCALED_ROOT_RTOL of
-        the size of its terms (not a zero of its largest terms only), and the exclusions
-        above EXCLUSION_RTOL of their terms.  On romeo_laas_small's 8-joint arm, none of 48 solves of
-        :meth:`points` on a part {g = 0} of a leaf reached its regular piece; 14 of 24 of
-        these did.
+        :meth:`points` scales each equation by the size of its terms at the point.  That
+        repels its solves from a piece on which every term of an equation vanishes on its own
+        (there the scaled value stays of order one however close a point comes), and it
+        missed the regular pieces of romeo_laas_small's 8-joint arm, where 60-digit
+        coefficients cancel: none of 48 of its solves on a part {g = 0} of a leaf reached one,
+        14 of 24 of these did (refined in 40 digits, J is regular there).  Here each equation
+        is divided exactly by its largest coefficient, then by the sum of the absolute values
+        of its coefficients (the scaling of ``rankloci check``); it is solved from ``starts``
+        random starts of a stream of the branch's own, and a point is accepted when every
+        scaled equation is below ROOT_XTOL and the exclusions are above EXCLUSION_RTOL of
+        their terms.  Such a point can be a zero of the terms with the largest coefficients
+        only (1e156 cos x sin x + cos x cos y + ...): it serves where a wrong point costs no
+        soundness (finalize keeps an exclusion at a regular one; the component's closure is
+        the same).
         """
         from ..tolerances import EXCLUSION_RTOL, ROOT_XTOL
 
