@@ -179,7 +179,8 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
             break
         report = cross_check(locus, reference.matrix, reference.variables,
                              angles=reference.angles, parameters=reference.parameters,
-                             samples=samples, rng=np.random.default_rng(seed), seed=seed)
+                             samples=samples, rng=np.random.default_rng(seed), seed=seed,
+                             progress=lambda msg: progress(f"self-{msg}"))
         problems = _check_problems(report)
         attempts.append(f"{what}: {'passed' if not problems else 'failed'}")
         if not problems:

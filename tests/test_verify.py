@@ -39,6 +39,20 @@ def test_a_correct_locus_passes_at_the_first_attempt():
     assert not dimension_findings(locus)
 
 
+def test_the_self_check_reports_its_progress():
+    """Refining points in extended precision can take seconds each on long chains: the
+    self-check says which part it is at."""
+    tm, ref = _planar3r()
+    said = []
+    locus, _ = verified_locus(_compute, tm, ref, seed=0, progress=said.append)
+    n = len(locus.components)
+    assert n >= 1
+    assert [m for m in said if "component" in m] == [
+        f"self-check: component {i} of {n}" for i in range(1, n + 1)]
+    assert said[-2:] == ["self-check: random configurations off the locus",
+                         "self-check: singular points found by minimising sigma_min/sigma_max"]
+
+
 def test_a_locus_missing_its_component_is_recomputed():
     """The first computation loses the component (sin q2 = 0 ...); the check sees singular points
     on no component and the next attempt, correct, is returned with a note."""

@@ -204,7 +204,7 @@ def _findings_at(label: str, p: PointCheck, singular: bool) -> list:
 
 
 def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples: int = 10,
-                rng=None, seed=None) -> CheckReport:
+                rng=None, seed=None, progress=None) -> CheckReport:
     """Check `locus` numerically against the SVD of `matrix` (see the module docstring).
 
     Parameters
@@ -224,6 +224,9 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
     rng : numpy.random.Generator
     seed : optional
         Only recorded in the report.
+    progress : callable, optional
+        Called with a one-line message before each component and each later part (refining
+        points in extended precision can take seconds each on long chains).
 
     Examples
     --------
@@ -255,7 +258,9 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
     checked, findings = [], []
     all_eqs = []                  # every checked component's equations (residuals only)
     skipped = [tuple(sp.sstr(e) for e in comp.equations) for comp in locus.special]
+    tell = progress or (lambda msg: None)
     for i, comp in enumerate(locus.components, start=1):
+        tell(f"check: component {i} of {len(locus.components)}")
         eq_text = tuple(sp.sstr(e) for e in comp.equations)
         if not comp.exists_for_model:
             skipped.append(eq_text)
@@ -285,6 +290,7 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
         checked.append(ComponentCheck(i, eq_text, tuple(pts), fails, ok, msg))
 
     # off-locus
+    tell("check: random configurations off the locus")
     off = []
     for q in nm.random_q(rng, MAX_TRIES * samples):
         if all(e.residual(q) > OFF_LOCUS_MIN_RESIDUAL for e in all_eqs):
@@ -297,6 +303,7 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
             findings += _findings_at("off-locus", p, False)
 
     # completeness
+    tell("check: singular points found by minimising sigma_min/sigma_max")
     singular, uncovered = 0, []
     for q0 in nm.random_q(rng, samples):
         q = minimise_ratio(nm, q0)
