@@ -163,7 +163,8 @@ def _with_exclusions(ctx: Context, cand: _Candidate) -> _Candidate:
     its exact points with angles at multiples of pi/2 (a coordinate piece
     like cos q3 = 0, which the root finder's random starts can all miss),
     and, when all of those are singular, at points solved with residuals
-    scaled by coefficients (:meth:`~rankloci.tree.sampler.BranchSampler.coefficient_scaled_points`).
+    scaled by coefficients
+    (:meth:`~rankloci.tree.sampler.BranchSampler.coefficient_scaled_points`).
     """
     branch = cand.branch
     keep = []
@@ -183,8 +184,8 @@ def _with_exclusions(ctx: Context, cand: _Candidate) -> _Candidate:
                 pts = list(ctx.sampler.points(part)) + special_points(ctx, part)
                 regular = any(ctx.probe.rank_at(ctx.M, x) == full for x in pts)
                 if not regular:
-                    # a regular piece of {g = 0} on which terms vanish one by one repels the
-                    # sampler's solves: solved again with residuals scaled by coefficients
+                    # the sampler's residuals, scaled by the size of their terms, can miss a
+                    # regular piece of {g = 0}: solved again, scaled by coefficients
                     regular = any(ctx.probe.rank_at(ctx.M, x) == full
                                   for x in ctx.sampler.coefficient_scaled_points(part))
                 if regular:

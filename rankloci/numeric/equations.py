@@ -13,9 +13,11 @@ import sympy as sp
 
 from ..tolerances import DIMENSION_RTOL, EXCLUSION_RTOL, ON_COMPONENT_RESIDUAL
 
-__all__ = ["NumericMatrix", "Equations", "normalised", "dimension_from_gradient", "coefficient_norm", "points_on",
-           "minimise_ratio", "descend_to_singular", "ratio_and_gradient", "is_analytic", "MAX_TRIES",
-           "STALL_ITERATIONS", "REFINE_DIGITS", "REFINE_STEPS", "COMPLEX_STEP", "ANALYTIC_FUNCTIONS"]
+__all__ = ["NumericMatrix", "Equations", "normalised", "dimension_from_gradient",
+           "coefficient_norm", "minimum_norm_step", "points_on", "minimise_ratio",
+           "descend_to_singular", "ratio_and_gradient", "is_analytic", "MAX_TRIES",
+           "STALL_ITERATIONS", "REFINE_DIGITS", "REFINE_STEPS", "COMPLEX_STEP",
+           "ANALYTIC_FUNCTIONS"]
 
 #: Random starts per requested point (root finding, off-locus draws).
 MAX_TRIES = 40
@@ -287,27 +289,13 @@ class Equations:
         return mpmath.matrix(x0 + [1 / v if v else mpmath.mpf(1) for v in excluded(*x0)])
 
     def _newton_step(self, x, F):
-        """``x`` after one least-norm Newton step on the values ``F`` there (rows that depend on
-        the others are kept solvable by a ridge at the working precision); None where the
-        Jacobian vanishes."""
+        """``x`` after one least-norm Newton step on the values ``F`` there
+        (:func:`minimum_norm_step`); None where the Jacobian vanishes."""
         import mpmath
 
         D = mpmath.matrix(self._newton_functions()[1](*x))
-        DDt = D * D.T
-        n = DDt.rows
-        scale = max((abs(DDt[i, i]) for i in range(n)), default=mpmath.mpf(0))
-        if not scale > 0:
-            return None
-        # a ridge at the working precision keeps dependent rows solvable: k equations that cut
-        # a component of more than n - k dimensions (9 of romeo_laas_small's gripper chain, of
-        # dimension 3 in 9 joints) have a Jacobian of lower rank than k everywhere on it
-        ridge = scale * mpmath.mpf(10) ** (-(mpmath.mp.dps - 5))
-        for i in range(n):
-            DDt[i, i] += ridge
-        try:
-            return x - D.T * mpmath.lu_solve(DDt, mpmath.matrix(F))
-        except ZeroDivisionError:
-            return None
+        step = minimum_norm_step(D, mpmath.matrix(F))
+        return None if step is None else x - step
 
     def precise(self, q, digits: int):
         """``q`` moved onto the equations in ``digits`` digits, as mpmath numbers, or None.
@@ -356,6 +344,32 @@ class Equations:
         if self.residual(p) <= ON_COMPONENT_RESIDUAL and self.admits(p, EXCLUSION_CERTIFY_RTOL):
             return p
         return None
+
+
+def minimum_norm_step(A, F):
+    """The least-norm solution d of A d = F in mpmath (A of full row rank or nearly), or None.
+
+    Solved as d = A^T (A A^T + r I)^-1 F with a ridge r at the working precision: rows that
+    depend on the others stay solvable.  k equations that cut a component of more than n - k
+    dimensions have a Jacobian of lower rank than k everywhere on it (nine of
+    romeo_laas_small's gripper chain, of dimension 3 in 9 joints; a condition and its
+    gradient in :mod:`rankloci.tree.precise`).
+    """
+    import mpmath
+
+    AAt = A * A.T
+    n = AAt.rows
+    scale = max((abs(AAt[i, i]) for i in range(n)), default=mpmath.mpf(0))
+    if not scale > 0:
+        return None
+    ridge = scale * mpmath.mpf(10) ** (-(mpmath.mp.dps - 5))
+    for i in range(n):
+        AAt[i, i] += ridge
+    try:
+        y = mpmath.lu_solve(AAt, F)
+    except ZeroDivisionError:
+        return None
+    return A.T * y
 
 
 def normalised(e):

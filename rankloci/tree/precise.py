@@ -33,6 +33,7 @@ import mpmath
 import numpy as np
 
 from ..algebra import PolyRing
+from ..numeric.equations import minimum_norm_step
 from .branch import Branch
 from .certify import at_dyadic
 
@@ -127,7 +128,7 @@ class PreciseProbe:
                     return x
                 A = mpmath.matrix([[self._value(d, x) for d in self._gradient(p)]
                                    for p in eqs])
-                step = _minimum_norm_step(A, mpmath.matrix(F))
+                step = minimum_norm_step(A, mpmath.matrix(F))
                 if step is None:
                     return None
                 for i in range(na):
@@ -256,24 +257,6 @@ def _det(B):
                 for c in range(j + 1, n):
                     A[k, c] -= f * A[j, c]
     return det
-
-
-def _minimum_norm_step(A, F):
-    """The least-norm solution d of A d = F (A has full row rank or nearly), or None."""
-    AAt = A * A.T
-    n = AAt.rows
-    scale = max((abs(AAt[i, i]) for i in range(n)), default=mpmath.mpf(0))
-    if not scale > 0:
-        return None
-    # a tiny ridge keeps dependent rows (a condition and its gradient) solvable
-    ridge = scale * mpmath.mpf(10) ** (-(mpmath.mp.dps - 5))
-    for i in range(n):
-        AAt[i, i] += ridge
-    try:
-        y = mpmath.lu_solve(AAt, F)
-    except ZeroDivisionError:
-        return None
-    return A.T * y
 
 
 def _dyadic(v) -> "flint.fmpq":
