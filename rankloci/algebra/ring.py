@@ -266,19 +266,39 @@ class PolyRing:
         degs = [tuple(m[2 * i] + m[2 * i + 1] for i in range(na)) for m in monoms]
         if target is None:
             target = tuple(max(d[i] for d in degs) for i in range(na))
-        groups: dict = {}
+        terms = []
         for mon, coeff, d in zip(monoms, coeffs, degs):
-            pad = tuple(t - e for t, e in zip(target, d))
-            if any(x < 0 or x % 2 for x in pad):
+            pad = tuple((t - e) // 2 if t >= e and (t - e) % 2 == 0 else -1
+                        for t, e in zip(target, d))
+            if min(pad) < 0:
                 raise ValueError("not the reduced form of a polynomial homogeneous in each pair")
-            groups.setdefault(pad, {})[mon] = coeff
-        out = self.ctx.constant(0)
-        for pad, terms in groups.items():
-            g = self.ctx.from_dict(terms)
-            for i, x in enumerate(pad):
-                if x:
-                    g *= (self.C(i) ** 2 + self.S(i) ** 2) ** (x // 2)
-            out += g
+            terms.append((mon, coeff, pad))
+        circles = [self.C(i) ** 2 + self.S(i) ** 2 for i in range(na)]
+        return self._padded(terms, 0, circles)
+
+    def _padded(self, terms, i, circles):
+        """Sum of ``coeff * mon * prod(circles[j] ** pad[j] for j >= i)`` over ``terms``.
+
+        Horner's scheme in each pair in turn: the terms are grouped by their power of pair
+        ``i``'s circle, each group is padded in the later pairs, and the groups are combined
+        by multiplying by the circle once per power.  On tiago's 9-joint thumb chain this
+        takes 1.6 s for its 1225 determinants against 10 s for one product per combination
+        of powers added up term group by term group.
+        """
+        na = len(circles)
+        while i < na and all(pad[i] == 0 for _, _, pad in terms):
+            i += 1
+        if i == na:
+            return self.ctx.from_dict({mon: coeff for mon, coeff, _ in terms})
+        groups: dict = {}
+        for term in terms:
+            groups.setdefault(term[2][i], []).append(term)
+        top = max(groups)
+        out = self._padded(groups[top], i + 1, circles)
+        for power in range(top - 1, -1, -1):
+            out = out * circles[i]
+            if power in groups:
+                out = out + self._padded(groups[power], i + 1, circles)
         return out
 
     def gradient(self, p) -> list:
