@@ -39,8 +39,10 @@ def children(ctx: "Context", branch: Branch, f) -> list[Branch]:
     out = []
     for child in cover(ctx, branch, [f]):
         if child.implicit and _critical_only(ctx, child):
-            ctx.progress(f"real points of {sp.sstr(ctx.ring.to_sympy(child.implicit[-1]))} "
-                         "= 0 only where its gradient vanishes: adding the gradient")
+            if ctx.reporting:
+                # the equation can have thousands of terms: written out only when read
+                ctx.progress(f"real points of {sp.sstr(ctx.ring.to_sympy(child.implicit[-1]))} "
+                             "= 0 only where its gradient vanishes: adding the gradient")
             out.extend(_critical_branches(ctx, child))
         else:
             out.append(child)
