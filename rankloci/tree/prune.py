@@ -64,11 +64,17 @@ def known(ctx: "Context", branch: Branch) -> bool:
     # vanishes: most leaves fail on it (an angle at 0 or pi), and a tree opens a branch
     # against every leaf found so far (on PR2's finger chain, after more leaves were split,
     # these evaluations took 12 of 66 s)
+    # the smallest conditions of all leaves found are evaluated in one call (the list changes
+    # only when a leaf is added, so its evaluator is compiled once per leaf, not per branch:
+    # one call per leaf took a third of human's 8-joint chain)
+    everyone = [leaf for leaf, _ in ctx.leaves if leaf.conditions]
+    smallest = [min(leaf.conditions, key=len) for leaf in everyone]
+    at = dict(zip(map(id, everyone), vanishing(smallest, pts).T))
     on = np.zeros((len(leaves), len(pts)), dtype=bool)
     for j, leaf in enumerate(leaves):
-        conds = sorted(leaf.conditions, key=len)
-        first = vanishing(conds[:1], pts)[:, 0]
-        if first.any() and len(conds) > 1:
+        first = at[id(leaf)].copy()
+        if first.any() and len(leaf.conditions) > 1:
+            conds = sorted(leaf.conditions, key=len)
             first &= vanishing(conds[1:], pts).all(axis=1)
         on[j] = first
     excluded = {}
