@@ -62,11 +62,10 @@ def known(ctx: "Context", branch: Branch) -> bool:
     # per leaf: is every condition zero at each point; is some exclusion zero there.  The
     # smallest condition of each leaf is evaluated first, and the others only where it
     # vanishes: most leaves fail on it (an angle at 0 or pi), and a tree opens a branch
-    # against every leaf found so far (on PR2's finger chain, after more leaves were split,
-    # these evaluations took 12 of 66 s)
-    # the smallest conditions of all leaves found are evaluated in one call (the list changes
-    # only when a leaf is added, so its evaluator is compiled once per leaf, not per branch:
-    # one call per leaf took a third of human's 8-joint chain)
+    # against every leaf found so far (on PR2's finger chain these evaluations took 12 of
+    # 66 s).  The smallest conditions of all leaves go in one call: that list changes only
+    # when a leaf is added, so its evaluator is compiled once per leaf, not per branch (one
+    # call per leaf took a third of human's 8-joint chain)
     everyone = [leaf for leaf, _ in ctx.leaves if leaf.conditions]
     smallest = [min(leaf.conditions, key=len) for leaf in everyone]
     at = dict(zip(map(id, everyone), vanishing(smallest, pts).T))
