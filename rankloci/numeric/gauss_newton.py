@@ -6,6 +6,10 @@ import numpy as np
 
 __all__ = ["gauss_newton", "gauss_newton_rows"]
 
+#: Step lengths of the line search tried per residual call: 1, 1/2, 1/4, 1/8 of the step.
+LINE_LEVELS = 4
+_HALVINGS = 0.5 ** np.arange(LINE_LEVELS)
+
 
 def gauss_newton(residual, x0, *, max_iter: int = 60, h: float = 1e-7):
     """:func:`gauss_newton_rows` from one start; returns the final point or None."""
@@ -20,7 +24,7 @@ def gauss_newton_rows(residual, X0, *, max_iter: int = 60, h: float = 1e-7):
     so that every start, and every column of the forward-difference
     Jacobians, is evaluated in one call.  Each step solves J dx = -r in the
     least-squares, minimum-norm sense, with step halving while the residual
-    grows.  A start stops when its residual is below 1e-14, when a step
+    grows (LINE_LEVELS halvings evaluated per call).  A start stops when its residual is below 1e-14, when a step
     cannot reduce it, or when it has not halved in 8 steps (no convergence
     in sight).  Returns the final rows (NaN where not finite).
     """
@@ -54,16 +58,27 @@ def gauss_newton_rows(residual, X0, *, max_iter: int = 60, h: float = 1e-7):
         step = np.ones(len(idx))
         pending = np.ones(len(idx), dtype=bool)
         while pending.any():
+            # the next LINE_LEVELS halvings of every pending step in one call: a call costs
+            # about as much for a few points as for one, and a step is halved 4 times on
+            # average (tiago's thumb chain: 110000 calls of 3 points, 100 us each)
             k = np.flatnonzero(pending)
-            Xn = X[idx[k]] + step[k, None] * dX[k]
-            Rn = residual(Xn)
-            nn = np.linalg.norm(Rn, axis=1)
-            better = np.isfinite(nn) & (nn < norm[idx[k]])
-            rows = idx[k[better]]
-            X[rows], R[rows], norm[rows] = Xn[better], Rn[better], nn[better]
-            pending[k[better]] = False
-            step[k[~better]] /= 2
-            stuck = k[~better][step[k[~better]] <= 1e-4]
+            scales = step[k, None] * _HALVINGS[None, :]                # (row, level)
+            Xn = X[idx[k], None, :] + scales[:, :, None] * dX[k, None, :]
+            Rn = residual(Xn.reshape(-1, n)).reshape(len(k), LINE_LEVELS, -1)
+            nn = np.linalg.norm(Rn, axis=2)
+            # steps of 1e-4 and below are not tried (the row is stuck)
+            better = np.isfinite(nn) & (nn < norm[idx[k], None]) & (scales > 1e-4)
+            # the first (longest) improving step of each row, as sequential halving takes it
+            first = np.argmax(better, axis=1)
+            won = better[np.arange(len(k)), first]
+            rows, kw, fw = idx[k[won]], k[won], first[won]
+            X[rows] = Xn[won, fw]
+            R[rows] = Rn[won, fw]
+            norm[rows] = nn[won, fw]
+            pending[kw] = False
+            lost = k[~won]
+            step[lost] *= _HALVINGS[-1] / 2
+            stuck = lost[step[lost] <= 1e-4]
             pending[stuck] = False
             active[idx[stuck]] = False
         history.append(norm.copy())

@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from rankloci.numeric.gauss_newton import gauss_newton, gauss_newton_rows
+from rankloci.numeric.gauss_newton import LINE_LEVELS, gauss_newton, gauss_newton_rows
 
 SEED = 3
 STOP = 1e-14            # the documented residual norm at which a start stops
@@ -171,3 +171,15 @@ def test_steps_into_a_non_finite_region_are_refused():
 @pytest.mark.parametrize("x0", [[np.nan, 0.0], [np.inf, 1.0]])
 def test_single_start_that_is_not_finite_gives_none(x0):
     assert gauss_newton(circle_line, x0) is None
+
+
+def test_line_search_takes_the_longest_improving_halving_in_one_call():
+    # Newton on atan from 1.5 overshoots to -1.69 (|atan| grows), half the step lands at
+    # -0.097: sequential halving accepts the half step, and so must the batched search,
+    # whose halvings of one row come in a single call
+    f = Counted(np.arctan)
+    x = gauss_newton_rows(f, np.array([[1.5]]), max_iter=1)[0, 0]
+    newton = -math.atan(1.5) * (1 + 1.5 ** 2)
+    assert x == pytest.approx(1.5 + newton / 2, abs=1e-6)
+    # the start, the forward differences (2 rows), one line-search call of every level
+    assert f.batches == [1, 2, LINE_LEVELS]
