@@ -44,6 +44,10 @@ PRECISION_BITS = 256
 #: Newton steps in doubles from a start 1e-3 off the equations (admitted_near), to within
 #: rounding of the zero.
 FLOAT_NEWTON_STEPS = 8
+#: ... and stops earlier once every equation is below this relative to the size of its terms:
+#: rounding in doubles (a few terms' worth of 1.1e-16), far within ROOT_XTOL, and the
+#: refinement in PRECISION_BITS takes over from there.
+FLOAT_NEWTON_SETTLED = 1e-15
 #: Then at most this many refinement steps in ``PRECISION_BITS``-bit arithmetic: the residual F
 #: exact at the point, its Jacobian in doubles (mixed-precision refinement).  Each step gains
 #: about 53 - log2(cond) bits, so from the double zero two or three steps reach NEWTON_SETTLED;
@@ -206,7 +210,6 @@ def _float_newton(ring: PolyRing, eqs, cols, g, cache: dict) -> np.ndarray | Non
     Newton does not settle (no zero next to ``g`` along these pivots).
     """
     k = len(eqs)
-    F = _compiled(ring, cache, "F", lambda: eqs)
     J = _jacobian(ring, eqs, cols, cache)
     sized = _compiled(ring, cache, "F sized", lambda: eqs, sized=True)
     x = np.array(g, dtype=float)
@@ -214,8 +217,11 @@ def _float_newton(ring: PolyRing, eqs, cols, g, cache: dict) -> np.ndarray | Non
     # caught below, not a warning for the user
     with np.errstate(over="ignore", invalid="ignore"):
         for _ in range(FLOAT_NEWTON_STEPS):
+            values, size = sized(x)
+            if np.all(np.abs(values) <= FLOAT_NEWTON_SETTLED * size):
+                return x
             try:
-                step = np.linalg.solve(J(x).reshape(k, k), F(x))
+                step = np.linalg.solve(J(x).reshape(k, k), values)
             except np.linalg.LinAlgError:
                 return None
             x[cols] -= step
