@@ -24,9 +24,10 @@ def gauss_newton_rows(residual, X0, *, max_iter: int = 60, h: float = 1e-7):
     so that every start, and every column of the forward-difference
     Jacobians, is evaluated in one call.  Each step solves J dx = -r in the
     least-squares, minimum-norm sense, with step halving while the residual
-    grows (LINE_LEVELS halvings evaluated per call).  A start stops when its residual is below 1e-14, when a step
-    cannot reduce it, or when it has not halved in 8 steps (no convergence
-    in sight).  Returns the final rows (NaN where not finite).
+    grows (LINE_LEVELS halvings evaluated per call).  A start stops when its
+    residual is below 1e-14, when a step cannot reduce it, or when it has not
+    halved in 8 steps (no convergence in sight).  Returns the final rows (NaN
+    where not finite).
     """
     X = np.array(X0, dtype=float)
     S, n = X.shape

@@ -192,3 +192,25 @@ def test_a_singular_jacobian_in_doubles_skips_the_ball_arithmetic(monkeypatch):
     # the same root with the threshold below its condition number (1): not attempted
     monkeypatch.setattr(certify, "FLOAT_SINGULAR_COND", 0.5)
     assert certified_point(RING, simple, start, ALL) is None and len(calls) == 1
+
+
+def test_newton_in_doubles_stops_once_the_equations_are_at_rounding(monkeypatch):
+    """From 1e-3 off a simple zero, Newton reaches rounding in a few steps and stops there,
+    on the zero, instead of taking all FLOAT_NEWTON_STEPS."""
+    import rankloci.tree.certify as certify
+
+    cache = {}
+    start = generators(0.4 + 1e-3, 0.4)
+    solves = []
+    real = np.linalg.solve
+
+    def counted(A, b):
+        solves.append(1)
+        return real(A, b)
+
+    monkeypatch.setattr(np.linalg, "solve", counted)
+    got = certify._float_newton(RING, [DIFF], [1], start, cache)
+    assert got is not None
+    values, sizes = RING.compile([DIFF], sized=True)(got)
+    assert abs(values[0]) <= certify.FLOAT_NEWTON_SETTLED * sizes[0]
+    assert 0 < len(solves) < certify.FLOAT_NEWTON_STEPS
