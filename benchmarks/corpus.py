@@ -86,6 +86,16 @@ COVER_RESIDUAL = 1e-6
 #: minimum.
 COVER_DISTANCE = 1e-4
 
+#: A singular point farther than COVER_DISTANCE from the point its least squares solve lands on
+#: is still covered when Pinocchio's sigma_min/sigma_max stays at or below PROBE_SINGULAR_RTOL at
+#: this many evenly spaced points of the segment between them: the probe counts every point of
+#: that segment as singular, so it ends where the probe's own threshold cannot tell it from the
+#: component.  On tiago_dual's thumb chain a probe stopped at ratio 2.3e-9, 6.7e-4 rad from the
+#: component {q3 = pi, ...}, where the ratio grows by only 3.4e-6 per radian; the segment there
+#: decreases linearly to 1e-16.  A missing component would have to come that close to a found
+#: one and be joined to it by points all below the threshold.
+COVER_SEGMENT_POINTS = 16
+
 #: rankloci's J (base frame, tip point) and Pinocchio's J agree entry by entry to this, relative to
 #: their largest entry.  Both are products of ~20 transforms of the same snapped numbers in double
 #: precision (errors ~1e-15); a wrong joint, sign or axis gives differences of order 1.
@@ -399,7 +409,8 @@ def _short(text: str, limit: int = 160) -> str:
 
 
 def _projects_onto(eqs, q, ref) -> bool:
-    """Does solving ``eqs`` from ``q`` land within COVER_DISTANCE, at a singular point?"""
+    """Does solving ``eqs`` from ``q`` land at a singular point, within COVER_DISTANCE or joined
+    to ``q`` by a segment the probe counts as singular (COVER_SEGMENT_POINTS)?"""
     import numpy as np
     from scipy.optimize import least_squares
 
@@ -407,8 +418,12 @@ def _projects_onto(eqs, q, ref) -> bool:
 
     p = least_squares(eqs, q, method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15,
                       max_nfev=200 * len(q)).x
-    return (eqs.residual(p) <= ON_COMPONENT_RESIDUAL and np.linalg.norm(p - q) <= COVER_DISTANCE
-            and sigma_ratio(ref(p)) <= SOUND_RTOL)
+    if not (eqs.residual(p) <= ON_COMPONENT_RESIDUAL and sigma_ratio(ref(p)) <= SOUND_RTOL):
+        return False
+    if np.linalg.norm(p - q) <= COVER_DISTANCE:
+        return True
+    return all(sigma_ratio(ref(q + t * (p - q))) <= PROBE_SINGULAR_RTOL
+               for t in np.linspace(0.0, 1.0, COVER_SEGMENT_POINTS))
 
 
 def _in_base_frame(model, tm, nm):

@@ -39,6 +39,8 @@ class Outcome(enum.StrEnum):
     EMPTY = "empty"
     #: Every point of the branch lies on a component found before.
     KNOWN = "inside a component already found"
+    #: The branch's dimension is below the determinantal bound at its sample points.
+    BELOW_BOUND = "below the dimension bound"
     #: The chosen null vectors vanish on the branch: the whole matrix has full rank at its
     #: generic points, which are covered by the sub-branch where the null vectors degenerate.
     COVERED = "null vectors vanish (covered by its own branch)"

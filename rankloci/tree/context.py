@@ -139,6 +139,9 @@ class Context:
         if not pts:
             self.annotate(node, outcome=Outcome.EMPTY)
             return None
+        if prune.below_bound(self, branch, pts):
+            self.annotate(node, outcome=Outcome.BELOW_BOUND)
+            return None
         if prune.known(self, branch):
             self.annotate(node, outcome=Outcome.KNOWN)
             return None

@@ -335,6 +335,41 @@ def test_grading_rejects_a_reference_with_joints_out_of_order(ur5_case):
     assert not g["ok"] and g["reason"].startswith("mapping:"), g["reason"]
 
 
+def _flat_reference(second_zero=None):
+    """A 2x2 "Jacobian" singular on x = 0 whose sigma ratio grows by only 1e-5 per unit of x
+    (the probe's threshold 1e-8 is then 1e-3 away), and also on x = ``second_zero``."""
+    def ref(q):
+        s = 1e-5 * q[0] if second_zero is None else q[0] * (q[0] - second_zero)
+        return np.diag([1.0, s])
+    return ref
+
+
+def test_a_probe_point_joined_to_a_component_below_the_threshold_is_covered():
+    """6e-4 from {x = 0} (beyond COVER_DISTANCE), at ratio 6e-9: every point between is below
+    the probe's threshold, so the probe cannot tell it from the component."""
+    from rankloci.numeric.equations import Equations
+
+    x, y = sp.symbols("x y")
+    eqs = Equations([x], (x, y), {})
+    q = np.array([6e-4, 0.3])
+    ref = _flat_reference()
+    assert corpus.sigma_ratio(ref(q)) <= corpus.PROBE_SINGULAR_RTOL
+    assert corpus._projects_onto(eqs, q, ref)
+
+
+def test_a_singular_point_of_another_component_is_not_covered():
+    """At x = 6e-4 J is singular on a second set; halfway to {x = 0} the ratio is 9e-8, above
+    the probe's threshold: a missing component, not a stalled probe."""
+    from rankloci.numeric.equations import Equations
+
+    x, y = sp.symbols("x y")
+    eqs = Equations([x], (x, y), {})
+    q = np.array([6e-4, 0.3])
+    ref = _flat_reference(second_zero=6e-4)
+    assert corpus.sigma_ratio(ref(q)) <= corpus.PROBE_SINGULAR_RTOL
+    assert not corpus._projects_onto(eqs, q, ref)
+
+
 @pytest.mark.parametrize("file, tip", [("ur_description/urdf/ur5_robot.urdf", "wrist_3_link"),
                                        ("a1_description/urdf/a1.urdf", "FL_calf")])
 def test_mapping_to_the_base_frame_equals_the_base_frame_jacobian(robots, chains, file, tip):
