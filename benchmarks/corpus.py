@@ -69,6 +69,17 @@ SOUND_RTOL = 1e-8
 #: A minimum of Pinocchio's sigma_min/sigma_max counts as a singular point at or below this.
 PROBE_SINGULAR_RTOL = 1e-8
 
+#: Such a minimum is then followed by Newton steps on the ratio (rankloci's
+#: ``descend_to_singular``, on Pinocchio's J) and counts as a singular point only where they
+#: bring it to this (rankloci's PROBE_DESCENT_RTOL, the threshold of ``rankloci check``).  At
+#: rank-deficient configurations the ratio falls to the rounding floor (~1e-16); a minimum
+#: that stays far above it is a configuration that is nearly, not exactly, singular.
+#: romeo_laas_small's gripper chain has one at 2e-9 that no bounded search within 0.01 rad
+#: brings lower, 4.4e-5 (scaled) off a component's equations; on tiago_dual's thumb chain one
+#: at 2.4e-9 lies 6.7e-4 rad from a component, along a direction where the ratio grows by only
+#: 3.5e-6 per radian.  Neither is a singular point, and neither counts as one.
+PROBE_DESCENT_RTOL = 1e-13
+
 #: A singular point lies on a component when all of the component's scaled equations (each divided
 #: by the sum of the absolute values of its coefficients) are at most this at it.  The minimiser
 #: stops within ~1e-8 rad of a smooth locus and ~1e-6 rad where components meet tangentially; scaled
@@ -85,16 +96,6 @@ COVER_RESIDUAL = 1e-6
 #: missing from the locus would have to pass within 1e-4 of a found one at a random singular
 #: minimum.
 COVER_DISTANCE = 1e-4
-
-#: A singular point farther than COVER_DISTANCE from the point its least squares solve lands on
-#: is still covered when Pinocchio's sigma_min/sigma_max stays at or below PROBE_SINGULAR_RTOL at
-#: this many evenly spaced points of the segment between them: the probe counts every point of
-#: that segment as singular, so it ends where the probe's own threshold cannot tell it from the
-#: component.  On tiago_dual's thumb chain a probe stopped at ratio 2.3e-9, 6.7e-4 rad from the
-#: component {q3 = pi, ...}, where the ratio grows by only 3.4e-6 per radian; the segment there
-#: decreases linearly to 1e-16.  A missing component would have to come that close to a found
-#: one and be joined to it by points all below the threshold.
-COVER_SEGMENT_POINTS = 16
 
 #: rankloci's J (base frame, tip point) and Pinocchio's J agree entry by entry to this, relative to
 #: their largest entry.  Both are products of ~20 transforms of the same snapped numbers in double
@@ -409,8 +410,7 @@ def _short(text: str, limit: int = 160) -> str:
 
 
 def _projects_onto(eqs, q, ref) -> bool:
-    """Does solving ``eqs`` from ``q`` land at a singular point, within COVER_DISTANCE or joined
-    to ``q`` by a segment the probe counts as singular (COVER_SEGMENT_POINTS)?"""
+    """Does solving ``eqs`` from ``q`` land within COVER_DISTANCE, at a singular point?"""
     import numpy as np
     from scipy.optimize import least_squares
 
@@ -418,12 +418,8 @@ def _projects_onto(eqs, q, ref) -> bool:
 
     p = least_squares(eqs, q, method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15,
                       max_nfev=200 * len(q)).x
-    if not (eqs.residual(p) <= ON_COMPONENT_RESIDUAL and sigma_ratio(ref(p)) <= SOUND_RTOL):
-        return False
-    if np.linalg.norm(p - q) <= COVER_DISTANCE:
-        return True
-    return all(sigma_ratio(ref(q + t * (p - q))) <= PROBE_SINGULAR_RTOL
-               for t in np.linspace(0.0, 1.0, COVER_SEGMENT_POINTS))
+    return (eqs.residual(p) <= ON_COMPONENT_RESIDUAL and np.linalg.norm(p - q) <= COVER_DISTANCE
+            and sigma_ratio(ref(p)) <= SOUND_RTOL)
 
 
 def _in_base_frame(model, tm, nm):
@@ -455,6 +451,24 @@ def _in_base_frame(model, tm, nm):
     return base_J
 
 
+def probe_minimum(ref, q0):
+    """A completeness probe from ``q0``: the point, its ratio, and whether it is singular.
+
+    Pinocchio's sigma_min/sigma_max is minimised from ``q0`` (rankloci's minimiser only walks;
+    what it walks on is ``ref``).  The third value is None for a minimum above
+    PROBE_SINGULAR_RTOL, False for one that Newton steps do not bring down to
+    PROBE_DESCENT_RTOL (nearly singular), True for a singular point.
+    """
+    from rankloci.numeric.equations import descend_to_singular, minimise_ratio
+
+    q = minimise_ratio(ref, q0)
+    r = float(sigma_ratio(ref(q)))
+    if r > PROBE_SINGULAR_RTOL:
+        return q, r, None
+    q, r = descend_to_singular(ref, q)
+    return q, r, bool(r <= PROBE_DESCENT_RTOL)
+
+
 def grade(model, tm, locus, ref: PinocchioJacobian, rng) -> dict:
     """Grade a locus against Pinocchio's J: mapping, soundness, completeness (module docstring).
 
@@ -465,7 +479,7 @@ def grade(model, tm, locus, ref: PinocchioJacobian, rng) -> dict:
     import sympy as sp
 
     from rankloci.jacobian import task_matrix
-    from rankloci.numeric.equations import Equations, NumericMatrix, minimise_ratio, points_on
+    from rankloci.numeric.equations import Equations, NumericMatrix, points_on
 
     kinds = ref.kinds
     problems = []
@@ -523,12 +537,13 @@ def grade(model, tm, locus, ref: PinocchioJacobian, rng) -> dict:
     # completeness: singular minima of Pinocchio's ratio lie on some component
     closures = [Equations(c.equations, tm.variables, tm.parameters)
                 for c in components]
-    singular, near, uncovered = 0, 0, []
+    singular, nearly, near, uncovered = 0, 0, 0, []
     for q0 in random_configurations(kinds, rng, PROBE_STARTS):
-        # rankloci's minimiser only walks; what it walks on is Pinocchio's J
-        q = minimise_ratio(ref, q0)
-        r = sigma_ratio(ref(q))
-        if r > PROBE_SINGULAR_RTOL:
+        q, r, found = probe_minimum(ref, q0)
+        if found is None:
+            continue
+        if not found:
+            nearly += 1
             continue
         singular += 1
         if locus.degenerate:
@@ -547,8 +562,8 @@ def grade(model, tm, locus, ref: PinocchioJacobian, rng) -> dict:
         problems.append(f"incomplete: {len(uncovered)}/{singular} singular points on no "
                         f"component, e.g. q={_q_text(u['q'])} (ratio {u['ratio']:.1e}, smallest "
                         f"residual {u['residual']:.1e})")
-    completeness = {"starts": PROBE_STARTS, "singular": singular, "covered_by_projection": near,
-                    "uncovered": uncovered}
+    completeness = {"starts": PROBE_STARTS, "singular": singular, "nearly_singular": nearly,
+                    "covered_by_projection": near, "uncovered": uncovered}
     return {"ok": not problems, "reason": "; ".join(problems), "mapping": mapping,
             "sound": sound, "completeness": completeness}
 
@@ -805,7 +820,9 @@ def render_markdown(rows, skipped, outside, meta) -> str:
         f"solved onto it, Pinocchio's sigma_min/sigma_max <= {SOUND_RTOL:g};",
         f"- *complete*: of {PROBE_STARTS} minimisations of Pinocchio's sigma_min/sigma_max from "
         f"random starts (seed {meta['seed']}), every one that ends at a ratio <= "
-        f"{PROBE_SINGULAR_RTOL:g} lies on a component (scaled residual <= {COVER_RESIDUAL:g}).",
+        f"{PROBE_SINGULAR_RTOL:g} and that Newton steps bring to <= {PROBE_DESCENT_RTOL:g} (a "
+        f"singular point, not a nearly singular one) lies on a component (scaled residual <= "
+        f"{COVER_RESIDUAL:g}).",
         "",
         f"Python {meta['python']} on {meta['machine']}, one process per chain, "
         f"{meta['jobs']} at a time, locus time limit {meta['timeout_s']:g} s. "
@@ -926,6 +943,7 @@ def main(argv=None) -> int:
             "min_joints": args.min_joints,
             "example_robot_data": version("example-robot-data"), "pinocchio": version("pin"),
             "tolerances": {"SOUND_RTOL": SOUND_RTOL, "PROBE_SINGULAR_RTOL": PROBE_SINGULAR_RTOL,
+                           "PROBE_DESCENT_RTOL": PROBE_DESCENT_RTOL,
                            "COVER_RESIDUAL": COVER_RESIDUAL, "MAPPING_RTOL": MAPPING_RTOL}}
     counts = {s: sum(r["status"] == s for r in rows) for s in ("pass", "fail", "timeout", "error")}
     Path(args.output + ".json").write_text(json.dumps(

@@ -338,39 +338,32 @@ def test_grading_rejects_a_reference_with_joints_out_of_order(ur5_case):
     assert not g["ok"] and g["reason"].startswith("mapping:"), g["reason"]
 
 
-def _flat_reference(second_zero=None):
-    """A 2x2 "Jacobian" singular on x = 0 whose sigma ratio grows by only 1e-5 per unit of x
-    (the probe's threshold 1e-8 is then 1e-3 away), and also on x = ``second_zero``."""
-    def ref(q):
-        s = 1e-5 * q[0] if second_zero is None else q[0] * (q[0] - second_zero)
-        return np.diag([1.0, s])
-    return ref
+class _Diagonal:
+    """A 2x2 "Jacobian" diag(1, f(x)) with the derivative the probe's Newton steps use."""
+
+    def __init__(self, f, df):
+        self.f, self.df = f, df
+
+    def __call__(self, q):
+        return np.diag([1.0, self.f(q[0])])
+
+    def derivatives(self, q):
+        return np.array([np.diag([0.0, self.df(q[0])]), np.zeros((2, 2))])
 
 
-def test_a_probe_point_joined_to_a_component_below_the_threshold_is_covered():
-    """6e-4 from {x = 0} (beyond COVER_DISTANCE), at ratio 6e-9: every point between is below
-    the probe's threshold, so the probe cannot tell it from the component."""
-    from rankloci.numeric.equations import Equations
-
-    x, y = sp.symbols("x y")
-    eqs = Equations([x], (x, y), {})
-    q = np.array([6e-4, 0.3])
-    ref = _flat_reference()
-    assert corpus.sigma_ratio(ref(q)) <= corpus.PROBE_SINGULAR_RTOL
-    assert corpus._projects_onto(eqs, q, ref)
-
-
-def test_a_singular_point_of_another_component_is_not_covered():
-    """At x = 6e-4 J is singular on a second set; halfway to {x = 0} the ratio is 9e-8, above
-    the probe's threshold: a missing component, not a stalled probe."""
-    from rankloci.numeric.equations import Equations
-
-    x, y = sp.symbols("x y")
-    eqs = Equations([x], (x, y), {})
-    q = np.array([6e-4, 0.3])
-    ref = _flat_reference(second_zero=6e-4)
-    assert corpus.sigma_ratio(ref(q)) <= corpus.PROBE_SINGULAR_RTOL
-    assert not corpus._projects_onto(eqs, q, ref)
+def test_probe_minimum_tells_singular_from_nearly_singular_points():
+    """x**2 + 1e-9 has a positive minimum below PROBE_SINGULAR_RTOL: nearly singular (as on
+    romeo_laas_small's gripper chain); x - 0.3 vanishes: a singular point; with 1.5 + sin(x)/2
+    the ratio is at least 1/2: regular."""
+    nearly = _Diagonal(lambda x: x * x + 1e-9, lambda x: 2 * x)
+    q, r, found = corpus.probe_minimum(nearly, np.array([0.7, 0.1]))
+    assert found is False and 1e-9 <= r <= corpus.PROBE_SINGULAR_RTOL
+    q, r, found = corpus.probe_minimum(_Diagonal(lambda x: x - 0.3, lambda x: 1.0),
+                                       np.array([0.7, 0.1]))
+    assert found is True and r <= corpus.PROBE_DESCENT_RTOL and abs(q[0] - 0.3) < 1e-12
+    q, r, found = corpus.probe_minimum(_Diagonal(lambda x: 1.5 + np.sin(x) / 2,
+                                                 lambda x: np.cos(x) / 2), np.array([0.7, 0.1]))
+    assert found is None and r > corpus.PROBE_SINGULAR_RTOL
 
 
 @pytest.mark.parametrize("file, tip", [("ur_description/urdf/ur5_robot.urdf", "wrist_3_link"),
