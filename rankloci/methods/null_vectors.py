@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from ..algebra import laplace_det, primitive_vector
+from ..algebra import TermLimit, laplace_det, primitive_vector
 from .blocks import choose_block
 
 if TYPE_CHECKING:
@@ -30,14 +30,18 @@ def left_null_vectors(ctx: "Context", A, rank, points, *, branch=None, max_terms
     Returns the vectors and the polynomial ``d`` (the determinant of the
     regular block used): the vectors are independent wherever d != 0.  With
     ``max_terms``, no vectors are returned (and the remaining cofactors are
-    not formed) once the cofactors formed hold more terms than that.  ``candidates`` is
+    not formed) once the cofactors formed hold more terms than that, nor d when d
+    alone does.  ``candidates`` is
     passed to :func:`~.blocks.choose_block`: 0 takes the block pivoting proposes, where the
     factors of d do not matter.
     """
     n = len(A)
     rows, cols = choose_block(ctx, A, rank, points, candidates, branch=branch)
     block = [[A[i][j] for j in cols] for i in rows]
-    d = ctx.det(block) if rank else ctx.ring.ctx.constant(1)
+    try:
+        d = ctx.det(block, max_terms=max_terms) if rank else ctx.ring.ctx.constant(1)
+    except TermLimit:
+        return [], None
     vectors = []
     terms = 0
     for i in range(n):
@@ -62,13 +66,21 @@ def _cofactors(ring, A, order, cols, det, budget=None):
 
     Entry r of the result (length len(A)) is the determinant without row r, signed by
     its place in ``order``; rows outside ``order`` are zero.  None, with the remaining
-    minors not formed, as soon as the minors formed hold more than ``budget`` terms.
+    minors not formed, as soon as the minors formed hold more than ``budget`` terms (``det``
+    then takes ``max_terms``, as :meth:`Context.det` does).
     """
     u = [ring.ctx.constant(0)] * len(A)
     terms = 0
     for t, r in enumerate(order):
         rest = [order[s] for s in range(len(order)) if s != t]
-        minor = det([[A[x][j] for j in cols] for x in rest]) if rest else ring.ctx.constant(1)
+        block = [[A[x][j] for j in cols] for x in rest]
+        try:
+            # with a budget, a minor is stopped while it is formed: a single one can need
+            # gigabytes (see rankloci.algebra.polys.PRODUCT_BUDGET_FACTOR)
+            minor = (ring.ctx.constant(1) if not rest else
+                     det(block) if budget is None else det(block, max_terms=budget - terms))
+        except TermLimit:
+            return None
         u[r] = minor if t % 2 == 0 else -minor
         terms += len(minor)
         if budget is not None and terms > budget:

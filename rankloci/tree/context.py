@@ -307,17 +307,19 @@ class Context:
         """The irreducible factors of ``p`` that can vanish on the circle."""
         return list(self._factors.get((p,), lambda key: irreducible_factors(key[0], self.ring)))
 
-    def det(self, block):
+    def det(self, block, max_terms: int | None = None):
         """The determinant of a square block (a list of rows), without powers of C**2 + S**2.
 
         See :func:`~rankloci.algebra.circle_free_det`: the factors that can vanish on the
         circles are those of the determinant, and cofactors are brought to a common scale
-        by :func:`~rankloci.methods.null_vectors.left_null_vectors`.
+        by :func:`~rankloci.methods.null_vectors.left_null_vectors`.  With ``max_terms``,
+        :class:`~rankloci.algebra.TermLimit` is raised where the expansion goes over it.
         """
         n = len(block)
         flat = tuple(x for row in block for x in row)
         return self._dets.get(flat, lambda key: circle_free_det(
-            [list(key[i * n:(i + 1) * n]) for i in range(n)], self.ring, poll=self.tick))
+            [list(key[i * n:(i + 1) * n]) for i in range(n)], self.ring, poll=self.tick,
+            max_terms=max_terms))
 
     def parameter_only(self, f) -> bool:
         """Does ``f`` involve parameters only (no joint variable)?"""

@@ -13,8 +13,8 @@ import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from rankloci.algebra import (PolyRing, circle_free_det, irreducible_factors, laplace_det,
-                              primitive_vector, transpose)
+from rankloci.algebra import (PolyRing, TermLimit, circle_free_det, irreducible_factors,
+                              laplace_det, primitive_vector, transpose)
 
 x, y = sp.symbols("x y")
 a = sp.Symbol("a")
@@ -100,6 +100,36 @@ def test_det_of_one_by_one_is_the_entry_and_empty_is_refused():
     assert isinstance(zero, flint.fmpq_mpoly) and zero.is_zero()
     with pytest.raises(ValueError, match="empty"):
         laplace_det([])
+
+
+def _dense(k):
+    """A polynomial of (k + 1)**2 terms: (1 + C_x + ... + C_x**k) * (1 + S_y + ... + S_y**k)."""
+    C, S = RING.C(0), RING.S(1)
+    return sum((C ** i for i in range(1, k + 1)), CTX.constant(1)) * \
+        sum((S ** i for i in range(1, k + 1)), CTX.constant(1))
+
+
+def test_det_with_a_term_budget_stops_before_a_large_product():
+    """Entries of 400 terms: each 2 x 2 product pairs 160000 terms, over 100 times a budget of
+    1000, so the expansion stops before forming it; the same determinant with room is exact."""
+    M = [[_dense(19), _dense(18)], [_dense(17), _dense(19) + 1]]
+    with pytest.raises(TermLimit):
+        laplace_det(M, RING, max_terms=1000)
+    with pytest.raises(TermLimit):
+        circle_free_det(M, RING, max_terms=1000)
+    full = laplace_det(M, RING)
+    assert laplace_det(M, RING, max_terms=len(full) + 10 ** 6) == full
+
+
+def test_det_with_a_term_budget_stops_on_a_large_sum():
+    """Products of 16 x 16 term pairs are within 100 times the budget of 80, but the
+    determinant has 98 terms: it stops at the sum."""
+    M = [[_dense(3), _dense(3) * RING.C(1)], [_dense(3) * RING.S(0), _dense(3) + 2]]
+    full = laplace_det(M, RING)
+    assert len(full) == 98
+    with pytest.raises(TermLimit):
+        laplace_det(M, RING, max_terms=80)
+    assert laplace_det(M, RING, max_terms=98) == full
 
 
 trig_terms = st.sampled_from([sp.Integer(1), sp.cos(x), sp.sin(x), sp.cos(y), sp.sin(y), a,
