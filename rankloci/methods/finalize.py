@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import operator
 from dataclasses import dataclass
 
 import numpy as np
@@ -26,7 +27,7 @@ from ..tolerances import (CONTAINED_EXCLUSION_RTOL, CONTAINED_RTOL,
                           DIMENSION_STEP, NEAR_ADMITTED_EXCLUSION_RTOL, NEAR_ADMITTED_RADIUS,
                           NEAR_ADMITTED_STEP)
 from ..tree import prune
-from ..tree.branch import Branch
+from ..tree.branch import Branch, apply_substitution
 from ..tree.context import Context
 from ..tree.modular import evaluate
 from ..tree.cover import children
@@ -75,7 +76,7 @@ def finalize(ctx: Context) -> list[Component]:
             continue
         eqs = []
         for c in branch.conditions:
-            e = ring.to_sympy(c)
+            e = ring.to_sympy(_without_excluded_factors(ctx, branch, c))
             if e != 0 and e not in eqs and -e not in eqs:
                 eqs.append(e)
         raw.append((eqs, branch, pts, node))
@@ -150,6 +151,43 @@ def _component(ctx: Context, eqs, branch, pts) -> _Candidate:
                      direction=(), direction_at_sample=dirs, sample=sample,
                      parameter_conditions=param_conds, for_model=for_model)
     return _Candidate(comp, branch, tuple(model_pts or pts))
+
+
+def _without_excluded_factors(ctx: Context, branch, c):
+    """Condition ``c`` of ``branch`` with every factor that the branch excludes divided out.
+
+    A condition stored before a later substitution can become a product once angles are
+    fixed: on a 9R snake, with q4 = pi, a condition became cos(q6/2) cos(q5/2) cos(q3/2 -
+    q5/2) (up to a constant), where cos(q6/2) and cos(q5/2) are nonzero on the branch.  The
+    branch lies on the remaining factor; the product also vanishes on the whole of
+    {q6 = pi} and {q5 = pi}, where J is regular, and a component written with it is unsound
+    there.  The factors are those of the condition and of the exclusions with the branch's
+    constant substitutions (angles at 0 or pi, variables at numbers) applied; ``c`` is
+    returned as it is when no factor is excluded.
+    """
+    if not branch.nonzero:
+        return c
+    ring = ctx.ring
+    fixed_subs = [s for s in branch.substitutions if all(v.is_constant() for v in s.values)]
+
+    def fixed(p):
+        for s in fixed_subs:
+            p = apply_substitution(p, s, ring)
+        return p
+
+    cf = fixed(c)
+    if cf.is_zero() or ring.is_number(cf):
+        return c
+    excluded = []
+    for p in branch.nonzero:
+        pf = fixed(p)
+        if not (pf.is_zero() or ring.is_number(pf)):
+            excluded += ctx.factors(pf)
+    factors = ctx.factors(cf)
+    kept = [f for f in factors if not any(f == x for x in excluded)]
+    if not kept or len(kept) == len(factors):
+        return c
+    return functools.reduce(operator.mul, kept)
 
 
 def _with_exclusions(ctx: Context, cand: _Candidate) -> _Candidate:

@@ -5,9 +5,10 @@ components (96 with numeric parameters).  Its lost directions once asked FLINT f
 (a cofactor product of 25258 by 174532 terms) and ended the process; the locus now finishes in
 about 50 s here.  Each component's sample point is checked to be singular, and singular points
 found by minimising sigma_min/sigma_max from random starts to lie on a component.  Not every
-component is sound yet: the self-check of ``rankloci locus`` finds at least 4 regular at some
-of the points it solves onto their equations (pieces of a reducible zero set without an
-exclusion), and reports the locus incomplete (exit 1, after 567 s).  A minimum
+component is sound yet: at 6 points solved onto the equations of each, 9 of the 96 components
+have regular ones (13 before factors excluded by their branch were divided out of their
+equations, see ``finalize._without_excluded_factors``), and the self-check of ``rankloci
+locus`` reports the locus incomplete.  A minimum
 counts as singular as in ``rankloci check``, where Newton steps on the ratio bring it to
 PROBE_DESCENT_RTOL.  (One start here ends at 9.4e-11, a minimum that neither those steps nor
 bounded searches within 0.01 rad bring lower, 1.7e-3 (scaled) off the component {q4 = pi,
