@@ -48,6 +48,8 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
+from rankloci.tolerances import COVER_DISTANCE, PROBE_DESCENT_RTOL
+
 HERE = Path(__file__).resolve().parent
 
 #: Chains with fewer or more movable joints than this are not part of the corpus.
@@ -69,16 +71,13 @@ SOUND_RTOL = 1e-8
 #: A minimum of Pinocchio's sigma_min/sigma_max counts as a singular point at or below this.
 PROBE_SINGULAR_RTOL = 1e-8
 
-#: Such a minimum is then followed by Newton steps on the ratio (rankloci's
-#: ``descend_to_singular``, on Pinocchio's J) and counts as a singular point only where they
-#: bring it to this (rankloci's PROBE_DESCENT_RTOL, the threshold of ``rankloci check``).  At
-#: rank-deficient configurations the ratio falls to the rounding floor (~1e-16); a minimum
-#: that stays far above it is a configuration that is nearly, not exactly, singular.
-#: romeo_laas_small's gripper chain has one at 2e-9 that no bounded search within 0.01 rad
-#: brings lower, 4.4e-5 (scaled) off a component's equations; on tiago_dual's thumb chain one
-#: at 2.4e-9 lies 6.7e-4 rad from a component, along a direction where the ratio grows by only
-#: 3.5e-6 per radian.  Neither is a singular point, and neither counts as one.
-PROBE_DESCENT_RTOL = 1e-13
+# Such a minimum is then followed by Newton steps on the ratio (rankloci's
+# ``descend_to_singular``, on Pinocchio's J) and counts as a singular point only where they
+# bring it to rankloci's PROBE_DESCENT_RTOL, the threshold of ``rankloci check``: a minimum
+# that stays far above it is nearly, not exactly, singular.  romeo_laas_small's gripper chain
+# has one at 2e-9 that no bounded search within 0.01 rad brings lower, 4.4e-5 (scaled) off a
+# component's equations; on tiago_dual's thumb chain one at 2.4e-9 lies 6.7e-4 rad from a
+# component, along a direction where the ratio grows by only 3.5e-6 per radian.
 
 #: A singular point lies on a component when all of the component's scaled equations (each divided
 #: by the sum of the absolute values of its coefficients) are at most this at it.  The minimiser
@@ -87,15 +86,9 @@ PROBE_DESCENT_RTOL = 1e-13
 #: missing component leaves residuals of 1e-2 and more.  (rankloci's COVER_RESIDUAL, same reason.)
 COVER_RESIDUAL = 1e-6
 
-#: A singular point farther than that from every component is still covered when solving a
-#: component's equations from it (least squares) lands within this distance (in radians or metres)
-#: at a point where Pinocchio's J is singular.  Where the singular set meets a surface through the
-#: point tangentially, sigma_min/sigma_max grows only as c * d**2 with the distance d, so the
-#: minimiser, whose ratio bottoms out at ~1e-15 (double-precision SVD), stalls at d ~ sqrt(1e-15/c):
-#: 1e-6 for c ~ 1e-3 (seen on romeo_laas_small's head), 1e-4 for c down to 1e-7.  A component
-#: missing from the locus would have to pass within 1e-4 of a found one at a random singular
-#: minimum.
-COVER_DISTANCE = 1e-4
+# A singular point farther than COVER_RESIDUAL from every component is still covered when
+# solving a component's equations from it lands within rankloci's COVER_DISTANCE at a point
+# where Pinocchio's J is singular (the reason is there).
 
 #: rankloci's J (base frame, tip point) and Pinocchio's J agree entry by entry to this, relative to
 #: their largest entry.  Both are products of ~20 transforms of the same snapped numbers in double

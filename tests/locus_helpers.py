@@ -38,6 +38,15 @@ def raw_tm(text: str):
     return task_matrix(parse_model(text, name="raw"), frame="auto")
 
 
+def raw_context(text: str):
+    """A fresh tree :class:`~rankloci.tree.context.Context` of a raw-matrix TOML text, and the
+    index of each angle in its ring by name."""
+    from rankloci.tree.context import Context
+
+    ctx = Context(raw_tm(text), method="svm", rng=np.random.default_rng(0))
+    return ctx, {v.name: i for i, v in enumerate(ctx.ring.angles)}
+
+
 @functools.lru_cache(maxsize=None)
 def _locus(key, method: str, seed: int):
     kind, spec, numeric = key

@@ -75,8 +75,8 @@ def finalize(ctx: Context) -> list[Component]:
             ctx.annotate(node, outcome=Outcome.NO_REAL_POINT)
             continue
         eqs = []
-        for c in branch.conditions:
-            e = ring.to_sympy(_without_excluded_factors(ctx, branch, c))
+        for c in _without_excluded_factors(ctx, branch):
+            e = ring.to_sympy(c)
             if e != 0 and e not in eqs and -e not in eqs:
                 eqs.append(e)
         raw.append((eqs, branch, pts, node))
@@ -153,41 +153,36 @@ def _component(ctx: Context, eqs, branch, pts) -> _Candidate:
     return _Candidate(comp, branch, tuple(model_pts or pts))
 
 
-def _without_excluded_factors(ctx: Context, branch, c):
-    """Condition ``c`` of ``branch`` with every factor that the branch excludes divided out.
+def _without_excluded_factors(ctx: Context, branch) -> list:
+    """The conditions of ``branch``, each with every factor the branch excludes divided out.
 
     A condition stored before a later substitution can become a product once angles are
     fixed: on a 9R snake, with q4 = pi, a condition became cos(q6/2) cos(q5/2) cos(q3/2 -
     q5/2) (up to a constant), where cos(q6/2) and cos(q5/2) are nonzero on the branch.  The
     branch lies on the remaining factor; the product also vanishes on the whole of
     {q6 = pi} and {q5 = pi}, where J is regular, and a component written with it is unsound
-    there.  The factors are those of the condition and of the exclusions with the branch's
-    constant substitutions (angles at 0 or pi, variables at numbers) applied; ``c`` is
-    returned as it is when no factor is excluded.
+    there.  The factors are those of the conditions and of the exclusions with the branch's
+    constant substitutions (angles at 0 or pi, variables at numbers) applied; a condition
+    with no excluded factor is kept as it is.
     """
     if not branch.nonzero:
-        return c
+        return list(branch.conditions)
     ring = ctx.ring
-    fixed_subs = [s for s in branch.substitutions if all(v.is_constant() for v in s.values)]
+    constant = [s for s in branch.substitutions if all(v.is_constant() for v in s.values)]
 
     def fixed(p):
-        for s in fixed_subs:
+        for s in constant:
             p = apply_substitution(p, s, ring)
-        return p
+        return None if p.is_zero() or ring.is_number(p) else p
 
-    cf = fixed(c)
-    if cf.is_zero() or ring.is_number(cf):
-        return c
-    excluded = []
-    for p in branch.nonzero:
-        pf = fixed(p)
-        if not (pf.is_zero() or ring.is_number(pf)):
-            excluded += ctx.factors(pf)
-    factors = ctx.factors(cf)
-    kept = [f for f in factors if not any(f == x for x in excluded)]
-    if not kept or len(kept) == len(factors):
-        return c
-    return functools.reduce(operator.mul, kept)
+    excluded = [f for p in branch.nonzero if (pf := fixed(p)) is not None for f in ctx.factors(pf)]
+    out = []
+    for c in branch.conditions:
+        cf = fixed(c)
+        factors = ctx.factors(cf) if cf is not None else []
+        kept = [f for f in factors if not any(f == x for x in excluded)]
+        out.append(functools.reduce(operator.mul, kept) if 0 < len(kept) < len(factors) else c)
+    return out
 
 
 def _with_exclusions(ctx: Context, cand: _Candidate) -> _Candidate:

@@ -196,17 +196,25 @@ class Context:
         dimension, so a singular piece of a smaller branch lies inside a larger component,
         reached by a branch of its own.
         """
-        from ..verify import dimension_bound
-
         regular = [self.probe.rank_at(self.M, g) == self.full_rank for g in points]
         if all(regular):
             return True
         if not any(regular):
             return self.rank(self.M, branch, points) == self.full_rank
-        joints = self.ring.n_angles + len(self.ring.others)
-        bound = dimension_bound((len(self.M), len(self.M[0])), joints, 1)
         singular = [g for g, r in zip(points, regular) if not r]
-        return max(self.local_dimension(branch, g) for g in singular) < bound
+        return max(self.local_dimension(branch, g) for g in singular) < self.dimension_bound
+
+    @property
+    def dimension_bound(self) -> int:
+        """The smallest dimension of a component of the locus, in the joint variables.
+
+        :func:`rankloci.verify.dimension_bound` for rank drop 1, which bounds every
+        component whatever its rank drop.
+        """
+        from ..verify import dimension_bound
+
+        joints = self.ring.n_angles + len(self.ring.others)
+        return dimension_bound((len(self.M), len(self.M[0])), joints, 1)
 
     def local_dimension(self, branch: Branch, g) -> int:
         """Dimension of ``branch`` at its point ``g``, numerically.

@@ -63,13 +63,7 @@ def known(ctx: "Context", branch: Branch) -> bool:
     leaves = [leaf for leaf, _ in ctx.leaves
               if leaf is not branch and leaf.conditions
               and (len(leaf.conditions) <= len(branch.conditions) or not leaf.nonzero)]
-    # per leaf: is every condition zero at each point; is some exclusion zero there.  The
-    # smallest condition of each leaf is evaluated first, and the others only where it
-    # vanishes: most leaves fail on it (an angle at 0 or pi), and a tree opens a branch
-    # against every leaf found so far (on PR2's finger chain these evaluations took 12 of
-    # 66 s).  The smallest conditions of all leaves go in one call: that list changes only
-    # when a leaf is added, so its evaluator is compiled once per leaf, not per branch (one
-    # call per leaf took a third of human's 8-joint chain)
+    # per leaf: is every condition zero at each point; is some exclusion zero there
     on = _on_equations(ctx, leaves, pts)
     excluded = {}
 
@@ -97,7 +91,15 @@ def known(ctx: "Context", branch: Branch) -> bool:
 
 
 def _on_equations(ctx: "Context", leaves, pts) -> np.ndarray:
-    """Booleans, one row per leaf of ``leaves``: is every condition of it zero at each point."""
+    """Booleans, one row per leaf of ``leaves``: is every condition of it zero at each point.
+
+    The smallest condition of each leaf is evaluated first, and the others only where it
+    vanishes: most leaves fail on it (an angle at 0 or pi), and a tree opens a branch against
+    every leaf found so far (on PR2's finger chain these evaluations took 12 of 66 s).  The
+    smallest conditions of all leaves go in one call: that list changes only when a leaf is
+    added, so its evaluator is compiled once per leaf, not per branch (one call per leaf took a
+    third of human's 8-joint chain).
+    """
     vanishing = ctx.probe.vanishing
     everyone = [leaf for leaf, _ in ctx.leaves if leaf.conditions]
     smallest = [min(leaf.conditions, key=len) for leaf in everyone]
@@ -135,12 +137,9 @@ def below_bound(ctx: "Context", branch: Branch, pts) -> bool:
     in 24 s instead of 69 s.  Models with symbolic parameters are left out: at special
     parameter values a branch can be larger than at the generic values its points have.
     """
-    from ..verify import dimension_bound
-
     if not PRUNE_BELOW_BOUND or not branch.conditions or not pts or ctx.ring.params:
         return False
-    joints = ctx.ring.n_angles + len(ctx.ring.others)
-    bound = dimension_bound((len(ctx.M), len(ctx.M[0])), joints, 1)
+    bound = ctx.dimension_bound
     if any(ctx.local_dimension(branch, g) >= bound for g in pts):
         return False
     singular = [g for g in pts if ctx.probe.rank_at(ctx.M, g) < ctx.full_rank]

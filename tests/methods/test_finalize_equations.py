@@ -2,40 +2,30 @@
 
 from __future__ import annotations
 
-import numpy as np
 import sympy as sp
 
-from rankloci.io.toml_model import parse_model
-from rankloci.jacobian import task_matrix
+import locus_helpers as H
 from rankloci.methods.finalize import _without_excluded_factors
 from rankloci.tree.branch import Branch, Substitution
-from rankloci.tree.context import Context
 
 RAW = ('variables = ["x", "y", "z"]\n'
        'matrix = [["cos(z)", "sin(z)", "0"], ["0", "sin(x)", "sin(y)"]]\n')
-
-
-def _context():
-    tm = task_matrix(parse_model(RAW, name="raw"), frame="auto")
-    ctx = Context(tm, method="svm", rng=np.random.default_rng(0))
-    return ctx, {v.name: i for i, v in enumerate(ctx.ring.angles)}
 
 
 def test_an_excluded_factor_that_appears_once_an_angle_is_fixed_is_divided_out():
     """cos(y/2) cos(z/2) + cos(x/2) sin(z/2), stored before x = pi, is cos(y/2) cos(z/2) on
     the branch; with cos(z/2) excluded the branch lies on cos(y/2) = 0, and a component
     written with the product would also hold on the whole of {z = pi}."""
-    ctx, ix = _context()
+    ctx, ix = H.raw_context(RAW)
     ring = ctx.ring
     C, S = ring.C, ring.S
     x, y, z = ix["x"], ix["y"], ix["z"]
     cond = C(y) * C(z) + C(x) * S(z)
     pi_x = Substitution("pi", x, (ring.ctx.constant(0), ring.ctx.constant(1)))
     branch = Branch(conditions=(C(x), cond), substitutions=(pi_x,), nonzero=(C(z),))
-    got = _without_excluded_factors(ctx, branch, cond)
+    first, got = _without_excluded_factors(ctx, branch)
     half_y = sp.cos(ring.angles[y] / 2)
-    assert ring.to_sympy(got) in (half_y, -half_y)
-    # without the exclusion nothing is divided out, and the condition stays as it was stored
-    assert _without_excluded_factors(ctx, Branch((C(x), cond), (pi_x,)), cond) == cond
-    assert _without_excluded_factors(ctx, Branch((C(x), cond), (pi_x,), (), (S(z),)),
-                                     cond) == cond
+    assert first == C(x) and ring.to_sympy(got) in (half_y, -half_y)
+    # without that exclusion nothing is divided out, and the condition stays as it was stored
+    assert _without_excluded_factors(ctx, Branch((C(x), cond), (pi_x,)))[1] == cond
+    assert _without_excluded_factors(ctx, Branch((C(x), cond), (pi_x,), (), (S(z),)))[1] == cond

@@ -26,7 +26,7 @@ from rankloci.io.toml_model import parse_model
 from rankloci.jacobian import task_matrix
 from rankloci.methods import compute_locus
 from rankloci.numeric.equations import NumericMatrix, descend_to_singular
-from rankloci.tolerances import COVER_RESIDUAL, PROBE_DESCENT_RTOL, RANK_RTOL
+from rankloci.tolerances import COVER_DISTANCE, COVER_RESIDUAL, PROBE_DESCENT_RTOL, RANK_RTOL
 
 
 def _snake_text(n: int = 9) -> str:
@@ -38,13 +38,8 @@ def _snake_text(n: int = 9) -> str:
     return head + joints
 
 
-#: A singular point next to a component is covered when solving the component's equations from
-#: it lands within this distance (rad) at a singular point: where components meet tangentially
-#: the minimiser stops up to ~1e-4 away (benchmarks/corpus.py, COVER_DISTANCE, same reason).
-COVER_DISTANCE = 1e-4
-
-
 def _covers(eqs, q, nj) -> bool:
+    """Is the singular point ``q`` on ``eqs``, or next to it (COVER_DISTANCE)?"""
     if eqs.residual(q) <= COVER_RESIDUAL:
         return True
     p = least_squares(eqs, q, method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15).x

@@ -5,10 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rankloci.io.toml_model import parse_model
+import locus_helpers as H
 from rankloci.jacobian import task_matrix
 from rankloci.tree.branch import Branch
-from rankloci.tree.context import Context
 from rankloci.tree.cover import cover
 from rankloci.tree.prune import below_bound, on_leaf
 
@@ -16,8 +15,7 @@ RAW = 'variables = ["x", "y"]\nmatrix = [["sin(x)*cos(y) + sin(y)", "cos(x)"]]\n
 
 
 def _context():
-    tm = task_matrix(parse_model(RAW, name="raw"), frame="auto")
-    return Context(tm, method="svm", rng=np.random.default_rng(0))
+    return H.raw_context(RAW)[0]
 
 
 def test_configuration_with_an_angle_at_pi_is_on_the_leaf_of_that_angle():
@@ -41,15 +39,11 @@ BOUND_RAW = ('variables = ["x", "y", "z"]\n'
              'matrix = [["cos(z)", "sin(z)", "0"], ["0", "sin(x)", "sin(y)"]]\n')
 
 
-def _bound_context():
-    tm = task_matrix(parse_model(BOUND_RAW, name="raw"), frame="auto")
-    ctx = Context(tm, method="svm", rng=np.random.default_rng(0))
-    return ctx, {v.name: i for i, v in enumerate(ctx.ring.angles)}
 
 
 def test_a_point_branch_with_a_regular_point_is_below_the_bound():
     """{x = pi/2, y = 0, z = 0} has dimension 0 < 1 and J is regular at its point."""
-    ctx, ix = _bound_context()
+    ctx, ix = H.raw_context(BOUND_RAW)
     S, C = ctx.ring.S, ctx.ring.C
     (b,) = cover(ctx, Branch(), [S(ix["x"]) - C(ix["x"]), S(ix["y"]), S(ix["z"])])
     pts = ctx.sampler.points(b)
@@ -61,7 +55,7 @@ def test_a_singular_point_on_no_leaf_keeps_its_branch():
     """{x = y = z = 0} is below the bound too, but J is singular at its point: with no leaf
     found that holds the point, the branch may be a piece of smaller real dimension than any
     complex component, and it is analysed.  Once the leaf {x = y = 0} is found it is not."""
-    ctx, ix = _bound_context()
+    ctx, ix = H.raw_context(BOUND_RAW)
     S = ctx.ring.S
     (b,) = cover(ctx, Branch(), [S(ix["x"]), S(ix["y"]), S(ix["z"])])
     pts = ctx.sampler.points(b)
@@ -73,7 +67,7 @@ def test_a_singular_point_on_no_leaf_keeps_its_branch():
 
 
 def test_a_branch_of_the_bound_dimension_is_analysed():
-    ctx, ix = _bound_context()
+    ctx, ix = H.raw_context(BOUND_RAW)
     (b,) = cover(ctx, Branch(), [ctx.ring.S(ix["y"])])
     pts = ctx.sampler.points(b)
     assert pts and ctx.local_dimension(b, pts[0]) == 2
