@@ -41,6 +41,9 @@ class Outcome(enum.StrEnum):
     KNOWN = "inside a component already found"
     #: The branch's dimension is below the determinantal bound at its sample points.
     BELOW_BOUND = "below the dimension bound"
+    #: Every real point found on the branch lies where one of its substitutions
+    #: (C, S) ~ (b, -a) is undefined (a = b = 0): those points are the branches of a = b = 0.
+    EXCEPTIONAL = "real points only where a substitution is undefined (their own branches)"
     #: The chosen null vectors vanish on the branch: the whole matrix has full rank at its
     #: generic points, which are covered by the sub-branch where the null vectors degenerate.
     COVERED = "null vectors vanish (covered by its own branch)"

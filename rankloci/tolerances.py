@@ -48,6 +48,16 @@ REGULAR_MIN_RATIO = 1e-6
 #: that exact multiple when a model file is read.
 ANGLE_SNAP_ATOL = 1e-12
 
+#: A configuration handed back to the tree (a check's hint, where a component was
+#: found regular) has each angle within this of a multiple of pi taken as that
+#: multiple, so that its half-angle cosine or sine is exactly zero.  A single-term
+#: condition such as cos(q3/2) is tested relative to the size of its terms, which
+#: is its own value: at the float q3 = -pi, 6e-17, it would never vanish.  The
+#: check refines its points onto the equations to ROOT_XTOL; a move of 1e-10 rad
+#: leaves every rank decision (LEAF_REGULAR_RTOL) and zero test (ZERO_RTOL) as it
+#: was.
+HINT_ANGLE_SNAP_ATOL = ROOT_XTOL
+
 #: URDF files write angles with 4-10 significant digits (pi/2 as 1.5708, off by
 #: 3.7e-6), so an rpy angle within this of a multiple of pi/12, or a unit-axis
 #: component within this of 0, +-1/2, +-sqrt(2)/2, +-sqrt(3)/2 or +-1, is taken

@@ -173,7 +173,10 @@ class Context:
                 return
         # more points than the first few, all singular: the equations may also hold on a
         # regular piece (see .reducible); such a branch is split on a minor
-        regular, _ = reducible.ranked_points(self, branch)
+        regular, _, exceptional = reducible.ranked_points(self, branch)
+        if exceptional:
+            self.annotate(node, outcome=Outcome.EXCEPTIONAL)
+            return
         if regular and reducible.split_on_minor(self, branch, node, regular, outcome):
             return
         self.annotate(node, outcome=outcome)
@@ -345,13 +348,24 @@ class Context:
 
     def point_at(self, values) -> np.ndarray | None:
         """The generator vector of a configuration (a dict from variable names to values),
-        with the model's parameter values; None when a variable is missing."""
+        with the model's parameter values; None when a variable is missing.
+
+        An angle within HINT_ANGLE_SNAP_ATOL of a multiple k pi is taken as k pi: its
+        half-angle generators are exactly 0 and +-1, so that conditions like q = pi
+        vanish there exactly.
+        """
+        from ..tolerances import HINT_ANGLE_SNAP_ATOL
+
         g = self.model_point()
         na = self.ring.n_angles
         try:
             for i, a in enumerate(self.ring.angles):
                 v = float(values[a.name])
-                g[2 * i], g[2 * i + 1] = np.cos(v / 2), np.sin(v / 2)
+                k = round(v / np.pi)
+                if abs(v - k * np.pi) <= HINT_ANGLE_SNAP_ATOL:
+                    g[2 * i], g[2 * i + 1] = ((1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0))[k % 4]
+                else:
+                    g[2 * i], g[2 * i + 1] = np.cos(v / 2), np.sin(v / 2)
             for j, x in enumerate(self.ring.others):
                 g[2 * na + j] = float(values[x.name])
         except KeyError:

@@ -53,13 +53,23 @@ SPECIAL_SOLVE_ROWS = 2
 SPECIAL_PARTIAL_ROWS = 64
 
 
-def ranked_points(ctx: "Context", branch: "Branch") -> tuple[list, list]:
-    """Points of ``branch`` where the matrix has full rank, and points where it has not.
+def ranked_points(ctx: "Context", branch: "Branch") -> tuple[list, list, bool]:
+    """Points of ``branch`` where the matrix has full rank, points where it has not, and
+    whether every point found lies where a pair substitution of the branch is undefined.
 
     Its first sample points, ``LEAF_POINTS`` solved from uniform random starts, and the exact
     points among ``SPECIAL_STARTS`` starts with random angles at multiples of pi/2 (a regular
     piece of a robot's leaf is often a coordinate one, like cos q4 = cos q6 = 0, which the
     solves from uniform starts seldom reach).
+
+    The points where a substitution (C, S) ~ (b, -a) is undefined (:func:`_degenerate_pairs`)
+    are ranked neither way.  When all of them are such points, the branch has no real point
+    found where its substitutions hold: its equations are real only on the exceptional sets
+    a = b = 0, which are branches of their own (:func:`~rankloci.tree.cover.cover`).  On a
+    9R snake, a leaf q4 = q5 = pi, E1 = E2 = 0 has its 19 points found (3 sample points, 12
+    wider ones, 4 special ones) where q6 = pi and q3 + q7 = pi: E2 is real only where it is
+    critical, and there the substitution for q2 is undefined; reported, the leaf was a
+    component of no real point of its own, regular where q6 = 0 and q3 + q7 = 0.
     """
     full = ctx.full_rank
     # the wider sample draws from its own stream, so that the computation's random choices
@@ -96,7 +106,8 @@ def ranked_points(ctx: "Context", branch: "Branch") -> tuple[list, list]:
             regular.append(g)
         elif verdict or numeric_rank(A, S) < full:
             singular.append(g)
-    return regular, singular
+    exceptional = bool(len(pts)) and bool(degenerate.any(axis=1).all())
+    return regular, singular, exceptional
 
 
 def _degenerate_pairs(ctx: "Context", branch: "Branch", pts) -> np.ndarray:
@@ -127,10 +138,12 @@ def _exceptional_exclusions(ctx: "Context", branch: "Branch", pts, degenerate) -
     which of them each pair substitution (C, S) ~ (b, -a) is undefined, in its exceptional set
     {a = b = 0}.  The branch leaves that set to another branch, but the component's equations
     admit it: where J is regular at such a point, the component is reported without the zero
-    set of the shorter of a and b (nonzero on the branch itself, whose closure is unchanged).
+    set of the factors of the shorter of a and b that vanish there (nonzero on the branch
+    itself, whose closure is unchanged; the other factors can hold the branch's real points,
+    as sin(q6/2) cos(q6/2) cos(q7/2) on a 9R snake whose leaf is real only where q6 = pi).
     tiago_dual's left arm: q3 = 0, q4 = -pi/2, q5 = pi.
     """
-    from ..tolerances import LEAF_REGULAR_RTOL
+    from ..tolerances import EXCLUSION_RTOL, LEAF_REGULAR_RTOL
 
     pairs = [s for s in branch.substitutions if s.kind == "pair"]
     out = []
@@ -142,8 +155,16 @@ def _exceptional_exclusions(ctx: "Context", branch: "Branch", pts, degenerate) -
             continue
         for sub in (p for p, b in zip(pairs, bad) if b):
             p = min((v for v in sub.values if not v.is_constant()), key=len, default=None)
-            if p is not None and not any(p == q for q in out):
-                out.append(p)
+            if p is None:
+                continue
+            # a and b are below EXCLUSION_RTOL of their terms at g, so is one factor at least
+            factors = [f for f in ctx.factors(p) if not f.is_constant()]
+            small = [f for f, r in zip(factors, _relative(ctx.ring.compile(factors, sized=True),
+                                                          np.array([g]))[0])
+                     if abs(r) <= EXCLUSION_RTOL] if factors else []
+            for f in small or [p]:
+                if not any(f == q for q in out):
+                    out.append(f)
     return out
 
 
@@ -360,8 +381,14 @@ def repair_leaves(ctx: "Context", hints) -> int:
     singular piece, least squares on the equations scaled by their largest coefficient lands
     on the regular one from 4 of 8 starts).  At each such point that the leaf excludes (an
     exclusion vanishes there), the vanishing factors of the exclusion stay in the component,
-    which :func:`~rankloci.methods.finalize` would otherwise have dropped; at a point inside
-    the leaf, the leaf is split on a minor nonzero there.  Returns how many leaves changed.
+    which :func:`~rankloci.methods.finalize` would otherwise have dropped.  At a point where
+    a pair substitution (C, S) ~ (b, -a) of the leaf is undefined (a = b = 0), the leaf keeps
+    the exclusion :func:`_exceptional_exclusions` gives there: the point lies in the
+    substitution's exceptional set, a branch of its own, and no minor reduced on the leaf can
+    be nonzero at it (on a 9R snake, q3 = q4 = pi with E1 = E2 = 0 holds on a singular piece
+    and, where q6 = 0, on a regular one where q2's substitution degenerates).  At any other
+    point of the leaf, the leaf is split on a minor nonzero there.  Returns how many leaves
+    changed.
     """
     changed = 0
     full = ctx.full_rank
@@ -377,13 +404,17 @@ def repair_leaves(ctx: "Context", hints) -> int:
                 continue
             vanishing = [f for p in branch.nonzero if ctx.probe.vanishes(p, [g])
                          for f in ctx.factors(p) if ctx.probe.vanishes(f, [g])]
+            degenerate = _degenerate_pairs(ctx, branch, [g])
+            if not vanishing and degenerate.any():
+                vanishing = _exceptional_exclusions(ctx, branch, [g], degenerate)
             if vanishing:
                 kept = ctx.exceptional_exclusions.setdefault(branch.key, [])
                 new = [f for f in vanishing if not any(f == k for k in kept)]
                 kept.extend(new)
                 changed += bool(new)
                 continue
-            changed += _split_leaf(ctx, branch, node, [g])
+            if not degenerate.any():
+                changed += _split_leaf(ctx, branch, node, [g])
     return changed
 
 

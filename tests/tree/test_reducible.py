@@ -55,7 +55,7 @@ def _angles(ctx, g):
 
 def test_both_pieces_are_seen_among_the_leaf_points():
     ctx, branch = _reducible_leaf()
-    regular, singular = reducible.ranked_points(ctx, branch)
+    regular, singular, _ = reducible.ranked_points(ctx, branch)
     assert regular and singular
     for g in regular:
         x, y, z = _angles(ctx, g)
@@ -77,7 +77,7 @@ def test_reducible_leaf_is_split_into_singular_leaves_only():
     """The leaf's first sample points all on the singular piece (as on PR2's arm, where the
     regular piece attracts few random solves): the wider sample finds the regular one."""
     ctx, branch = _reducible_leaf()
-    _, singular = reducible.ranked_points(ctx, branch)
+    _, singular, _ = reducible.ranked_points(ctx, branch)
     ctx.sampler.cache[branch.key + (3,)] = singular[:3]
     node = ctx.add_node(None, branch)
     ctx.leaf(branch, node, Outcome.ALL_MINORS_VANISH)
@@ -131,7 +131,7 @@ def test_leaf_with_mixed_first_points_is_split():
     determinantal dimension (1 for a 1 x 2 matrix in 3 joints), so the regular points do not
     make the leaf covered; it is split, and the singular piece is kept."""
     ctx, branch = _reducible_leaf()
-    regular, singular = reducible.ranked_points(ctx, branch)
+    regular, singular, _ = reducible.ranked_points(ctx, branch)
     mixed = [regular[0]] + singular[:2]
     assert not ctx.regular_throughout(branch, mixed)
     ctx.sampler.cache[branch.key + (3,)] = mixed
@@ -199,4 +199,49 @@ def test_a_hint_in_an_excluded_set_keeps_the_exclusion():
     (kept,) = ctx.exceptional_exclusions[branch.key]
     half = sp.cos(z / 2) - sp.sin(z / 2)
     assert ctx.ring.to_sympy(kept) in (half, -half)
+    assert ctx.leaves == [(branch, node)]
+
+
+def _leaf_with(ctx, *conditions):
+    """A leaf of ``ctx`` with ``conditions`` (polynomials of its ring), solved as the tree
+    solves them."""
+    branch = Branch()
+    for c in conditions:
+        branch, _ = branch.with_condition(c, ctx.ring)
+    return branch, _recorded(ctx, branch)
+
+
+def test_a_hint_at_a_float_multiple_of_pi_reaches_the_leaf():
+    """A hint at x = pi in floats (cos(x/2) = 6e-17, which is all of the term size of the
+    single-term condition cos(x/2)) is on the leaf {x = pi, sin y cos z = 0}; where cos z = 0
+    the matrix [0, sin y] is regular, and the leaf is split there."""
+    tm = task_matrix(parse_model(RAW, name="raw"), frame="auto")
+    ctx = Context(tm, method="svm", rng=np.random.default_rng(0))
+    y, z = tm.variables[1:]
+    C_x = ctx.ring.gens[0]
+    branch, node = _leaf_with(ctx, C_x, ctx.ring.from_sympy(sp.sin(y) * sp.cos(z)))
+    hint = {"x": float(np.pi), "y": 0.7, "z": float(np.pi / 2)}
+    g = ctx.point_at(hint)
+    assert g[0] == 0.0 and g[1] == 1.0
+    assert all(ctx.probe.vanishes(c, [g]) for c in branch.conditions)
+    assert reducible.repair_leaves(ctx, [hint]) == 1
+    assert ctx.tree.nodes[node]["outcome"] == Outcome.REFINED
+
+
+def test_a_hint_where_a_pair_substitution_degenerates_keeps_its_exclusion():
+    """The leaf sin(y/2) cos(x/2) + sin(z/2) sin(x/2) = 0 solves (cos x/2, sin x/2) ~
+    (sin z/2, -sin y/2), undefined where y = z = 0.  There the condition holds for every x,
+    and the matrix is regular at x = 0.7; no minor reduced on the leaf can be nonzero at such
+    a point, so the leaf keeps the shorter value of the substitution as an exclusion instead
+    of being split."""
+    tm = task_matrix(parse_model(RAW, name="raw"), frame="auto")
+    ctx = Context(tm, method="svm", rng=np.random.default_rng(0))
+    x, y, z = tm.variables
+    C_x, S_x, _, S_y, _, S_z = ctx.ring.gens[:6]
+    branch, node = _leaf_with(ctx, S_y * C_x + S_z * S_x)
+    assert [s.kind for s in branch.substitutions] == ["pair"]
+    assert reducible.repair_leaves(ctx, [{"x": 0.7, "y": 0.0, "z": 0.0}]) == 1
+    (kept,) = ctx.exceptional_exclusions[branch.key]
+    assert ctx.ring.to_sympy(kept) in (sp.sin(y / 2), -sp.sin(y / 2), sp.sin(z / 2),
+                                       -sp.sin(z / 2))
     assert ctx.leaves == [(branch, node)]
