@@ -1,15 +1,16 @@
 """A chain of nine joints outside the built-in models: a spatial 9R snake.
 
 Equal links, no offsets and twists alternating between +pi/2 and -pi/2 make a locus of many
-components (96 with numeric parameters).  Its lost directions once asked FLINT for 6.4 GB
-(a cofactor product of 25258 by 174532 terms) and ended the process; the locus now finishes in
-about 50 s here.  Each component's sample point is checked to be singular, and singular points
-found by minimising sigma_min/sigma_max from random starts to lie on a component.  Not every
-component is sound yet: at 6 points solved onto the equations of each, 9 of the 96 components
-have regular ones (13 before factors excluded by their branch were divided out of their
-equations, see ``finalize._without_excluded_factors``), and the self-check of ``rankloci
-locus`` reports the locus incomplete.  A minimum
-counts as singular as in ``rankloci check``, where Newton steps on the ratio bring it to
+components (95 with numeric parameters).  Its lost directions once asked FLINT for 6.4 GB
+(a cofactor product of 25258 by 174532 terms) and ended the process.  The locus here is the
+one ``rankloci locus`` shows: computed, checked numerically, and computed again with the
+configurations where the check found a component regular as hints
+(:func:`~rankloci.verify.verified_locus`; one round, about 200 s in all).  Before hints reached
+their leaves (angles at float multiples of pi, substitutions undefined at the hint, see
+:func:`~rankloci.tree.reducible.repair_leaves`), the self-check rejected this locus.  Each
+component's sample point is checked to be singular here too, and singular points found by
+minimising sigma_min/sigma_max from random starts to lie on a component.  A minimum counts as
+singular as in ``rankloci check``, where Newton steps on the ratio bring it to
 PROBE_DESCENT_RTOL.  (One start here ends at 9.4e-11, a minimum that neither those steps nor
 bounded searches within 0.01 rad bring lower, 1.7e-3 (scaled) off the component {q4 = pi,
 q6 = 0, q8 = pi, ...}: nearly, not exactly, singular by that rule.)
@@ -27,6 +28,7 @@ from rankloci.jacobian import task_matrix
 from rankloci.methods import compute_locus
 from rankloci.numeric.equations import NumericMatrix, descend_to_singular
 from rankloci.tolerances import COVER_DISTANCE, COVER_RESIDUAL, PROBE_DESCENT_RTOL, RANK_RTOL
+from rankloci.verify import verified_locus
 
 
 def _snake_text(n: int = 9) -> str:
@@ -50,12 +52,26 @@ def _covers(eqs, q, nj) -> bool:
 @pytest.fixture(scope="module")
 def snake():
     tm = task_matrix(parse_model(_snake_text(), name="snake9"), frame="auto", numeric=True)
-    return tm, compute_locus(tm, "svm", rng=np.random.default_rng(0))
+    reference = task_matrix(parse_model(_snake_text(), name="snake9"), frame=tm.frame,
+                            point=tm.point)
+
+    def compute(t, seed, hints=()):
+        return compute_locus(t, "svm", rng=np.random.default_rng(seed), hints=hints)
+
+    locus, verification = verified_locus(compute, tm, reference)
+    return tm, locus, verification
+
+
+@pytest.mark.slow
+def test_nine_joint_snake_passes_its_self_check(snake):
+    _, locus, verification = snake
+    assert verification.complete, verification.problems
+    assert locus.complete
 
 
 @pytest.mark.slow
 def test_nine_joint_snake_sample_points_are_singular(snake):
-    tm, locus = snake
+    tm, locus, _ = snake
     comps = H.model_components(locus)
     assert len(comps) >= 9
     nj = H.numeric_j(tm)
@@ -66,7 +82,7 @@ def test_nine_joint_snake_sample_points_are_singular(snake):
 
 @pytest.mark.slow
 def test_nine_joint_snake_singular_points_lie_on_components(snake):
-    tm, locus = snake
+    tm, locus, _ = snake
     nj = H.numeric_j(tm)
     nm = NumericMatrix(tm.matrix, tm.variables, tm.angles)
     eqs = [H.ComponentEquations(c, tm, None) for c in H.model_components(locus)]
