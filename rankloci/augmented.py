@@ -206,14 +206,14 @@ def base_matrix(model, tm):
 
 
 def augmented_locus(model, tm, method: str | None = None, *, seed: int = 0, progress=None,
-                    should_stop=None, clock=None, hints=()):
+                    should_stop=None, clock=None, hints=(), trees=None):
     """Loci of J_aug (``tm``) and of J, and J_aug's components classified.
 
     ``method`` applies to J_aug and to J, as
     :func:`~rankloci.methods.method_for` decides (by default the
     determinant method for a square matrix, svm otherwise); a request for
     the determinant method falls back to svm for J when only J_aug is
-    square.  Both loci use the generator seeded with ``seed``.  ``hints`` go to
+    square.  Both loci use the generator seeded with ``seed``.  ``hints`` and ``trees`` go to
     :func:`~rankloci.methods.compute_locus` for J_aug.
 
     Examples
@@ -232,7 +232,8 @@ def augmented_locus(model, tm, method: str | None = None, *, seed: int = 0, prog
 
     progress = progress or (lambda msg: None)
     aug = compute_locus(tm, method_for(tm.shape, method), rng=np.random.default_rng(seed),
-                        progress=progress, should_stop=should_stop, clock=clock, hints=hints)
+                        progress=progress, should_stop=should_stop, clock=clock, hints=hints,
+                        trees=trees)
     aug = directions_in_model_frame(aug, model, tm)
     if not tm.n_constraint_rows:
         return aug

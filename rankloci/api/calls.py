@@ -136,9 +136,13 @@ def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None,
 
     stop = should_stop if should_stop is not None else _deadline(timeout)
 
+    # the trees grown by this call's computations: a recomputation with the self-check's
+    # hints resumes from its tree instead of growing it again
+    trees = {}
+
     def compute(t, s, hints=()):
         return augmented_locus(model, t, method, seed=s, progress=progress, should_stop=stop,
-                               clock=clock, hints=hints)
+                               clock=clock, hints=hints, trees=trees)
 
     if verify:
         # in tm's frame about tm's point: the model's own frame would be as good, but its

@@ -55,7 +55,7 @@ def method_for(shape, requested: str | None = None, *, strict: bool = True) -> s
 
 
 def compute_locus(tm, method: str = "svm", *, rng=None, progress=None,
-                  should_stop=None, clock=None, hints=()) -> Locus:
+                  should_stop=None, clock=None, hints=(), trees=None) -> Locus:
     """Rank-deficiency locus of a :class:`~rankloci.jacobian.TaskMatrix`.
 
     Parameters
@@ -76,6 +76,13 @@ def compute_locus(tm, method: str = "svm", *, rng=None, progress=None,
         computation found a component regular: the leaves whose equations hold
         there are split or keep their exclusions (see
         :func:`~rankloci.tree.reducible.repair_leaves`).
+    trees : dict, optional
+        Where the grown tree of a computation is kept, for a computation again of the same
+        ``tm`` and ``method`` from the same random state with ``hints``: hints change only
+        the leaves of a grown tree, so that one resumes from it instead of growing it again
+        (the self-check's rounds, :func:`~rankloci.verify.verified_locus`; on a 9R snake the
+        tree takes about 70 of the 80 s of a computation).  The trees stay alive as long as
+        the dict does.  ``Locus.seconds`` of a resumed computation counts the tree's growth.
 
     Examples
     --------
@@ -108,15 +115,30 @@ def compute_locus(tm, method: str = "svm", *, rng=None, progress=None,
         return Locus(model=tm.name, variables=tm.variables, parameters=dict(tm.parameters),
                      shape=shape, method=method, components=(), tree=nx.DiGraph(),
                      seconds=(clock() - t0) if clock else 0.0, notes=tuple(notes))
-    ctx = Context(reduced, method=method, rng=rng if rng is not None else np.random.default_rng(0),
-                  progress=progress, should_stop=should_stop)
-    grow = {"svm": singular_vector_tree, "subdeterminant": subdeterminant_tree,
-            "determinant": determinant_tree}[method]
-    degenerate = grow(ctx)
-    refine_leaves(ctx)
+    rng = rng if rng is not None else np.random.default_rng(0)
+    key = (id(tm), method, repr(rng.bit_generator.state))
+    kept = trees.get(key) if trees is not None else None
+    if kept is not None and kept[0] is tm and hints:
+        _, ctx, degenerate, n_notes, grown = kept
+        t0 -= grown
+        # the leaves repaired by earlier hints stay repaired (the hints come again, and a
+        # split leaf's pieces or a kept exclusion no longer admit them); the notes of the
+        # earlier finalisation are written again
+        del ctx.notes[n_notes:]
+        ctx.progress, ctx.should_stop = progress or (lambda msg: None), should_stop or (lambda: False)
+        ctx.reporting = progress is not None
+        ctx.progress("taking up the branch tree grown before, with the hints")
+    else:
+        ctx = Context(reduced, method=method, rng=rng, progress=progress, should_stop=should_stop)
+        grow = {"svm": singular_vector_tree, "subdeterminant": subdeterminant_tree,
+                "determinant": determinant_tree}[method]
+        degenerate = grow(ctx)
+        refine_leaves(ctx)
+        if trees is not None:
+            trees[key] = (tm, ctx, degenerate, len(ctx.notes), (clock() - t0) if clock else 0.0)
     if hints:
-        changed = repair_leaves(ctx, hints)
-        ctx.notes.append(f"{changed} of the leaves were split or kept an exclusion at "
+        ctx.repaired += repair_leaves(ctx, hints)
+        ctx.notes.append(f"{ctx.repaired} of the leaves were split or kept an exclusion at "
                          f"{len(hints)} configuration{'' if len(hints) == 1 else 's'} where a "
                          f"check of the first computation found a component regular")
     components = [lift_directions(c, [r for r, _ in pivots], shape[0]) for c in finalize(ctx)]

@@ -94,6 +94,8 @@ class Context:
         #: .reducible: its equations also hold, with J regular, where a substitution degenerates)
         self.exceptional_exclusions: dict = {}
         self.notes: list[str] = []
+        #: leaves changed by hints (see .reducible.repair_leaves), over every round of them
+        self.repaired = 0
         self.progress = progress or (lambda msg: None)
         #: whether messages are read: a message that prints a leaf's conditions costs as much
         #: as the rest of the leaf's bookkeeping where they have thousands of terms

@@ -5,7 +5,7 @@ components (95 with numeric parameters).  Its lost directions once asked FLINT f
 (a cofactor product of 25258 by 174532 terms) and ended the process.  The locus here is the
 one ``rankloci locus`` shows: computed, checked numerically, and computed again with the
 configurations where the check found a component regular as hints
-(:func:`~rankloci.verify.verified_locus`; one round, about 200 s in all).  Before hints reached
+(:func:`~rankloci.verify.verified_locus`; one round, taken up from the tree grown first).  Before hints reached
 their leaves (angles at float multiples of pi, substitutions undefined at the hint, see
 :func:`~rankloci.tree.reducible.repair_leaves`), the self-check rejected this locus.  Each
 component's sample point is checked to be singular here too, and singular points found by
@@ -55,8 +55,10 @@ def snake():
     reference = task_matrix(parse_model(_snake_text(), name="snake9"), frame=tm.frame,
                             point=tm.point)
 
+    trees = {}
+
     def compute(t, seed, hints=()):
-        return compute_locus(t, "svm", rng=np.random.default_rng(seed), hints=hints)
+        return compute_locus(t, "svm", rng=np.random.default_rng(seed), hints=hints, trees=trees)
 
     locus, verification = verified_locus(compute, tm, reference)
     return tm, locus, verification
