@@ -242,11 +242,19 @@ MAX_DIRECTION_COFACTOR_TERMS = 60_000
 
 
 def _with_direction(ctx: Context, cand: _Candidate) -> Component:
-    """The component, with its lost direction as expressions where they are small."""
+    """The component, with its lost direction as expressions where they are small.
+
+    Kept per leaf in ``ctx.directions``: a computation resumed for the self-check's hints
+    (:func:`~rankloci.methods.compute_locus`, ``trees``) finalises the same leaves again, and
+    on a 9R snake the directions took half of each finalisation.
+    """
     if cand.branch is None:
         return cand.comp
-    return dataclasses.replace(cand.comp, direction=_symbolic_direction(
-        ctx, cand.branch, list(cand.points), cand.comp.rank_drop))
+    key = (cand.branch.key, cand.comp.rank_drop)
+    if key not in ctx.directions:
+        ctx.directions[key] = _symbolic_direction(ctx, cand.branch, list(cand.points),
+                                                  cand.comp.rank_drop)
+    return dataclasses.replace(cand.comp, direction=ctx.directions[key])
 
 
 def _symbolic_direction(ctx, branch, pts, drop):

@@ -96,6 +96,8 @@ class Context:
         self.notes: list[str] = []
         #: leaves changed by hints (see .reducible.repair_leaves), over every round of them
         self.repaired = 0
+        #: (leaf key, rank drop) -> the symbolic lost directions of its component (finalize)
+        self.directions: dict = {}
         self.progress = progress or (lambda msg: None)
         #: whether messages are read: a message that prints a leaf's conditions costs as much
         #: as the rest of the leaf's bookkeeping where they have thousands of terms
