@@ -157,11 +157,13 @@ def _exceptional_exclusions(ctx: "Context", branch: "Branch", pts, degenerate) -
             p = min((v for v in sub.values if not v.is_constant()), key=len, default=None)
             if p is None:
                 continue
-            # a and b are below EXCLUSION_RTOL of their terms at g, so is one factor at least
+            # the factors small at g, scaled by their coefficients (the generators of angles
+            # lie on the unit circle; a value scaled by its own terms is 1 for any single
+            # term, such as sin(q6/2)); where none is, the whole of p
             factors = [f for f in ctx.factors(p) if not f.is_constant()]
-            small = [f for f, r in zip(factors, _relative(ctx.ring.compile(factors, sized=True),
-                                                          np.array([g]))[0])
-                     if abs(r) <= EXCLUSION_RTOL] if factors else []
+            values = ctx.ring.compile(factors)(np.array([g]))[0] if factors else []
+            small = [f for f, v in zip(factors, values)
+                     if abs(v) <= EXCLUSION_RTOL * sum(abs(float(c)) for c in f.coeffs())]
             for f in small or [p]:
                 if not any(f == q for q in out):
                     out.append(f)
