@@ -118,7 +118,8 @@ def compute_locus(tm, method: str = "svm", *, rng=None, progress=None,
     rng = rng if rng is not None else np.random.default_rng(0)
     key = (id(tm), method, repr(rng.bit_generator.state))
     kept = trees.get(key) if trees is not None else None
-    if kept is not None and kept[0] is tm and hints:
+    if kept is not None and hints:
+        # the dict holds tm, so that its id is not reused while the tree is kept
         _, ctx, degenerate, n_notes, grown = kept
         t0 -= grown
         # the leaves repaired by earlier hints stay repaired (the hints come again, and a

@@ -11,6 +11,7 @@ sin y cos z = 0 also hold where cos z = 0 and sin x = sin y (see tests/tree/test
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import sympy as sp
 
 from rankloci.io.toml_model import parse_model
@@ -26,12 +27,18 @@ def _equations(locus):
                   for c in locus.components)
 
 
-def test_hints_resume_the_grown_tree(monkeypatch):
-    tm = task_matrix(parse_model(RAW, name="raw"), frame="auto")
+@pytest.fixture
+def counted(monkeypatch):
+    """The matrix, and the list of contexts the singular vector method grows a tree in."""
     grown = []
     grow = singular_vector.singular_vector_tree
     monkeypatch.setattr(singular_vector, "singular_vector_tree",
                         lambda ctx: grown.append(ctx) or grow(ctx))
+    return task_matrix(parse_model(RAW, name="raw"), frame="auto"), grown
+
+
+def test_hints_resume_the_grown_tree(counted):
+    tm, grown = counted
     trees = {}
     first = compute_locus(tm, "svm", rng=np.random.default_rng(3), trees=trees)
     again = compute_locus(tm, "svm", rng=np.random.default_rng(3), hints=HINTS, trees=trees)
@@ -48,12 +55,8 @@ def test_hints_resume_the_grown_tree(monkeypatch):
         assert sum("of the leaves were split" in n for n in locus.notes) == 1
 
 
-def test_another_seed_or_no_hints_grow_their_own_tree(monkeypatch):
-    tm = task_matrix(parse_model(RAW, name="raw"), frame="auto")
-    grown = []
-    grow = singular_vector.singular_vector_tree
-    monkeypatch.setattr(singular_vector, "singular_vector_tree",
-                        lambda ctx: grown.append(ctx) or grow(ctx))
+def test_another_seed_or_no_hints_grow_their_own_tree(counted):
+    tm, grown = counted
     trees = {}
     compute_locus(tm, "svm", rng=np.random.default_rng(3), trees=trees)
     compute_locus(tm, "svm", rng=np.random.default_rng(4), hints=HINTS, trees=trees)
