@@ -160,7 +160,7 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
                  (numeric, seed + 1, f"with the model's values, seed {seed + 1}")]
     else:
         plan += [(tm, seed + 1, f"seed {seed + 1}"), (tm, seed + 2, f"seed {seed + 2}")]
-    attempts, locus, problems, hints, what = [], None, [], [], ""
+    attempts, locus, problems, hints, what, report = [], None, [], [], "", None
     rounds = 0
     queue = list(plan)
     while queue:
@@ -180,7 +180,7 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
         report = cross_check(locus, reference.matrix, reference.variables,
                              angles=reference.angles, parameters=reference.parameters,
                              samples=samples, rng=np.random.default_rng(seed), seed=seed,
-                             progress=lambda msg: progress(f"self-{msg}"))
+                             progress=lambda msg: progress(f"self-{msg}"), earlier=report)
         problems = _check_problems(report)
         attempts.append(f"{what}: {'passed' if not problems else 'failed'}")
         if not problems:

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from ..algebra import transpose
+from ..algebra import TermLimit, transpose
 from ..locus import Component, Outcome
 from ..numeric.equations import dimension_from_gradient, normalised
 from ..numeric.gauss_newton import gauss_newton_rows
@@ -239,6 +239,13 @@ MAX_DIRECTION_TERMS = 400
 #: snap reach 200000-280000 terms (centauro's arm, 2-4 s each) and never come under
 #: MAX_DIRECTION_TERMS.
 MAX_DIRECTION_COFACTOR_TERMS = 60_000
+#: A direction is abandoned, before any cofactor, where the whole matrix with the branch's
+#: substitutions applied holds more terms than this.  The matrices whose directions came out
+#: small enough to show held at most 7740 terms (9R snake; 1192 on talos' arm, 990 on
+#: centauro's, 344 on the built-in models); on the snake, substituting one leaf's matrix
+#: (1173201 terms) and then its cofactors took 35 s of the locus's 100 s, for a direction
+#: abandoned anyway.
+MAX_DIRECTION_MATRIX_TERMS = 50_000
 
 
 def _with_direction(ctx: Context, cand: _Candidate) -> Component:
@@ -261,7 +268,10 @@ def _symbolic_direction(ctx, branch, pts, drop):
     """Null vectors of the whole matrix on the branch as expressions, if small."""
     if drop != 1:
         return ()
-    M = ctx.substitute(ctx.M, branch)
+    try:
+        M = ctx.substitute(ctx.M, branch, max_terms=MAX_DIRECTION_MATRIX_TERMS)
+    except TermLimit:
+        return ()
     if len(M) > len(M[0]):
         M = transpose(M)
     n = len(M)

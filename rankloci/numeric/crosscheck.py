@@ -84,6 +84,10 @@ class ComponentCheck:
     failures: tuple = ()          # PointCheck where J is regular
     ok: bool = True
     message: str = ""
+    #: what else the check of the points depended on: the component's exclusions (as text)
+    #: and rank drop (see ``earlier`` of :func:`cross_check`)
+    excluding: tuple = ()
+    rank_drop: int | None = None
 
     @property
     def max_ratio(self) -> float:
@@ -204,7 +208,8 @@ def _findings_at(label: str, p: PointCheck, singular: bool) -> list:
 
 
 def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples: int = 10,
-                rng=None, seed=None, progress=None) -> CheckReport:
+                rng=None, seed=None, progress=None, earlier: CheckReport | None = None
+                ) -> CheckReport:
     """Check `locus` numerically against the SVD of `matrix` (see the module docstring).
 
     Parameters
@@ -227,6 +232,11 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
     progress : callable, optional
         Called with a one-line message before each component and each later part (refining
         points in extended precision can take seconds each on long chains).
+    earlier : CheckReport, optional
+        A check of another locus of the same matrix, with the same parameters: a component
+        that passed there, with the same equations, exclusions and rank drop, keeps its
+        points and verdict instead of being sampled again.  A locus recomputed after a
+        failed check (:func:`rankloci.verify.verified_locus`) differs in a few leaves.
 
     Examples
     --------
@@ -259,17 +269,24 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
     all_eqs = []                  # every checked component's equations (residuals only)
     skipped = [tuple(sp.sstr(e) for e in comp.equations) for comp in locus.special]
     tell = progress or (lambda msg: None)
+    passed = {(c.equations, c.excluding, c.rank_drop): c
+              for c in (earlier.components if earlier is not None else ()) if c.ok}
     for i, comp in enumerate(locus.components, start=1):
         tell(f"check: component {i} of {len(locus.components)}")
         eq_text = tuple(sp.sstr(e) for e in comp.equations)
         if not comp.exists_for_model:
             skipped.append(eq_text)
             continue
+        ex_text = tuple(sp.sstr(e) for e in comp.excluding)
         eqs = Equations([prepared(e) for e in comp.equations], nm.variables, {},
                          [prepared(e) for e in comp.excluding])
         all_eqs.append(eqs)
-        pts = [_decided(nm, eqs, _settled(nm, eqs, _point(nm, q)))
-               for q in points_on(eqs, nm, rng, samples)]
+        same = passed.get((eq_text, ex_text, comp.rank_drop))
+        if same is not None:
+            pts = list(same.points)
+        else:
+            pts = [_decided(nm, eqs, _settled(nm, eqs, _point(nm, q)))
+                   for q in points_on(eqs, nm, rng, samples)]
         fails = tuple(p for p in pts if p.regular)
         for p in pts:
             if p.sigma_ratio <= ON_LOCUS_RTOL and not p.regular:
@@ -287,7 +304,8 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
                           if any(p.precise for p in fails) else "") + ")"), False
         else:
             msg, ok = "", True
-        checked.append(ComponentCheck(i, eq_text, tuple(pts), fails, ok, msg))
+        checked.append(ComponentCheck(i, eq_text, tuple(pts), fails, ok, msg, ex_text,
+                                      comp.rank_drop))
 
     # off-locus
     tell("check: random configurations off the locus")

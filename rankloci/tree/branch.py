@@ -20,7 +20,7 @@ from __future__ import annotations
 import functools
 from dataclasses import dataclass
 
-from ..algebra import PolyRing
+from ..algebra import PolyRing, TermLimit
 
 __all__ = ["Branch", "Substitution", "SubstitutedMatrices", "solve_condition", "apply_substitution"]
 
@@ -193,19 +193,29 @@ class SubstitutedMatrices:
         self.ring = ring
         self._memo = {}
 
-    def of(self, M, branch: Branch):
-        """``M`` with the substitutions of ``branch`` applied."""
-        return self._by(M, branch.substitutions)
+    def of(self, M, branch: Branch, max_terms: int | None = None):
+        """``M`` with the substitutions of ``branch`` applied.
 
-    def _by(self, M, subs):
+        With ``max_terms``, :class:`~rankloci.algebra.TermLimit` is raised as soon as a
+        matrix formed on the way holds more terms than that (nothing is memoised then).
+        """
+        return self._by(M, branch.substitutions, max_terms)
+
+    def _by(self, M, subs, max_terms=None):
         if not subs:
             return M
         key = (id(M),) + tuple(id(s) for s in subs)
         got = self._memo.get(key)
         if got is None or got[0] is not M or any(a is not b for a, b in zip(got[1], subs)):
-            prev = self._by(M, subs[:-1])
+            prev = self._by(M, subs[:-1], max_terms)
             last = subs[-1]
-            got = (M, subs, [[apply_substitution(p, last, self.ring) for p in row] for row in prev])
+            rows, terms = [], 0
+            for row in prev:
+                rows.append([apply_substitution(p, last, self.ring) for p in row])
+                terms += sum(len(p) for p in rows[-1])
+                if max_terms is not None and terms > max_terms:
+                    raise TermLimit(f"substituted matrix over {max_terms} terms")
+            got = (M, subs, rows)
             if len(self._memo) > self.LIMIT:
                 self._memo.clear()
             self._memo[key] = got

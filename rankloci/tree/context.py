@@ -314,9 +314,13 @@ class Context:
 
     # --- algebra with notes -----------------------------------------------------------------
 
-    def substitute(self, M, branch: Branch):
-        """``M`` with the substitutions of ``branch`` applied (memoised)."""
-        return self.substituted.of(M, branch)
+    def substitute(self, M, branch: Branch, max_terms: int | None = None):
+        """``M`` with the substitutions of ``branch`` applied (memoised).
+
+        With ``max_terms``, :class:`~rankloci.algebra.TermLimit` is raised where a
+        substituted matrix would hold more terms than that.
+        """
+        return self.substituted.of(M, branch, max_terms)
 
     def factors(self, p):
         """The irreducible factors of ``p`` that can vanish on the circle."""

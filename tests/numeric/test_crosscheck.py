@@ -89,6 +89,35 @@ def test_typo_in_equation_fails():
     assert sum(not c.ok for c in report.components) == 1
 
 
+def test_an_earlier_check_is_reused_for_the_components_it_passed():
+    """A locus recomputed after a failed check differs in a few components: the others keep
+    their points and verdict.  Here the earlier check passed PUMA's components but the
+    bogus q1 = 0; checked again with it, the correct locus samples no component anew,
+    while the bogus one, failed before, is sampled again and fails again."""
+    _, locus, J = _setup("puma560")
+    bogus = Component(equations=(_sym("puma560", "q1"),))
+    first = _check("puma560", _with(locus, [bogus] + list(locus.components)))
+    assert [c.ok for c in first.components] == [False] + [True] * len(locus.components)
+
+    def again(loc):
+        return cross_check(loc, J.matrix, J.variables, angles=J.angles,
+                           parameters=J.parameters, samples=SAMPLES,
+                           rng=np.random.default_rng(SEED + 1), earlier=first)
+
+    second = again(locus)
+    assert second.ok
+    assert [c.points for c in second.components] == [c.points for c in first.components[1:]]
+    assert [c.index for c in second.components] == list(range(1, len(locus.components) + 1))
+    # the q1 = 0 component failed before: not taken from the earlier check
+    third = again(_with(locus, [bogus]))
+    assert not third.components[0].ok
+    assert third.components[0].points != first.components[0].points
+    # the same equations with another rank drop are another component: sampled anew
+    changed = dataclasses.replace(locus.components[0], rank_drop=2)
+    fourth = again(_with(locus, [changed]))
+    assert fourth.components[0].points != first.components[1].points
+
+
 def test_component_without_real_points_fails():
     _, locus, _ = _setup("planar2r")
     q2 = _sym("planar2r", "q2")

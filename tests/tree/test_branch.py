@@ -13,7 +13,7 @@ import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from rankloci.algebra import PolyRing
+from rankloci.algebra import PolyRing, TermLimit
 from rankloci.tree.branch import Branch, SubstitutedMatrices, apply_substitution, solve_condition
 
 q, r, u, v, a, b = sp.symbols("q r u v a b")
@@ -164,3 +164,18 @@ def test_substituted_matrices_equal_the_branch_reduction_and_are_memoised():
     assert got == [[branch.reduce(p, RING) for p in row] for row in M]
     assert subs.of(M, branch) is got
     assert subs.of(M, Branch()) is M
+
+
+def test_substituted_matrices_with_a_term_budget():
+    # (C_q, S_q) ~ (u + v + 1, -(u - v)) turns C_q**3 (1 term) into a cube of three terms
+    # (10 terms), so the matrix holds 11: a budget of 10 refuses it, and the refusal leaves
+    # nothing behind that a later call would return
+    M = [[Cq ** 3, Sr]]
+    branch, _ = Branch().with_condition((U - V) * Cq + (U + V + 1) * Sq, RING)
+    subs = SubstitutedMatrices(RING)
+    with pytest.raises(TermLimit):
+        subs.of(M, branch, max_terms=len(branch.reduce(Cq ** 3, RING)))
+    full = subs.of(M, branch)
+    assert full == [[branch.reduce(Cq ** 3, RING), Sr]]
+    assert sum(len(p) for p in full[0]) == 11
+    assert subs.of(M, branch, max_terms=11) is full
