@@ -3,13 +3,12 @@
 The Kinova Jaco2 6-DOF curved-wrist arm has twists of pi/3 between joints 3-4 and 4-5, so
 sqrt(3)/2 enters its Jacobian.  DH table from Kinova's published parameters (Kinova, "Jaco2
 6DOF curved wrist: DH parameters", KINOVA JACO Robotic Arm User Guide, and the kinova-ros
-documentation): alpha = pi/2, pi, pi/2, pi/3, pi/3, pi; D1 = 0.2755, D2 = 0.41, D3 = 0.2073,
-D4 = D5 = 0.0741, D6 = 0.16, e2 = 0.0098 (m); the wrist offsets are d4b = D3 + D4 sa/s2a,
-d5b = (D4 + D5) sa/s2a, d6b = D5 sa/s2a + D6 with aa = pi/6, sa = sin(aa), s2a = sin(2 aa).
-The joint-angle offsets of the published table only shift the variables and are left out.
+documentation), in kinematics_models/extra/jaco2.toml with its source.
 """
 
 from __future__ import annotations
+
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,36 +21,8 @@ from rankloci.jacobian import task_matrix
 from rankloci.methods import compute_locus, method_for
 from rankloci.numeric.crosscheck import cross_check
 
-JACO2 = """name = "jaco2"
-convention = "dh"
-task = "full"
-[parameters]
-D1 = 0.2755
-D2 = 0.41
-D3 = 0.2073
-D4 = 0.0741
-D5 = 0.0741
-D6 = 0.16
-e2 = 0.0098
-[[joint]]
-alpha = "pi/2"
-d = "D1"
-[[joint]]
-alpha = "pi"
-a = "D2"
-[[joint]]
-alpha = "pi/2"
-d = "-e2"
-[[joint]]
-alpha = "pi/3"
-d = "-(D3 + D4*sin(pi/6)/sin(pi/3))"
-[[joint]]
-alpha = "pi/3"
-d = "-(D4 + D5)*sin(pi/6)/sin(pi/3)"
-[[joint]]
-alpha = "pi"
-d = "-(D5*sin(pi/6)/sin(pi/3) + D6)"
-"""
+EXTRA = Path(__file__).resolve().parents[2] / "kinematics_models" / "extra"
+JACO2 = (EXTRA / "jaco2.toml").read_text()
 
 SEED = 3
 

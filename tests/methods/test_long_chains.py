@@ -1,4 +1,5 @@
-"""A chain of nine joints outside the built-in models: a spatial 9R snake.
+"""A chain of nine joints outside the built-in models: a spatial 9R snake
+(kinematics_models/extra/snake9.toml).
 
 Equal links, no offsets and twists alternating between +pi/2 and -pi/2 make a locus of many
 components (95 with numeric parameters).  Its lost directions once asked FLINT for 6.4 GB
@@ -18,12 +19,14 @@ q6 = 0, q8 = pi, ...}: nearly, not exactly, singular by that rule.)
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from scipy.optimize import least_squares
 
 import locus_helpers as H
-from rankloci.io.toml_model import parse_model
+from rankloci.io.toml_model import read_model
 from rankloci.jacobian import task_matrix
 from rankloci.methods import compute_locus
 from rankloci.numeric.equations import NumericMatrix, descend_to_singular
@@ -31,13 +34,7 @@ from rankloci.tolerances import COVER_DISTANCE, COVER_RESIDUAL, PROBE_DESCENT_RT
 from rankloci.verify import verified_locus
 
 
-def _snake_text(n: int = 9) -> str:
-    head = ('name = "snake9"\nconvention = "dh"\ntask = "full"\nframe = "base"\n'
-            '[parameters]\nl = 0.1\n')
-    twists = ["pi/2" if i % 2 == 0 else "-pi/2" for i in range(n)]
-    joints = "".join(f'[[joint]]\nkind = "revolute"\na = "l"\nalpha = "{t}"\nd = 0\ntheta = "0"\n'
-                     for t in twists)
-    return head + joints
+SNAKE = Path(__file__).resolve().parents[2] / "kinematics_models" / "extra" / "snake9.toml"
 
 
 def _covers(eqs, q, nj) -> bool:
@@ -51,9 +48,9 @@ def _covers(eqs, q, nj) -> bool:
 
 @pytest.fixture(scope="module")
 def snake():
-    tm = task_matrix(parse_model(_snake_text(), name="snake9"), frame="auto", numeric=True)
-    reference = task_matrix(parse_model(_snake_text(), name="snake9"), frame=tm.frame,
-                            point=tm.point)
+    model = read_model(SNAKE)
+    tm = task_matrix(model, frame="auto", numeric=True)
+    reference = task_matrix(model, frame=tm.frame, point=tm.point)
 
     trees = {}
 
