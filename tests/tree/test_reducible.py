@@ -9,6 +9,7 @@ have dimension 1.  A leaf with these equations must not become a component as it
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import sympy as sp
 
 from rankloci.io.toml_model import parse_model
@@ -245,3 +246,31 @@ def test_a_hint_where_a_pair_substitution_degenerates_keeps_its_exclusion():
     assert ctx.ring.to_sympy(kept) in (sp.sin(y / 2), -sp.sin(y / 2), sp.sin(z / 2),
                                        -sp.sin(z / 2))
     assert ctx.leaves == [(branch, node)]
+
+
+@pytest.mark.parametrize("matrix, kept", [
+    ('[["sin(x)", "sin(y) + sin(x)*cos(z)"]]', True),
+    ('[["sin(y)", "sin(z)", "sin(x)*sin(y)"]]', False)])
+def test_pieces_where_a_pair_substitution_is_undefined_are_sampled_before_any_hint(matrix, kept):
+    """The leaf sin(y/2) cos(x/2) + sin(z/2) sin(x/2) = 0, whose pair substitution is undefined
+    where y = z = 0, is checked on that piece, with x free, before the self-check has any
+    hint: where the matrix is regular there (first matrix: [sin x, sin x]) the leaf keeps the
+    shorter value of the substitution as an exclusion; where it is singular there (second:
+    [0, 0, 0]), nothing."""
+    tm = task_matrix(parse_model(f'variables = ["x", "y", "z"]\nmatrix = {matrix}\n',
+                                 name="raw"), frame="auto")
+    ctx = Context(tm, method="svm", rng=np.random.default_rng(0))
+    x, y, z = tm.variables
+    C_x, S_x, _, S_y, _, S_z = ctx.ring.gens[:6]
+    branch, _ = _leaf_with(ctx, S_y * C_x + S_z * S_x)
+    (sub,) = branch.substitutions
+    piece = reducible.exceptional_branch(ctx, branch, sub)
+    assert sorted(map(str, piece.conditions)) == ["S_y", "S_z"]
+    reducible._keep_exceptional_exclusions(ctx, branch)
+    got = ctx.exceptional_exclusions.get(branch.key, [])
+    if kept:
+        (p,) = got
+        assert ctx.ring.to_sympy(p) in (sp.sin(y / 2), -sp.sin(y / 2), sp.sin(z / 2),
+                                        -sp.sin(z / 2))
+    else:
+        assert got == []
