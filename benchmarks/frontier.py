@@ -32,6 +32,12 @@ EXTRA = HERE.parent / "kinematics_models" / "extra"
 #: seconds allowed per chain, by number of joints
 TARGETS = ((7, 10.0), (9, 60.0))
 
+
+def _urdf(file: str, base: str, tip: str) -> list:
+    """Arguments for a chain of an example-robot-data URDF file."""
+    return ["{robots}/" + file, "--base-link", base, "--tip", tip]
+
+
 #: name, joints, arguments after ``rankloci locus`` (``{robots}``: example-robot-data's
 #: ``robots`` directory), what the case shows
 CASES = (
@@ -42,30 +48,22 @@ CASES = (
     ("baxter_dh", 7, [str(EXTRA / "baxter_dh.toml")], "special values a1 = a3"),
     ("iiwa_offsets", 7, [str(EXTRA / "iiwa_offsets.urdf"), "--tip", "link_7"],
      "0.5 mm offsets at joints 2 and 4"),
-    ("pr2 l_wrist_roll_link", 8,
-     ["{robots}/pr2_description/urdf/pr2.urdf", "--base-link", "base_footprint", "--tip",
-      "l_wrist_roll_link"], "torso lift + 7R"),
-    ("romeo l_wrist", 8,
-     ["{robots}/romeo_description/urdf/romeo.urdf", "--base-link", "base_link", "--tip",
-      "l_wrist"], ""),
-    ("human middle_head", 8,
-     ["{robots}/human_description/robots/human.urdf", "--base-link", "middle_pelvis", "--tip",
-      "middle_head"], ""),
-    ("xarm7 link7", 7,
-     ["{robots}/xarm_description/urdf/xarm7.urdf", "--base-link", "world", "--tip", "link7"],
-     ""),
-    ("tiago arm_7_link", 8,
-     ["{robots}/tiago_description/robots/tiago.urdf", "--base-link", "base_footprint", "--tip",
-      "arm_7_link"], "torso lift + 7R"),
-    ("tiago hand_index_link", 9,
-     ["{robots}/tiago_description/robots/tiago.urdf", "--base-link", "base_footprint", "--tip",
-      "hand_index_link"], "torso lift + 7R + finger"),
+    ("pr2 l_wrist_roll_link", 8, _urdf("pr2_description/urdf/pr2.urdf", "base_footprint",
+                                       "l_wrist_roll_link"), "torso lift + 7R"),
+    ("romeo l_wrist", 8, _urdf("romeo_description/urdf/romeo.urdf", "base_link", "l_wrist"), ""),
+    ("human middle_head", 8, _urdf("human_description/robots/human.urdf", "middle_pelvis",
+                                   "middle_head"), ""),
+    ("xarm7 link7", 7, _urdf("xarm_description/urdf/xarm7.urdf", "world", "link7"), ""),
+    ("tiago arm_7_link", 8, _urdf("tiago_description/robots/tiago.urdf", "base_footprint",
+                                  "arm_7_link"), "torso lift + 7R"),
+    ("tiago hand_index_link", 9, _urdf("tiago_description/robots/tiago.urdf", "base_footprint",
+                                       "hand_index_link"), "torso lift + 7R + finger"),
     ("tiago_dual hand_right_thumb_link", 9,
-     ["{robots}/tiago_description/robots/tiago_dual.urdf", "--base-link", "base_footprint",
-      "--tip", "hand_right_thumb_link"], "the corpus's slowest locus"),
+     _urdf("tiago_description/robots/tiago_dual.urdf", "base_footprint",
+           "hand_right_thumb_link"), "the corpus's slowest locus"),
     ("alex_nub_hands LeftWristYawLink", 8,
-     ["{robots}/alex_description/urdf/alex_nub_hands.urdf", "--base-link", "Pelvis", "--tip",
-      "LeftWristYawLink"], "two 40-degree rotations"),
+     _urdf("alex_description/urdf/alex_nub_hands.urdf", "Pelvis", "LeftWristYawLink"),
+     "two 40-degree rotations"),
 )
 
 #: the reference chain timed alone (``locus`` seconds as the corpus records them)
@@ -159,7 +157,7 @@ def render_markdown(rows, meta) -> str:
             status += f": {res['error']}"
         within = "yes" if res["status"] == "ok" and res["seconds"] <= r["target"] else "no"
         lines.append(
-            f"| {r['name']} | {r['joints']} | `{' '.join(r['shown_args'])}` | {secs} | "
+            f"| {r['name']} | {r['joints']} | `{' '.join(r['args'])}` | {secs} | "
             f"{locus_s} | {r['target']:g} | {within} | {res.get('components', '')} | "
             f"{res.get('special', '')} | {status} |")
     lines.append("")
@@ -187,7 +185,7 @@ def main(argv=None) -> int:
         print(f"{name} ...", file=sys.stderr, flush=True)
         res = run_case(real, opts.timeout)
         print(f"{name}: {res}", file=sys.stderr, flush=True)
-        rows.append({"name": name, "joints": joints, "args": shown, "shown_args": shown,
+        rows.append({"name": name, "joints": joints, "args": shown,
                      "what": what, "target": target(joints), "result": res})
     meta = {"python": platform.python_version(), "machine": platform.machine(),
             "date": time.strftime("%Y-%m-%d"), "timeout_s": opts.timeout,

@@ -182,7 +182,8 @@ class Equations:
                    if exprs else None)
         excl = [normalised(sp.expand(sp.sympify(e).subs(parameters))) for e in excluding]
         self.excl_scales = np.array([coefficient_norm(e) for e in excl], dtype=float)
-        self._g = sp.lambdify(tuple(variables), excl, modules="numpy") if excl else None
+        self._g = (sp.lambdify(tuple(variables), excl, modules="numpy", cse=True)
+                   if excl else None)
         self._excl = excl
 
     def excluded_values(self, q) -> np.ndarray:

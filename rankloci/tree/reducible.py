@@ -410,27 +410,19 @@ def _keep_exceptional_exclusions(ctx: "Context", branch: "Branch") -> None:
     self-checked run took 70 s instead of 85 s.  A factor kept must be nonzero at every
     sample point of the leaf, so that no piece of the leaf itself is excluded.
     """
-    from ..tolerances import LEAF_REGULAR_RTOL
-
-    pairs = [s for s in branch.substitutions if s.kind == "pair"]
-    if not pairs:
+    pts = []
+    for sub in branch.substitutions:
+        piece = exceptional_branch(ctx, branch, sub) if sub.kind == "pair" else None
+        if piece is not None:
+            pts += ctx.sampler.points(piece)
+    if not pts:
         return
-    regular = []
-    for sub in pairs:
-        piece = exceptional_branch(ctx, branch, sub)
-        if piece is None:
-            continue
-        for g in ctx.sampler.points(piece):
-            A, S = ctx.probe.evaluated(ctx.M, g)
-            if scaled_ratio(A, S) > LEAF_REGULAR_RTOL and numeric_rank(A, S) == ctx.full_rank:
-                regular.append(g)
-    if not regular:
-        return
+    # _exceptional_exclusions looks only at the points where the matrix is regular
+    found = _exceptional_exclusions(ctx, branch, pts, _degenerate_pairs(ctx, branch, pts))
     own = ctx.sampler.points(branch)
-    found = _exceptional_exclusions(ctx, branch, regular, _degenerate_pairs(ctx, branch, regular))
     kept = ctx.exceptional_exclusions.setdefault(branch.key, [])
     for f in found:
-        if any(ctx.probe.vanishes(f, [x]) for x in own) or any(f == k for k in kept):
+        if ctx.probe.vanishing([f], own).any() or any(f == k for k in kept):
             continue
         kept.append(f)
 
