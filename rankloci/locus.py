@@ -219,7 +219,8 @@ class Locus:
     notes: tuple = ()
     base: "Locus | None" = None   # for an augmented matrix: the locus of J itself
     special: tuple = ()           # components for other parameter values only
-    complete: bool | None = None  # the self-check passed (None: not checked)
+    complete: bool | None = None  # the certificate passed (None: not certified either way)
+    certificate: object = None    # rankloci.exact.witness.Certificate, when one was computed
 
     def __repr__(self) -> str:
         special = f" (+{len(self.special)} special)" if self.special else ""
@@ -341,6 +342,7 @@ class Locus:
             "special_components": [self._component_dict(c) for c in self.special],
             "degenerate": self.degenerate,
             "complete": self.complete,
+            "certificate": self.certificate.to_dict() if self.certificate is not None else None,
             "seconds": round(self.seconds, 4),
             "notes": list(self.notes),
         } | ({"base_locus": self.base.to_dict()} if self.base is not None else {})

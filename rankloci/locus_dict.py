@@ -191,6 +191,14 @@ def parse_locus_dict(data, model=None):
     complete = data.get("complete")
     if complete not in (None, True, False):
         raise ModelError("must be true, false or null", field="complete")
+    certificate = data.get("certificate")
+    if certificate is not None:
+        from .exact.witness import Certificate
+
+        try:
+            certificate = Certificate.from_dict(certificate)
+        except ValueError as exc:
+            raise ModelError(str(exc), field="certificate") from None
     base = data.get("base_locus")
     if base is not None:
         if isinstance(base, dict) and "base_locus" in base:
@@ -204,4 +212,4 @@ def parse_locus_dict(data, model=None):
         special=tuple(c for c in out if not c.exists_for_model),
         degenerate=bool(data.get("degenerate", False)),
         seconds=_number(data.get("seconds", 0.0), "seconds"),
-        notes=tuple(notes), base=base, complete=complete)
+        notes=tuple(notes), base=base, complete=complete, certificate=certificate)

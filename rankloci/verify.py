@@ -1,29 +1,28 @@
-"""Self-checks that run before a locus is shown, and the refinement they trigger.
+"""The certificate of a locus before it is shown, and the recomputation it triggers.
 
-Two checks, both cheap next to the locus itself:
+Three checks:
 
-1. **The determinantal dimension bound.**  Where an n x m matrix (n <= m)
-   has rank n - k, its maximal minors cut out a set each of whose (complex)
-   components has codimension at most k (m - n + k) (Eagon-Northcott).  A
-   reported component of lower dimension is either inside a larger one or a
-   sign that a larger one was missed.  Real loci can legitimately be smaller
-   (the real points of a complex component), so a violation is reported,
-   and the numeric check below decides.
+1. **The certificate** (:mod:`rankloci.exact.witness`): witness points of
+   every codimension the locus can have, computed exactly modulo a large
+   prime, prove that the reported components are the whole locus and that
+   each is rank deficient as stated.  It alone makes ``Locus.complete`` true.
 2. **The numeric check** of :func:`rankloci.numeric.crosscheck.cross_check`
    at the model's own parameter values: points on each component must be
-   singular (sound), random points away from the locus regular, and
-   singular points found by minimising sigma_min/sigma_max from random
-   starts must lie on a component (complete).
+   singular, random points away from the locus regular, and singular points
+   found by minimising sigma_min/sigma_max must lie on a component.  Its
+   regular points are hints that repair the branch tree, and it decides
+   ``complete = False`` where the certificate cannot be computed.
+3. **The determinantal dimension bound** (Eagon-Northcott), reported in the
+   notes of a locus that is not certified.
 
-When the numeric check finds a component regular at some of its points,
-the locus is computed again with those configurations as hints: the
-leaves whose equations hold there are split, or keep the exclusion that
-vanishes there (:func:`rankloci.tree.reducible.repair_leaves`).  When it
-still fails, the locus is computed again with the
+When the certificate fails, the locus is computed again: with the numeric
+check's hints (:func:`rankloci.tree.reducible.repair_leaves`), with the
 model's parameter values substituted (the symbolic analysis assumes generic
-values, and real robots often have special ones), then with other seeds.
-If no attempt passes, the last locus is returned marked incomplete, with
-what the check found: it is never shown as if it had passed.
+values, and real robots often have special ones), with another seed, and
+then with the subdeterminant method.  The first certified locus is
+returned; when none is, the best one is, marked ``complete = False``
+(disproved) or ``None`` (undecided), with what the checks found: it is
+never shown as if it had passed.
 """
 
 from __future__ import annotations
@@ -122,83 +121,153 @@ def _regular_points(report, variables) -> list[dict]:
             for c in report.components for p in c.failures if p.regular]
 
 
+def _certified(locus, reference, seed, should_stop, progress):
+    """``locus`` with its certificate (and that of its base locus, for an augmented matrix)."""
+    from .certify import certify_locus
+
+    progress("certificate: witness points of the locus, modulo a prime")
+    cert = certify_locus(locus, reference, seed=seed, should_stop=should_stop,
+                         progress=progress)
+    if locus.base is not None and reference.n_constraint_rows:
+        base_ref = dataclasses.replace(
+            reference, matrix=reference.matrix[:reference.shape[0] - reference.n_constraint_rows, :],
+            n_constraint_rows=0)
+        base_cert = certify_locus(locus.base, base_ref, seed=seed, should_stop=should_stop)
+        base = dataclasses.replace(locus.base, certificate=base_cert,
+                                   complete=_complete(base_cert, True))
+        locus = dataclasses.replace(locus, base=base)
+        if base_cert.verdict != "passed" and cert.verdict == "passed":
+            cert = dataclasses.replace(cert, verdict=base_cert.verdict, findings=tuple(
+                f"the locus of J without the constraint rows: {f}" for f in base_cert.findings))
+    return dataclasses.replace(locus, certificate=cert), cert
+
+
+def _complete(cert, numeric_ok: bool):
+    """``Locus.complete``: True only for a passing certificate; False when the certificate or
+    the numeric check disproves the locus; None when neither decides."""
+    if cert.verdict == "passed":
+        return True
+    if cert.verdict == "failed" or not numeric_ok:
+        return False
+    return None
+
+
 def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF_CHECK_SAMPLES,
-                   progress=None):
-    """The locus of ``tm``, checked against ``reference`` and recomputed when the check fails.
+                   progress=None, should_stop=None, method=None):
+    """The locus of ``tm``, certified, and recomputed when its certificate fails.
+
+    Each computation is checked twice: numerically (:func:`~rankloci.numeric.crosscheck.
+    cross_check`, whose regular points are hints that repair the branch tree) and by the
+    certificate (:func:`~rankloci.certify.certify_locus`), which alone decides
+    ``Locus.complete``.  The attempts: the computation as asked, with the hints of its numeric
+    check, with the model's parameter values substituted, with other seeds, and then with the
+    subdeterminant method (the same engine, another way through the tree), until one passes its
+    certificate or the time runs out.
 
     Parameters
     ----------
     compute : callable
-        ``compute(tm, seed)`` returns the :class:`~rankloci.locus.Locus` of a task matrix;
-        ``compute(tm, seed, hints=...)`` the same with the configurations where a check
-        found a component regular (see :func:`~rankloci.methods.compute_locus`).
+        ``compute(tm, seed, hints=(), method=None)`` returns the
+        :class:`~rankloci.locus.Locus` of a task matrix (``method`` None: the one asked for).
     tm : TaskMatrix
         The matrix to compute the locus of.
     reference : TaskMatrix
         The same matrix with the parameters symbolic (their values are the
-        model's): what the numeric check evaluates.
+        model's): what the checks evaluate.
     seed : int
         Seed of the first computation and of every check.
     samples : int
         Points per part of the numeric check.
     progress : callable, optional
         Called with one-line progress messages.
+    should_stop : callable, optional
+        True once the time is up: the certificate stops undecided, and no further attempt
+        starts.
+    method : str, optional
+        The method of the first computation; the subdeterminant method is tried last when it
+        is another one.
 
     Returns
     -------
     (Locus, Verification)
-        The locus carries the dimension findings and, when it is incomplete,
-        the check's findings in its notes.
+        The locus carries its certificate; its notes say what the checks found when it is not
+        certified.
     """
     from .numeric.crosscheck import cross_check
 
     progress = progress or (lambda msg: None)
-    plan = [(tm, seed, "as computed")]
+    stop = should_stop or (lambda: False)
+    plan = [(tm, seed, "as computed", None)]
     if tm.parameters:
         numeric = tm.numeric_parameters()
-        plan += [(numeric, seed, "with the model's parameter values substituted"),
-                 (numeric, seed + 1, f"with the model's values, seed {seed + 1}")]
+        plan += [(numeric, seed, "with the model's parameter values substituted", None),
+                 (numeric, seed + 1, f"with the model's values, seed {seed + 1}", None)]
     else:
-        plan += [(tm, seed + 1, f"seed {seed + 1}"), (tm, seed + 2, f"seed {seed + 2}")]
-    attempts, locus, problems, hints, what, report = [], None, [], [], "", None
+        plan += [(tm, seed + 1, f"seed {seed + 1}", None)]
+    if method is not None and method != "subdeterminant":
+        plan += [(tm.numeric_parameters(), seed, "by the subdeterminant method",
+                  "subdeterminant")]
+    attempts, locus, hints, what, report = [], None, [], "", None
+    best = None        # (rank, locus, problems, complete): passed < undecided < failed
     rounds = 0
     queue = list(plan)
     while queue:
-        t, s, base = queue.pop(0)
+        t, s, base, how = queue.pop(0)
         what = base if not hints else (
             f"{base}, with the {len(hints)} configuration{'' if len(hints) == 1 else 's'} "
             f"where the self-check found a component regular")
         if attempts:
-            progress(f"self-check failed; computing the locus again {what}")
+            progress(f"certificate not passed; computing the locus again {what}")
         try:
-            locus = compute(t, s, hints=tuple(hints)) if hints else compute(t, s)
+            if hints:
+                locus = compute(t, s, hints=tuple(hints), method=how)
+            else:
+                locus = compute(t, s, method=how)
         except LocusTimeout:
-            if locus is None:
+            if best is None:
                 raise
             attempts.append(f"{what}: did not finish within the time limit")
             break
         report = cross_check(locus, reference.matrix, reference.variables,
                              angles=reference.angles, parameters=reference.parameters,
                              samples=samples, rng=np.random.default_rng(seed), seed=seed,
-                             progress=lambda msg: progress(f"self-{msg}"), earlier=report)
-        problems = _check_problems(report)
-        attempts.append(f"{what}: {'passed' if not problems else 'failed'}")
-        if not problems:
+                             progress=lambda msg: progress(f"self-{msg}"),
+                             earlier=report if how is None else None)
+        numeric_problems = _check_problems(report)
+        locus, cert = _certified(locus, reference, seed, stop, progress)
+        complete = _complete(cert, not numeric_problems)
+        problems = ([f"certificate: {f}" for f in cert.findings] if cert.verdict != "passed"
+                    else []) + numeric_problems
+        attempts.append(f"{what}: certificate {cert.verdict}"
+                        + (f", numeric check {'passed' if not numeric_problems else 'failed'}"))
+        rank = {True: 0, None: 1, False: 2}[complete]
+        if best is None or rank < best[0]:
+            best = (rank, locus, problems, complete)
+        if complete is True or stop():
             break
+        if complete is None and cert.verdict == "undecided" and not cert.prime:
+            break      # the certificate does not apply to this matrix: recomputing cannot help
         new = [q for q in _regular_points(report, reference.variables) if q not in hints]
         if new and rounds < HINT_ROUNDS:
             # the configurations where a component is regular go back to the tree, which
             # splits the leaves or keeps the exclusions that hold there
             rounds += 1
             hints += new
-            queue.insert(0, (t, s, base))
-    notes = tuple(dimension_findings(locus))
-    if problems:
-        notes += ("INCOMPLETE: the self-check rejects this locus; "
+            queue.insert(0, (t, s, base, how))
+        elif complete is None:
+            break      # the numeric check passes and nothing decides more: keep this locus
+    _, locus, problems, complete = best
+    notes = tuple(dimension_findings(locus)) if complete is not True else ()
+    cert = locus.certificate
+    if complete is False:
+        notes += ("INCOMPLETE: the locus is not certified; "
                   + "; ".join(problems[:4]) + (" ..." if len(problems) > 4 else ""),)
-    elif len(attempts) > 1:
-        notes += (f"the first computation failed its self-check; this locus is the one "
-                  f"{what}",)
-    verification = Verification(not problems, tuple(attempts), tuple(problems))
+    elif complete is None:
+        notes += ("NOT CERTIFIED: " + "; ".join(cert.findings[:3])
+                  + ("; the numeric self-check passed" if not problems or all(
+                      p.startswith("certificate:") for p in problems) else ""),)
+    if len(attempts) > 1:
+        notes += ("computations: " + "; ".join(attempts),)
+    verification = Verification(complete is True, tuple(attempts), tuple(problems))
     return dataclasses.replace(locus, notes=locus.notes + notes,
-                               complete=verification.complete), verification
+                               complete=complete), verification

@@ -140,9 +140,11 @@ def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None,
     # hints resumes from its tree instead of growing it again
     trees = {}
 
-    def compute(t, s, hints=()):
-        return augmented_locus(model, t, method, seed=s, progress=progress, should_stop=stop,
-                               clock=clock, hints=hints, trees=trees)
+    def compute(t, s, hints=(), method=None):
+        return augmented_locus(model, t, method or asked, seed=s, progress=progress,
+                               should_stop=stop, clock=clock, hints=hints, trees=trees)
+
+    asked = method
 
     if verify:
         # in tm's frame about tm's point: the model's own frame would be as good, but its
@@ -152,7 +154,8 @@ def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None,
         reference = task_matrix(model, task=task, augment=extra, **where)
         if progress:
             progress("self-check: the locus is checked numerically before it is shown")
-        result = verified_locus(compute, tm, reference, seed=seed, progress=progress)[0]
+        result = verified_locus(compute, tm, reference, seed=seed, progress=progress,
+                                should_stop=stop, method=method)[0]
     else:
         result = compute(tm, seed)
     if tm.frame is not None and (tm.frame, tm.point) != (getattr(model, "frame", None), "tool"):

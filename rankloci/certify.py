@@ -1,0 +1,82 @@
+"""The certificate of a locus, for the model's own parameter values.
+
+:func:`certify_locus` substitutes the parameter values (exact rationals, as
+the model gives them) into the matrix and into every component of the model's
+locus, and runs :func:`rankloci.exact.witness.certify_components`: witness
+points of every codimension that can occur, computed exactly modulo a large
+prime, prove that the components are the whole locus and that each is
+rank deficient as stated.  The same function checks a locus that was
+computed here and one that a user brought (``rankloci check --locus``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import sympy as sp
+
+from .exact.witness import Certificate, certify_components
+
+__all__ = ["certify_locus", "Certificate"]
+
+
+def _values(parameters) -> dict:
+    out = {}
+    for k, v in dict(parameters or {}).items():
+        v = sp.sympify(v)
+        if isinstance(v, sp.Float):
+            # a float read back from JSON: its shortest decimal is the value the model wrote
+            v = sp.Rational(repr(float(v)))
+        out[k if isinstance(k, sp.Symbol) else sp.Symbol(str(k), real=True)] = v
+    return out
+
+
+def _substituted(expr, values):
+    expr = sp.sympify(expr)
+    by_name = {s.name: s for s in expr.free_symbols}
+    subs = {by_name[k.name]: v for k, v in values.items()
+            if k.name in by_name and by_name[k.name] is not v}
+    return expr.xreplace(subs) if subs else expr
+
+
+def certify_locus(locus, reference, *, seed: int = 0, should_stop=None,
+                  progress=None) -> Certificate:
+    """The certificate of ``locus`` (its model's own components) for the matrix ``reference``.
+
+    Parameters
+    ----------
+    locus : Locus
+    reference : TaskMatrix
+        The matrix the locus is of, in any frame (the rank is the same), with its
+        parameters symbolic and their values in ``reference.parameters``, or substituted.
+    seed : int
+        Seed of the certificate's random choices.
+    should_stop : callable, optional
+        Polled; when it returns True the certificate stops, ``"undecided"``.
+    progress : callable, optional
+
+    Returns
+    -------
+    Certificate
+
+    Examples
+    --------
+    >>> import rankloci
+    >>> from rankloci.jacobian import task_matrix
+    >>> L = rankloci.locus("planar2r", verify=False)
+    >>> certify_locus(L, task_matrix(rankloci.load_model("planar2r"))).verdict
+    'passed'
+    """
+    values = _values(reference.parameters)
+    values.update({k: v for k, v in _values(locus.parameters).items()
+                   if k.name not in {s.name for s in values}})
+    # the locus's variables are the reference's, matched by name (a caller's own symbols and
+    # the real symbols of a document read back are the same variables)
+    values.update({sp.Symbol(v.name): v for v in reference.variables})
+    matrix = sp.Matrix(reference.matrix).applyfunc(lambda e: _substituted(e, values))
+    components = [dataclasses.replace(
+        c, equations=tuple(_substituted(e, values) for e in c.equations),
+        excluding=tuple(_substituted(e, values) for e in c.excluding))
+        for c in locus.components]
+    return certify_components(matrix, reference.variables, reference.angles, components,
+                              seed=seed, deadline=should_stop, progress=progress)

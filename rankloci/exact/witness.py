@@ -1,0 +1,842 @@
+"""The certificate of a locus: witness points of every component, modulo a large prime.
+
+What it proves
+--------------
+Let V be the set of complex configurations at which an n x m matrix J
+(n <= m after transposing) has rank below n: the zero set of its maximal
+minors, with c_i = cos q_i, s_i = sin q_i on the complex circles
+c_i**2 + s_i**2 = 1.  By Eagon and Northcott, every irreducible component of
+V has codimension at most m - n + 1.  A *witness set* of the components of
+codimension c is their intersection with a random affine subspace of
+dimension c: finitely many points, at least one on every such component,
+each a generic point of its component (numerical algebraic geometry's
+witness sets, as in Bertini).
+
+The certificate computes, for each codimension c that can occur, the
+witness points of V, and for each reported component of that codimension
+its own witness points (its equations on the same subspace, minus its
+exclusions), all exactly in a finite field GF(P^k), P a random prime near
+2**61.  It then proves
+
+- *completeness*: every witness point of V lies on a reported component of
+  its codimension, with the component's exclusions nonzero there: every
+  component of V, hence every singular configuration, real or complex, is
+  covered;
+- *soundness*: every witness point of every reported component is a point
+  of V at which the rank drops by exactly the component's ``rank_drop``;
+  the reported dimension is the dimension of the component's equations off
+  their exclusions.
+
+Nothing here depends on the branch tree, on floating point or on a
+tolerance.  The random choices (prime, chart, subspace, compressions) can
+only make it *fail to prove* a true statement or, with a probability
+bounded by the Schwartz-Zippel lemma, accept a false one: each decision is
+the vanishing of a polynomial of degree D in the random choices, so a
+wrong verdict has probability at most (sum of those degrees) / P; the bound
+is computed from the degrees and stated in the result.
+
+Coordinates
+-----------
+Each angle is written in half-angle coordinates C = cos(q/2), S = sin(q/2);
+every entry, padded along its row with powers of C**2 + S**2 = 1, is a form
+of one degree per angle.  On the chart q = psi + 2 atan(t), with a random
+rotation psi, the form becomes a polynomial in t (the factor cos(t)**deg is
+nonzero there); the only configurations outside the chart are
+q = psi + pi, random values that a component hits only when it fixes q at
+exactly that value.  The points t = +-i, where C**2 + S**2 vanishes, are the
+circle's points at infinity and are removed.
+
+Limits
+------
+Witness points are computed for codimensions 1 and 2 (subspaces of
+dimension 1 and 2); a matrix whose components can have codimension 3 or more
+(an n x m matrix with m - n >= 2) is certified for codimensions 1 and 2 and
+the result says that the rest is undecided.  Expressions must be
+polynomials in sines and cosines of rational multiples of the angles (half
+angles included), the other variables and square roots of integers.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import flint
+import numpy as np
+import sympy as sp
+
+__all__ = ["Certificate", "NotCertifiable", "certify_components", "MAX_CODIMENSION",
+           "CERTIFICATE_KIND"]
+
+CERTIFICATE_KIND = "witness points modulo a prime"
+
+#: The verdicts of a certificate.
+VERDICTS = ("passed", "failed", "undecided")
+
+#: Codimensions whose witness points are computed: affine lines and planes.
+MAX_CODIMENSION = 2
+#: Primes are drawn from [2**PRIME_BITS, 2**(PRIME_BITS + 1)): word-sized for flint's nmod
+#: arithmetic, and large enough that the Schwartz-Zippel bound of a wrong verdict (degrees of a
+#: few thousand) is below 1e-12.
+PRIME_BITS = 61
+#: Fresh random choices tried when one is degenerate (a projection that does not separate the
+#: witness points, a denominator divisible by the prime): such a choice has a probability
+#: below 1e-12, so two retries are plenty.
+RETRIES = 3
+
+
+class NotCertifiable(Exception):
+    """The certificate does not apply to this matrix or these equations (with the reason)."""
+
+
+@dataclass(frozen=True)
+class Certificate:
+    """The outcome of :func:`certify_components`.
+
+    Attributes
+    ----------
+    verdict : {"passed", "failed", "undecided"}
+        ``"passed"``: the reported components are the whole locus (complete and sound), with
+        the stated error bound.  ``"failed"``: a witness point disproves it (``findings``).
+        ``"undecided"``: the certificate could not be computed (``findings`` says why).
+    kind : str
+        :data:`CERTIFICATE_KIND`.
+    prime : int or None
+        The prime P of the finite field.
+    seed : int
+        Seed of the random choices (chart, subspaces, compressions): the same seed and
+        inputs give the same certificate.
+    codimensions : tuple of int
+        The codimensions that can occur (1 .. m - n + 1) and were checked.
+    witness_points : dict
+        Codimension -> number of witness points of the locus (over the algebraic closure).
+    findings : tuple of str
+        What disproves the locus, or why no verdict was reached.
+    error_bound : float
+        Upper bound of the probability that a ``"passed"`` verdict is wrong.
+    seconds : float
+    """
+
+    verdict: str
+    kind: str = CERTIFICATE_KIND
+    prime: int | None = None
+    seed: int = 0
+    codimensions: tuple = ()
+    witness_points: dict = field(default_factory=dict)
+    findings: tuple = ()
+    error_bound: float = 0.0
+    seconds: float = 0.0
+
+    @property
+    def passed(self) -> bool:
+        return self.verdict == "passed"
+
+    @classmethod
+    def from_dict(cls, data) -> "Certificate":
+        """The certificate as :meth:`to_dict` wrote it (ValueError naming a bad field)."""
+        if not isinstance(data, dict):
+            raise ValueError("must be an object")
+        verdict = data.get("verdict")
+        if verdict not in VERDICTS:
+            raise ValueError(f"verdict must be one of {VERDICTS}")
+        prime = data.get("prime")
+        if prime is not None and (not isinstance(prime, int) or isinstance(prime, bool)
+                                  or not 0 < prime < 2 ** 64):
+            raise ValueError("prime must be a positive integer below 2**64 or null")
+        ints = [data.get("seed", 0)] + list(data.get("codimensions", []))
+        counts = data.get("witness_points", {})
+        if not isinstance(counts, dict) or not all(
+                isinstance(k, str) and k.isdigit() and len(k) < 6 for k in counts):
+            raise ValueError("witness_points must map codimensions to counts")
+        ints += list(counts.values())
+        if not all(isinstance(v, int) and not isinstance(v, bool) and 0 <= v < 2 ** 63
+                   for v in ints):
+            raise ValueError("seed, codimensions and witness point counts must be "
+                             "non-negative integers")
+        findings = data.get("findings", [])
+        if not isinstance(findings, list) or not all(isinstance(f, str) for f in findings):
+            raise ValueError("findings must be a list of strings")
+        numbers = [data.get("error_bound", 0.0), data.get("seconds", 0.0)]
+        if not all(isinstance(v, (int, float)) and not isinstance(v, bool) and 0 <= v < 1e12
+                   for v in numbers):
+            raise ValueError("error_bound and seconds must be non-negative numbers")
+        return cls(verdict, kind=str(data.get("kind", CERTIFICATE_KIND))[:80], prime=prime,
+                   seed=data.get("seed", 0), codimensions=tuple(data.get("codimensions", [])),
+                   witness_points={int(k): v for k, v in counts.items()},
+                   findings=tuple(f[:2000] for f in findings[:200]),
+                   error_bound=float(numbers[0]), seconds=float(numbers[1]))
+
+    def to_dict(self) -> dict:
+        return {"kind": self.kind, "verdict": self.verdict, "prime": self.prime,
+                "seed": self.seed, "codimensions": list(self.codimensions),
+                "witness_points": {str(k): v for k, v in self.witness_points.items()},
+                "error_bound": self.error_bound, "findings": list(self.findings),
+                "seconds": round(self.seconds, 4)}
+
+
+# --- sympy expressions -> half-angle forms over Q ------------------------------------------
+
+
+class _Forms:
+    """Expressions in the angles and other variables as forms in (C_i, S_i), x_j, r_p."""
+
+    def __init__(self, angles, others, surds):
+        self.angles = tuple(angles)
+        self.others = tuple(others)
+        self.surds = tuple(surds)
+        names = [f"C{i}" for i in range(len(angles))] + [f"S{i}" for i in range(len(angles))]
+        names += [f"x{j}" for j in range(len(others))] + [f"r{p}" for p in self.surds]
+        self.ctx = flint.fmpq_mpoly_ctx.get(tuple(names), "degrevlex")
+        g = self.ctx.gens()
+        na = len(angles)
+        self.C, self.S = g[:na], g[na:2 * na]
+        self.X = g[2 * na:2 * na + len(others)]
+        self.R = g[2 * na + len(others):]
+        self._angle_index = {q: i for i, q in enumerate(self.angles)}
+        self._other_index = {x: j for j, x in enumerate(self.others)}
+
+    def _half_multiple(self, arg):
+        """(angle index, k) when ``arg`` = k * q / 2 for an angle q and an integer k."""
+        coeffs = arg.as_coefficients_dict()
+        if len(coeffs) != 1:
+            return None
+        (sym, coeff), = coeffs.items()
+        if sym not in self._angle_index or not coeff.is_Rational:
+            return None
+        k = 2 * coeff
+        if not k.is_Integer:
+            return None
+        return self._angle_index[sym], int(k)
+
+    def _trig(self, i, k, kind):
+        C, S = self.C[i], self.S[i]
+        re, im = self.ctx.constant(1), self.ctx.constant(0)
+        for _ in range(abs(k)):
+            re, im = re * C - im * S, re * S + im * C
+        if kind is sp.cos:
+            return re
+        return im if k >= 0 else -im
+
+    def form(self, expr):
+        """``expr`` as a polynomial in the generators (not yet homogeneous)."""
+        expr = sp.sympify(expr)
+        allowed = set(self.angles) | set(self.others)
+        unknown = expr.free_symbols - allowed
+        if unknown:
+            raise NotCertifiable(f"{sp.sstr(expr)[:80]} has symbols without values: "
+                                 f"{', '.join(sorted(map(str, unknown)))}")
+        atoms = expr.atoms(sp.sin, sp.cos)
+        if any(self._half_multiple(a.args[0]) is None for a in atoms):
+            expr = sp.expand_trig(sp.expand(expr))
+            atoms = expr.atoms(sp.sin, sp.cos)
+        rep, images = {}, []
+        for a in sorted(atoms, key=sp.default_sort_key):
+            hm = self._half_multiple(a.args[0])
+            if hm is None:
+                raise NotCertifiable(f"{sp.sstr(a)} is not a sine or cosine of a rational "
+                                     "multiple of one angle")
+            d = sp.Dummy()
+            rep[a] = d
+            images.append((d, self._trig(hm[0], hm[1], type(a))))
+        for a in expr.atoms(sp.Pow):
+            if a.is_number:
+                root = _integer_root(a)
+                if root is None:
+                    raise NotCertifiable(f"the constant {sp.sstr(a)} is not a square root of an "
+                                         "integer")
+                n, sign = root
+                value, image = sp.Integer(1), self.ctx.constant(1)
+                for prime, mult in sp.factorint(n).items():
+                    if prime not in self.surds:
+                        raise NotCertifiable(f"sqrt({prime}) is not among the surds")
+                    d = sp.Dummy()
+                    images.append((d, self.R[self.surds.index(prime)]))
+                    value *= d ** mult
+                rep[a] = value if sign > 0 else value / n
+        e = expr.xreplace(rep) if rep else expr
+        for x, j in self._other_index.items():
+            images.append((x, self.X[j]))
+        gens = [d for d, _ in images]
+        if not gens:
+            try:
+                value = sp.Rational(e)
+            except TypeError:
+                raise NotCertifiable(f"{sp.sstr(expr)[:80]} is not a rational constant") from None
+            return self.ctx.constant(flint.fmpq(int(value.p), int(value.q)))
+        try:
+            poly = sp.Poly(e, *gens, domain="QQ")
+        except (sp.PolynomialError, sp.polys.polyerrors.CoercionFailed) as exc:
+            raise NotCertifiable(f"{sp.sstr(expr)[:80]} is not a polynomial in sines, cosines "
+                                 f"and the variables: {exc}") from None
+        aux = flint.fmpq_mpoly_ctx.get(tuple(f"g{k}" for k in range(len(gens))), "degrevlex")
+        terms = {m: flint.fmpq(int(c.p), int(c.q)) for m, c in poly.terms()}
+        return aux.from_dict(terms).compose(*[img for _, img in images], ctx=self.ctx)
+
+    def degrees(self, p):
+        """Per angle: the set of degrees of the terms of ``p`` in (C_i, S_i)."""
+        na = len(self.angles)
+        out = [set() for _ in range(na)]
+        for mon in p.monoms():
+            for i in range(na):
+                out[i].add(mon[i] + mon[na + i])
+        return out
+
+    def homogeneous(self, p, target):
+        """``p`` padded with powers of C_i**2 + S_i**2 to degree ``target[i]`` in each pair."""
+        na = len(self.angles)
+        if not na or p.is_zero():
+            return p
+        parts: dict = {}
+        for mon, coeff in zip(p.monoms(), p.coeffs()):
+            key = tuple(mon[i] + mon[na + i] for i in range(na))
+            parts.setdefault(key, []).append((mon, coeff))
+        out = self.ctx.constant(0)
+        for key, terms in parts.items():
+            part = self.ctx.from_dict(dict(terms))
+            for i, d in enumerate(key):
+                pad = target[i] - d
+                if pad % 2:
+                    raise NotCertifiable(f"an expression mixes odd and even degrees in the "
+                                         f"half angle of {self.angles[i]}: it is not a function "
+                                         "on the circle")
+                if pad:
+                    part *= (self.C[i] ** 2 + self.S[i] ** 2) ** (pad // 2)
+            out += part
+        return out
+
+    def homogeneous_form(self, expr):
+        p = self.form(expr)
+        target = [max(d) if d else 0 for d in self.degrees(p)]
+        return self.homogeneous(p, target)
+
+    def homogeneous_rows(self, M):
+        rows = []
+        for r in range(M.rows):
+            entries = [self.form(M[r, k]) for k in range(M.cols)]
+            target = [0] * len(self.angles)
+            for e in entries:
+                for i, d in enumerate(self.degrees(e)):
+                    target[i] = max([target[i], *d])
+            rows.append([self.homogeneous(e, target) for e in entries])
+        return rows
+
+
+def _integer_root(atom):
+    if atom.base.is_Integer and atom.base > 0 and atom.exp in (sp.S.Half, -sp.S.Half):
+        return int(atom.base), 1 if atom.exp > 0 else -1
+    return None
+
+
+# --- finite fields --------------------------------------------------------------------------
+
+
+def _random_prime(rng, surds):
+    """A prime P in [2**PRIME_BITS, 2**(PRIME_BITS+1)) with a square root of every surd."""
+    while True:
+        cand = int(rng.integers(2 ** PRIME_BITS, 2 ** (PRIME_BITS + 1))) | 1
+        if not flint.fmpz(cand).is_prime():
+            continue
+        roots = []
+        for prime in surds:
+            r = flint.nmod_poly([-prime, 0, 1], cand).roots()
+            if not r:
+                break
+            roots.append(int(r[0][0]))
+        else:
+            return cand, roots
+
+
+def _mod(q, P):
+    den = int(q.q) % P
+    if den == 0:
+        raise ZeroDivisionError
+    return int(q.p) * pow(den, -1, P) % P
+
+
+class _Plane:
+    """A random affine subspace of dimension c in the chart, and forms restricted to it."""
+
+    def __init__(self, forms: _Forms, P: int, roots, c: int, rng):
+        self.forms, self.P, self.c = forms, P, c
+        self.ctx = flint.nmod_mpoly_ctx.get(tuple(f"u{k}" for k in range(c)), modulus=P)
+        u = self.ctx.gens()
+        self.u = u
+
+        def rand():
+            return int(rng.integers(1, P))
+
+        def affine():
+            return self.ctx.constant(rand()) + sum((rand() * uk for uk in u), self.ctx.constant(0))
+
+        na = len(forms.angles)
+        self.tau = [affine() for _ in range(na)]
+        images_C, images_S = [], []
+        for t in self.tau:
+            # a random rotation psi of the chart: (cos psi, sin psi) from a random tangent
+            w = rand()
+            inv = pow(1 + w * w, -1, P)
+            cp, sp_ = (1 - w * w) * inv % P, 2 * w * inv % P
+            images_C.append(cp - sp_ * t)
+            images_S.append(sp_ + cp * t)
+        images = images_C + images_S + [affine() for _ in forms.others]
+        images += [self.ctx.constant(r) for r in roots]
+        self.images = images
+        self.fctx = flint.nmod_mpoly_ctx.get(forms.ctx.names(), modulus=P)
+        #: the circles' points at infinity: 1 + tau_i**2 = 0
+        self.infinity = [1 + t * t for t in self.tau]
+
+    def restrict(self, p):
+        """A form over Q as a polynomial in the plane's coordinates over GF(P)."""
+        P = self.P
+        terms = {m: _mod(c, P) for m, c in zip(p.monoms(), p.coeffs())}
+        if not terms:
+            return self.ctx.constant(0)
+        return self.fctx.from_dict(terms).compose(*self.images, ctx=self.ctx)
+
+
+# --- determinants and points ----------------------------------------------------------------
+
+
+def _det(rows):
+    """Determinant of a square matrix of nmod_mpoly (fraction-free Bareiss)."""
+    a = [list(r) for r in rows]
+    n = len(a)
+    if n == 0:
+        return None
+    sign, prev = 1, None
+    for k in range(n - 1):
+        piv = next((i for i in range(k, n) if not a[i][k].is_zero()), None)
+        if piv is None:
+            return a[0][0] * 0
+        if piv != k:
+            a[k], a[piv] = a[piv], a[k]
+            sign = -sign
+        for i in range(k + 1, n):
+            for j in range(k + 1, n):
+                v = a[k][k] * a[i][j] - a[i][k] * a[k][j]
+                a[i][j] = v if prev is None else v / prev
+        prev = a[k][k]
+    return a[n - 1][n - 1] * sign
+
+
+def _compressions(M, n, m, count, P, rng):
+    """``count`` determinants det(M R) for random m x n matrices R over GF(P)."""
+    if n == m:
+        return [_det(M)]
+    out = []
+    for _ in range(count):
+        R = [[int(rng.integers(0, P)) for _ in range(n)] for _ in range(m)]
+        MR = [[sum((M[r][j] * R[j][k] for j in range(m)), M[r][0] * 0) for k in range(n)]
+              for r in range(n)]
+        out.append(_det(MR))
+    return out
+
+
+def _to_poly(p, P):
+    """A polynomial in one variable (nmod_mpoly) as an nmod_poly."""
+    d = p.to_dict()
+    if not d:
+        return flint.nmod_poly([], P)
+    deg = max(m[0] for m in d)
+    coeffs = [0] * (deg + 1)
+    for m, v in d.items():
+        coeffs[m[0]] = int(v)
+    return flint.nmod_poly(coeffs, P)
+
+
+def _strip(f, g):
+    """``f`` with every factor shared with ``g`` removed (both nmod_poly)."""
+    while f.degree() > 0:
+        h = f.gcd(g)
+        if h.degree() <= 0:
+            break
+        f = f // h
+    return f
+
+
+class _Point:
+    """A witness point: coordinates in GF(P)[z]/(f) for an irreducible f (one Galois orbit)."""
+
+    def __init__(self, field_ctx, coords, degree):
+        self.F = field_ctx
+        self.coords = coords       # field elements, one per plane coordinate
+        self.degree = degree       # points in its Galois orbit
+
+    def value(self, p):
+        """The value of an nmod_mpoly in the plane's coordinates at the point."""
+        total = self.F(0)
+        powers = [[self.F(1)] for _ in self.coords]
+        for mon, coeff in zip(p.monoms(), p.coeffs()):
+            term = self.F(int(coeff))
+            for k, e in enumerate(mon):
+                pw = powers[k]
+                while len(pw) <= e:
+                    pw.append(pw[-1] * self.coords[k])
+                term *= pw[e]
+            total += term
+        return total
+
+    def rank(self, M):
+        """Rank of a matrix of nmod_mpoly at the point (Gaussian elimination over the field)."""
+        a = [[self.value(x) for x in row] for row in M]
+        rank, rows, cols = 0, len(a), len(a[0]) if a else 0
+        for j in range(cols):
+            piv = next((i for i in range(rank, rows) if not a[i][j].is_zero()), None)
+            if piv is None:
+                continue
+            a[rank], a[piv] = a[piv], a[rank]
+            inv = 1 / a[rank][j]
+            for i in range(rows):
+                if i != rank and not a[i][j].is_zero():
+                    f = a[i][j] * inv
+                    a[i] = [x - f * y for x, y in zip(a[i], a[rank])]
+            rank += 1
+        return rank
+
+
+def _field(f, P):
+    return flint.fq_default_ctx(modulus=flint.fmpz_mod_poly_ctx(P)([int(c) for c in f.coeffs()]))
+
+
+def _points_on_line(g, plane):
+    """The distinct roots of the univariate nmod_mpoly ``g`` off the circles' points at
+    infinity, one representative per Galois orbit."""
+    P = plane.P
+    f = _to_poly(g, P)
+    for inf in plane.infinity:
+        f = _strip(f, _to_poly(inf, P))
+    if f.degree() <= 0:
+        return []
+    out = []
+    for fac, _ in f.factor()[1]:
+        if fac.degree() == 1:
+            F = flint.fq_default_ctx(P, 1)
+            root = F(int(-fac.coeffs()[0]) % P)
+            out.append(_Point(F, [root], 1))
+        else:
+            F = _field(fac, P)
+            out.append(_Point(F, [F.gen()], fac.degree()))
+    return out
+
+
+class _Degenerate(Exception):
+    """A random choice that does not separate points; retried with fresh choices."""
+
+
+def _combinations(polys, count, P, rng):
+    out = []
+    for _ in range(count):
+        out.append(sum((int(rng.integers(1, P)) * p for p in polys), polys[0] * 0))
+    return out
+
+
+def _isolated_points_plane(polys, plane, rng, avoid=()):
+    """The isolated common zeros of ``polys`` (nmod_mpoly in u0, u1) that lie off the curve of
+    their gcd, off the circles' points at infinity and off the zeros of every ``avoid``
+    polynomial; and the gcd itself (the curve, as a polynomial).
+
+    Returns (points, curve) where curve is the gcd with the factors at infinity removed.
+    """
+    P = plane.P
+    polys = [p for p in polys if not p.is_zero()]
+    if not polys:
+        return None, None
+    h = polys[0]
+    for p in polys[1:]:
+        h = h.gcd(p)
+    reduced = [p / h for p in polys]
+    curve = h
+    for inf in plane.infinity:
+        while True:
+            g = curve.gcd(inf)
+            if g.is_constant():
+                break
+            curve = curve / g
+    if any(p.is_constant() and not p.is_zero() for p in reduced):
+        return [], curve
+    combos = _combinations(reduced, 3, P, rng) if len(reduced) > 1 else [reduced[0]]
+    if len(combos) == 1:
+        # one polynomial after the gcd is removed: no isolated points (it is a constant)
+        return [], curve
+    r1 = _to_poly(combos[0].resultant(combos[1], "u1"), P)
+    r2 = _to_poly(combos[0].resultant(combos[2], "u1"), P)
+    proj = r1.gcd(r2)
+    if proj.is_zero():
+        raise _Degenerate("the combinations share a factor")
+    points = []
+    if proj.degree() <= 0:
+        return points, curve
+    for fac, _ in proj.factor()[1]:
+        if fac.degree() == 1:
+            F = flint.fq_default_ctx(P, 1)
+            alpha = F(int(-fac.coeffs()[0]) % P)
+        else:
+            F = _field(fac, P)
+            alpha = F.gen()
+        # the polynomials at u0 = alpha, in u1
+        pctx = flint.fq_default_poly_ctx(F)
+        common = None
+        for p in reduced:
+            coeffs: dict = {}
+            for mon, coeff in zip(p.monoms(), p.coeffs()):
+                coeffs[mon[1]] = coeffs.get(mon[1], F(0)) + F(int(coeff)) * alpha ** mon[0]
+            deg = max(coeffs) if coeffs else 0
+            q = pctx([coeffs.get(k, F(0)) for k in range(deg + 1)])
+            common = q if common is None else common.gcd(q)
+        if common is None or common.is_zero():
+            raise _Degenerate("a projection that is not generic")
+        if common.degree() <= 0:
+            continue      # an extraneous root of the resultants
+        common = common.radical() if common.degree() > 1 else common
+        if common.degree() > 1:
+            raise _Degenerate(f"the projection does not separate the witness points "
+                              f"({common.degree()} over one)")
+        c = common.coeffs()
+        beta = -c[0] / c[1]
+        pt = _Point(F, [alpha, beta], fac.degree())
+        if any(pt.value(q).is_zero() for q in [h, *plane.infinity, *avoid]):
+            continue
+        points.append(pt)
+    return points, curve
+
+
+# --- the certificate ------------------------------------------------------------------------
+
+
+@dataclass
+class _ComponentData:
+    index: int
+    codim: int
+    dimension: int
+    rank_drop: int
+    equations: list      # homogeneous forms over Q
+    excluding: list
+
+
+def certify_components(matrix, variables, angles, components, *, seed: int = 0,
+                       deadline=None, progress=None) -> Certificate:
+    """Certify that ``components`` are the rank-deficiency locus of ``matrix``.
+
+    Parameters
+    ----------
+    matrix : sympy.Matrix
+        The matrix, every parameter replaced by its (exact) value.
+    variables, angles : sequence of sympy.Symbol
+        The matrix's variables, and those that enter through sin and cos.
+    components : sequence of rankloci.locus.Component
+        The reported components, their equations with the same parameter values.
+    seed : int
+        Seed of the random choices.
+    deadline : callable, optional
+        Returns True when the time is up: the result is then ``"undecided"``.
+    progress : callable, optional
+        Called with one-line progress messages.
+
+    Returns
+    -------
+    Certificate
+
+    Examples
+    --------
+    >>> q1, q2 = sp.symbols("q1 q2", real=True)
+    >>> from rankloci.locus import Component
+    >>> J = sp.Matrix([[-sp.sin(q1) - sp.sin(q1 + q2), -sp.sin(q1 + q2)],
+    ...                [sp.cos(q1) + sp.cos(q1 + q2), sp.cos(q1 + q2)]])
+    >>> certify_components(J, (q1, q2), (q1, q2), [Component((sp.sin(q2),), dimension=1)]).verdict
+    'passed'
+    >>> certify_components(J, (q1, q2), (q1, q2), []).verdict
+    'failed'
+    """
+    t0 = time.perf_counter()
+    progress = progress or (lambda msg: None)
+    deadline = deadline or (lambda: False)
+    rng = np.random.default_rng(seed)
+    M = sp.Matrix(matrix)
+    if M.rows > M.cols:
+        M = M.T
+    n, m = M.shape
+    N = len(variables)
+    angles = tuple(a for a in variables if a in set(angles))
+    others = tuple(v for v in variables if v not in set(angles))
+    exprs = list(M) + [e for c in components for e in (*c.equations, *c.excluding)]
+    surds = sorted({p for e in exprs for a in sp.sympify(e).atoms(sp.Pow)
+                    if a.is_number and _integer_root(a) for p in sp.factorint(_integer_root(a)[0])})
+    codims = tuple(range(1, min(m - n + 1, N) + 1))
+
+    def result(verdict, findings, **kw):
+        return Certificate(verdict, seed=seed, codimensions=codims, findings=tuple(findings),
+                           seconds=time.perf_counter() - t0, **kw)
+
+    if n == 0:
+        return result("passed" if not components else "failed",
+                      [] if not components else ["a matrix without rows has full rank"])
+    try:
+        forms = _Forms(angles, others, surds)
+        rows = forms.homogeneous_rows(M)
+        comps = []
+        for k, c in enumerate(components, start=1):
+            eqs = [forms.homogeneous_form(e) for e in c.equations]
+            exc = [forms.homogeneous_form(e) for e in c.excluding]
+            comps.append(_ComponentData(k, N - c.dimension, c.dimension, c.rank_drop, eqs, exc))
+    except NotCertifiable as exc:
+        return result("undecided", [f"not certifiable: {exc}"])
+
+    last = None
+    for attempt in range(RETRIES):
+        P, roots = _random_prime(rng, surds)
+        try:
+            return _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed,
+                            deadline, progress, t0)
+        except (_Degenerate, ZeroDivisionError) as exc:
+            last = exc
+            progress(f"certificate: a degenerate random choice ({exc}); trying again")
+        except TimeoutError:
+            return result("undecided", ["the time ran out before the certificate was complete"])
+    return result("undecided", [f"every random choice was degenerate ({last})"])
+
+
+def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline, progress, t0):
+    findings = []
+    counts = {}
+    degree_sum = 0
+
+    def check_time():
+        if deadline():
+            raise TimeoutError
+
+    line = _Plane(forms, P, roots, 1, rng)
+    Ml = [[line.restrict(x) for x in row] for row in rows]
+    H = _compressions(Ml, n, m, 2, P, rng)
+    degree_sum += sum(max(0, int(h.total_degree())) for h in H)
+    if all(h.is_zero() for h in H):
+        # rank deficient everywhere: the locus is the whole space
+        ok = any(c.codim == 0 for c in comps)
+        findings_ = [] if ok else ["the matrix is rank deficient at every configuration, and "
+                                   "no component is the whole space"]
+        for c in comps:
+            if c.codim != 0:
+                findings_.append(f"component {c.index} has dimension below {N}, but the "
+                                 "matrix is rank deficient everywhere (it lies inside the "
+                                 "whole space)")
+        return Certificate("passed" if not findings_ else "failed", prime=P, seed=seed,
+                           codimensions=(0,), witness_points={0: 1}, findings=tuple(findings_),
+                           error_bound=_bound(degree_sum, P), seconds=time.perf_counter() - t0)
+    planes = {1: (line, Ml, H)}
+    for c in codims:
+        check_time()
+        if c > MAX_CODIMENSION:
+            findings.append(f"codimension {c} components (possible for a {n}x{m} matrix) are "
+                            f"not certified: witness points are computed for codimension up "
+                            f"to {MAX_CODIMENSION}")
+            continue
+        if c not in planes:
+            plane = _Plane(forms, P, roots, c, rng)
+            Mp = [[plane.restrict(x) for x in row] for row in rows]
+            Hp = _compressions(Mp, n, m, c + 1, P, rng)
+            degree_sum += sum(max(0, int(h.total_degree())) for h in Hp)
+            planes[c] = (plane, Mp, Hp)
+        plane, Mp, Hp = planes[c]
+        progress(f"certificate: witness points of codimension {c}")
+        if c == 1:
+            g = Hp[0]
+            for h in Hp[1:]:
+                g = g.gcd(h)
+            locus_points = _points_on_line(g, plane)
+        else:
+            locus_points, _ = _isolated_points_plane(Hp, plane, rng)
+        counts[c] = sum(p.degree for p in locus_points)
+        check_time()
+        # every reported component of this codimension: its witness points, their rank
+        mine = [k for k in comps if k.codim == c]
+        comp_eqs = {}
+        for k in mine:
+            eqs = [plane.restrict(e) for e in k.equations]
+            exc = [plane.restrict(e) for e in k.excluding]
+            comp_eqs[k.index] = (eqs, exc)
+            degree_sum += sum(max(0, int(e.total_degree())) for e in eqs + exc)
+            pts = _component_points(eqs, exc, plane, rng, k, findings)
+            if pts is None:
+                continue
+            if not pts:
+                findings.append(f"component {k.index}: no point of dimension {N - c} (its "
+                                f"equations off its exclusions have a smaller dimension, or "
+                                f"no point)")
+                continue
+            for pt in pts:
+                r = pt.rank(Mp)
+                if r != n - k.rank_drop:
+                    what = ("is regular" if r == n else f"has rank {r}, not {n - k.rank_drop}")
+                    findings.append(f"component {k.index}: the matrix {what} at a witness "
+                                    f"point of the component")
+                    break
+            check_time()
+        # completeness: every witness point of the locus on a component of this codimension
+        uncovered = 0
+        for pt in locus_points:
+            covered = False
+            for k in mine:
+                eqs, exc = comp_eqs[k.index]
+                if all(pt.value(e).is_zero() for e in eqs) and not any(
+                        pt.value(x).is_zero() for x in exc):
+                    covered = True
+                    break
+            if not covered:
+                uncovered += pt.degree
+        if uncovered:
+            findings.append(f"{uncovered} of the {counts[c]} witness points of codimension {c} "
+                            f"lie on no reported component: a component of dimension {N - c} "
+                            f"is missing")
+        for k in comps:
+            if k.codim not in codims and k.codim != 0 and not any(
+                    f.startswith(f"component {k.index}:") for f in findings):
+                findings.append(f"component {k.index} has dimension {N - k.codim}, which no "
+                                f"component of a {n}x{m} matrix's locus can have: it lies "
+                                "inside a larger component")
+    uncertified = [c for c in codims if c > MAX_CODIMENSION]
+    failed = [f for f in findings if "are not certified" not in f]
+    for k in comps:
+        if k.codim == 0:
+            failed.append(f"component {k.index} claims the whole space, but the matrix has "
+                          "full rank at a random configuration")
+    verdict = "failed" if failed else ("undecided" if uncertified else "passed")
+    return Certificate(verdict, prime=P, seed=seed, codimensions=codims, witness_points=counts,
+                       findings=tuple(failed + [f for f in findings if f not in failed]),
+                       error_bound=_bound(degree_sum, P), seconds=time.perf_counter() - t0)
+
+
+def _component_points(eqs, exc, plane, rng, k, findings):
+    """Witness points of a component on ``plane`` (None when a finding was recorded)."""
+    nonzero = [e for e in eqs if not e.is_zero()]
+    if not nonzero:
+        findings.append(f"component {k.index}: its equations hold on the whole space, not on "
+                        f"a set of codimension {k.codim}")
+        return None
+    if plane.c == 1:
+        g = nonzero[0]
+        for e in nonzero[1:]:
+            g = g.gcd(e)
+        pts = _points_on_line(g, plane)
+        return [p for p in pts if not any(p.value(x).is_zero() for x in exc)]
+    pts, curve = _isolated_points_plane(nonzero, plane, rng, avoid=exc)
+    if curve is not None and not curve.is_constant():
+        # a part of codimension 1: allowed only inside the exclusions
+        rest = curve
+        for x in exc:
+            if x.is_zero():
+                continue
+            while True:
+                g = rest.gcd(x)
+                if g.is_constant():
+                    break
+                rest = rest / g
+        if not rest.is_constant():
+            findings.append(f"component {k.index}: its equations, off its exclusions, have a "
+                            f"part of larger dimension than the stated {k.dimension}")
+            return None
+    return pts
+
+
+def _bound(degree_sum, P):
+    """Schwartz-Zippel: each random decision fails on a hypersurface of degree at most the
+    degrees involved; their sum over P bounds the probability of a wrong verdict."""
+    return float(min(1.0, (degree_sum + 1) ** 2 / P))
