@@ -49,6 +49,14 @@ def locus_text(locus, *, row_labels=()) -> str:
         lines.append("only for special parameter values (not this model's):")
         for i, c in enumerate(special, 1):
             lines.extend(_component_lines(i, c, row_labels))
+    cert = locus.certificate
+    if cert is not None:
+        if cert.verdict == "passed":
+            lines.append(f"certified complete and sound: {cert.kind}, prime {cert.prime}, "
+                         f"{_witness_text(cert)}; error probability below "
+                         f"{cert.error_bound:.0e} ({cert.seconds:.2f} s)")
+        else:
+            lines.append(f"certificate {cert.verdict}: " + "; ".join(cert.findings[:3]))
     for note in locus.notes:
         lines.append(f"note: {note}")
     if locus.base is not None:
@@ -61,6 +69,11 @@ def locus_text(locus, *, row_labels=()) -> str:
         base_rows = tuple(row_labels[:locus.base.shape[0]]) if row_labels else ()
         lines.extend("  " + line for line in locus_text(locus.base, row_labels=base_rows).splitlines())
     return "\n".join(lines)
+
+
+def _witness_text(cert) -> str:
+    counts = ", ".join(f"{n} in codimension {c}" for c, n in sorted(cert.witness_points.items()))
+    return f"witness points {counts}" if counts else "no witness points"
 
 
 def _kind_text(c) -> str:

@@ -16,7 +16,7 @@ from .models import as_model
 from .progress import log_progress
 
 __all__ = ["load_model", "jacobian", "locus", "check", "report", "is_singular", "Check",
-           "model_locus", "check_model"]
+           "model_locus", "certified_locus", "check_model"]
 
 
 def load_model(model, *, tip=None, base_link=None, variables=None, parameters=None):
@@ -169,6 +169,60 @@ def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None,
     return result
 
 
+def certified_locus(model, *, task=None, augment=(), method=None, seed=0, numeric=False,
+                    verify=True, frame="auto", should_stop=None, progress=None):
+    """The locus of a loaded model, through the one pipeline every command uses.
+
+    read (``model``) -> J (:func:`~rankloci.jacobian.task_matrix`) -> engine
+    (:func:`~rankloci.augmented.augmented_locus`) -> certificate and recomputation
+    (:func:`~rankloci.verify.verified_locus`) -> :class:`~rankloci.locus.Locus`.
+    ``rankloci locus``, ``check``, ``report``, ``ik``, ``manipulability``, sweeps and the
+    Python API all get their locus here, so that the same model, seed and options give the
+    same locus everywhere.  Within a process a result is kept (by model and options) and given
+    again; a computation that ran out of time is not kept.
+
+    Parameters
+    ----------
+    model : RobotModel or MatrixModel
+    task, augment, method, seed, numeric, verify, frame
+        As for :func:`locus`.
+    should_stop : callable, optional
+        Polled; True once the time is up (:class:`~rankloci.errors.LocusTimeout`).
+    progress : callable, optional
+        Called with one-line progress messages.
+
+    Returns
+    -------
+    (Locus, TaskMatrix)
+        The locus and the matrix it was computed from.
+    """
+    from ..augmented import parse_augment
+    from ..jacobian import task_matrix
+    from ..methods import method_for
+    from ..model import RobotModel
+
+    key = (model, tuple(task) if isinstance(task, (list, tuple)) else task, tuple(augment),
+           method, seed, bool(numeric), bool(verify), frame)
+    if key in _PIPELINE:
+        return _PIPELINE[key]
+    extra = parse_augment(model, augment)
+    tm = task_matrix(model, task=task, frame=frame if isinstance(model, RobotModel) else None,
+                     augment=extra, numeric=numeric)
+    chosen = method_for(tm.shape, method)
+    if progress:
+        progress(f"{tm.name}: {tm.shape[0]}x{tm.shape[1]} matrix, method {chosen}, seed {seed}")
+    result = model_locus(model, tm, chosen, task=task, extra=extra, seed=seed, verify=verify,
+                         progress=progress, should_stop=should_stop)
+    if len(_PIPELINE) >= _MAX_CACHED:
+        _PIPELINE.pop(next(iter(_PIPELINE)))
+    _PIPELINE[key] = (result, tm)
+    return result, tm
+
+
+#: Loci of :func:`certified_locus`, by model and options (oldest dropped first).
+_PIPELINE: dict = {}
+
+
 def locus(model, *, variables=None, parameters=None, task=None, augment=(), method=None,
           timeout=None, seed=0, numeric=False, verify=True, frame="auto", tip=None):
     """The rank-deficiency locus of a model or a matrix (the command ``rankloci locus``).
@@ -221,20 +275,10 @@ def locus(model, *, variables=None, parameters=None, task=None, augment=(), meth
     >>> L.contains({"x": 0.7853981633974483, "y": 0.5}), L.contains({"x": 0.0, "y": 0.5})
     (True, False)
     """
-    from ..augmented import parse_augment
-    from ..jacobian import task_matrix
-    from ..methods import method_for
-
     m = load_model(model, tip=tip, variables=variables, parameters=parameters)
-    extra = parse_augment(m, augment)
-    from ..model import RobotModel
-
-    tm = task_matrix(m, task=task, frame=frame if isinstance(m, RobotModel) else None,
-                     augment=extra, numeric=numeric)
-    log_progress(f"{tm.name}: {tm.shape[0]}x{tm.shape[1]} matrix, method "
-                 f"{method_for(tm.shape, method)}, seed {seed}")
-    return model_locus(m, tm, method_for(tm.shape, method), task=task, extra=extra, seed=seed,
-                       timeout=timeout, verify=verify, progress=log_progress)
+    return certified_locus(m, task=task, augment=augment, method=method, seed=seed,
+                           numeric=numeric, verify=verify, frame=frame,
+                           should_stop=_deadline(timeout), progress=log_progress)[0]
 
 
 @dataclass(frozen=True)
@@ -253,15 +297,25 @@ class Check:
 
     numeric: object
     exact: object
+    certificate: object = None
 
     @property
     def ok(self) -> bool:
-        """Every numeric check passed and Singular does not disagree."""
-        return self.numeric.ok and self.exact.status != "disagree"
+        """Every numeric check passed, Singular does not disagree, and the certificate does
+        not disprove the locus (``certified`` says whether it proves it)."""
+        return (self.numeric.ok and self.exact.status != "disagree"
+                and (self.certificate is None or self.certificate.verdict != "failed"))
+
+    @property
+    def certified(self) -> bool:
+        """The certificate proves the locus complete and sound."""
+        return self.certificate is not None and self.certificate.verdict == "passed"
 
     def to_dict(self) -> dict:
         """The JSON document of ``rankloci check --format json``."""
-        return {**self.numeric.to_dict(), "singular": self.exact.to_dict(), "ok": self.ok}
+        cert = self.certificate.to_dict() if self.certificate is not None else None
+        return {**self.numeric.to_dict(), "singular": self.exact.to_dict(),
+                "certificate": cert, "certified": self.certified, "ok": self.ok}
 
     def __str__(self) -> str:
         from ..numeric.crosscheck import render_check_text
@@ -269,7 +323,14 @@ class Check:
         lines = [render_check_text(self.numeric),
                  f"Singular (minimal associated primes of the maximal minors): "
                  f"{self.exact.status}, {self.exact.reason}"]
-        return "\n".join(lines + [f"  {f}" for f in self.exact.findings])
+        lines += [f"  {f}" for f in self.exact.findings]
+        if self.certificate is not None:
+            c = self.certificate
+            lines.append(f"certificate ({c.kind}, prime {c.prime}): {c.verdict}"
+                         + (f", error probability below {c.error_bound:.1e}"
+                            if c.verdict == "passed" else ""))
+            lines += [f"  {f}" for f in c.findings]
+        return "\n".join(lines)
 
 
 def check_model(model, given=None, *, samples=10, seed=0, numeric=False, should_stop=None,
@@ -279,18 +340,22 @@ def check_model(model, given=None, *, samples=10, seed=0, numeric=False, should_
 
     from ..exact.singular import singular_cross_check
     from ..jacobian import task_matrix
-    from ..methods import compute_locus, method_for
     from ..numeric.crosscheck import cross_check
 
     tell = progress or (lambda msg: None)
     checked = given
     if checked is None:
-        tm = task_matrix(model, frame="auto", numeric=numeric)
-        method = method_for(tm.shape)
-        tell(f"{tm.name}: computing the locus ({method}, seed {seed})")
-        checked = compute_locus(tm, method, rng=np.random.default_rng(seed), progress=progress,
-                                should_stop=should_stop)
+        tell(f"{model.name}: computing the locus (seed {seed})")
+        checked = certified_locus(model, seed=seed, numeric=numeric, should_stop=should_stop,
+                                  progress=progress)[0]
     J = task_matrix(model)  # the model's own frame; parameters substituted by cross_check
+    certificate = checked.certificate if given is None else None
+    if certificate is None:
+        from ..certify import certify_locus
+
+        tell(f"{model.name}: certificate of the locus (witness points modulo a prime)")
+        certificate = certify_locus(checked, J, seed=seed, should_stop=should_stop,
+                                    progress=progress)
     n = len(checked.components)
     tell(f"{model.name}: checking {n} component{'' if n == 1 else 's'}, {samples} samples, "
          f"seed {seed}")
@@ -299,7 +364,7 @@ def check_model(model, given=None, *, samples=10, seed=0, numeric=False, should_
                          rng=np.random.default_rng(seed), seed=seed)
     exact = singular_cross_check(task_matrix(model, frame="auto", numeric=True), checked,
                                  rng=np.random.default_rng(seed), parameters=J.parameters)
-    return Check(report, exact)
+    return Check(report, exact, certificate)
 
 
 def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,

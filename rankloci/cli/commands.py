@@ -224,9 +224,14 @@ def cmd_locus(args) -> int:
             print()
             print(tree_text(locus.tree))
     if locus.complete is False:
-        print("rankloci: the locus failed its self-check and is incomplete (see its notes)",
+        print("rankloci: the locus failed its certificate and is incomplete (see its notes)",
               file=sys.stderr)
         return EXIT_FAILED
+    if locus.complete is None and args.verify:
+        why = locus.certificate.findings[0] if locus.certificate is not None and \
+            locus.certificate.findings else "no certificate"
+        print(f"rankloci: the locus is not certified ({why}); the numeric self-check passed",
+              file=sys.stderr)
     return EXIT_OK
 
 

@@ -191,21 +191,16 @@ def _check_out(option, path, suffixes):
 
 
 def _locus_distance(model, args, tell):
-    """The model's locus (numeric parameters) and a ComponentDistance over it."""
-    import numpy as np
-
-    from ..jacobian import task_matrix
-    from ..methods import compute_locus, method_for
+    """The model's locus (the one ``rankloci locus`` shows) and a ComponentDistance over it."""
+    from ..api.calls import certified_locus
     from ..near.nearest import ComponentDistance
     from .commands import _deadline
 
-    tm = task_matrix(model, frame="auto", numeric=True)
-    method = method_for(tm.shape)
     if tell:
-        tell(f"{model.name}: computing the locus of its {tm.shape[0]}x{tm.shape[1]} Jacobian "
-             f"({method})")
-    locus = compute_locus(tm, method, rng=np.random.default_rng(args.seed),
-                          should_stop=_deadline(args.timeout))
+        tell(f"{model.name}: computing the locus of its Jacobian (the locus rankloci locus "
+             "shows)")
+    locus, tm = certified_locus(model, seed=args.seed, should_stop=_deadline(args.timeout),
+                                progress=tell)
     labels = [", ".join(f"{e} = 0" for e in c.equations) for c in locus.components]
     return ComponentDistance(locus, tm.angles), labels
 

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Manipulability", "manipulability", "joint_rates", "nearest_component", "model_locus"]
+__all__ = ["Manipulability", "manipulability", "joint_rates", "nearest_component"]
 
 
 @dataclass(frozen=True)
@@ -102,15 +102,6 @@ def joint_rates(model, q0, points, **options):
     return joint_rates_along(Kinematics(_robot(model)), q0, points, **options)
 
 
-def model_locus(model, *, seed: int = 0):
-    """The locus of the model's task Jacobian with its parameters at their values."""
-    from ..jacobian import task_matrix
-    from ..methods import compute_locus, method_for
-
-    tm = task_matrix(_robot(model), frame="auto", numeric=True)
-    return compute_locus(tm, method_for(tm.shape), rng=np.random.default_rng(seed)), tm.angles
-
-
 def nearest_component(model, q, *, seed: int = 0):
     """The component of the model's locus nearest to ``q`` (joint space): a ``Nearest``.
 
@@ -122,5 +113,7 @@ def nearest_component(model, q, *, seed: int = 0):
     """
     from .nearest import ComponentDistance
 
-    locus, angles = model_locus(model, seed=seed)
-    return ComponentDistance(locus, angles).nearest(np.asarray(q, dtype=float))
+    from ..api.calls import certified_locus
+
+    locus, tm = certified_locus(_robot(model), seed=seed)
+    return ComponentDistance(locus, tm.angles).nearest(np.asarray(q, dtype=float))

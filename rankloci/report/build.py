@@ -147,7 +147,7 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
     ['planar2r-sigma-1.png', 'planar2r-manipulability.png', 'planar2r-robot-1.png',
      'planar2r-tree.png', 'planar2r-near-manipulability.png', 'planar2r-near-path.png']
     """
-    from ..augmented import augmented_locus
+    from ..api.calls import certified_locus
     from ..errors import LocusTimeout
     from ..jacobian import task_matrix
     from ..methods import compute_locus, method_for
@@ -193,8 +193,9 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
     locus, status = None, ""
     try:
         # for an augmented matrix, with J's own locus attached and each component classified
-        locus = timed(f"locus ({method})", lambda: augmented_locus(
-            model, tm, method, seed=seed, progress=progress, should_stop=stopper(), clock=clock))
+        # the locus every command shows: certified, recomputed when its certificate fails
+        locus = timed(f"locus ({method})", lambda: certified_locus(
+            model, seed=seed, numeric=numeric, should_stop=stopper(), progress=progress)[0])
     except LocusTimeout:
         timings.append((f"locus ({method})", float(timeout or 0.0)))
         status = (f"The locus computation ({method}) did not finish within {timeout:g} s "
