@@ -128,6 +128,16 @@ def _certified(locus, reference, seed, should_stop, progress):
     progress("certificate: witness points of the locus, modulo a prime")
     cert = certify_locus(locus, reference, seed=seed, should_stop=should_stop,
                          progress=progress)
+    if cert.redundant:
+        # components below the determinantal bound of their rank drop lie inside larger ones
+        # (or are not singular at all): the locus without them is the same set, or a better one
+        gone = set(cert.redundant)
+        kept = tuple(c for i, c in enumerate(locus.components, 1) if i not in gone)
+        locus = dataclasses.replace(locus, components=kept, notes=locus.notes + (
+            f"{len(gone)} component{'s' * (len(gone) > 1)} below the dimension bound of "
+            f"{'their' if len(gone) > 1 else 'its'} rank drop left out (inside larger ones)",))
+        cert = certify_locus(locus, reference, seed=seed, should_stop=should_stop,
+                             progress=progress)
     if locus.base is not None and reference.n_constraint_rows:
         base_ref = dataclasses.replace(
             reference, matrix=reference.matrix[:reference.shape[0] - reference.n_constraint_rows, :],

@@ -115,6 +115,10 @@ class Certificate:
     error_bound : float
         Upper bound of the probability that a ``"passed"`` verdict is wrong.
     seconds : float
+    redundant : tuple of int
+        Components (1-based) whose dimension is below the determinantal bound of their rank
+        drop: they lie inside larger ones, or are not singular; the locus without them is what
+        a passing certificate is about.
     """
 
     verdict: str
@@ -126,6 +130,7 @@ class Certificate:
     findings: tuple = ()
     error_bound: float = 0.0
     seconds: float = 0.0
+    redundant: tuple = ()
 
     @property
     def passed(self) -> bool:
@@ -153,6 +158,11 @@ class Certificate:
                    for v in ints):
             raise ValueError("seed, codimensions and witness point counts must be "
                              "non-negative integers")
+        redundant = data.get("redundant", [])
+        if not isinstance(redundant, list) or not all(
+                isinstance(v, int) and not isinstance(v, bool) and 0 < v < 10 ** 6
+                for v in redundant):
+            raise ValueError("redundant must be a list of component numbers")
         findings = data.get("findings", [])
         if not isinstance(findings, list) or not all(isinstance(f, str) for f in findings):
             raise ValueError("findings must be a list of strings")
@@ -164,13 +174,15 @@ class Certificate:
                    seed=data.get("seed", 0), codimensions=tuple(data.get("codimensions", [])),
                    witness_points={int(k): v for k, v in counts.items()},
                    findings=tuple(f[:2000] for f in findings[:200]),
-                   error_bound=float(numbers[0]), seconds=float(numbers[1]))
+                   error_bound=float(numbers[0]), seconds=float(numbers[1]),
+                   redundant=tuple(redundant))
 
     def to_dict(self) -> dict:
         return {"kind": self.kind, "verdict": self.verdict, "prime": self.prime,
                 "seed": self.seed, "codimensions": list(self.codimensions),
                 "witness_points": {str(k): v for k, v in self.witness_points.items()},
                 "error_bound": self.error_bound, "findings": list(self.findings),
+                "redundant": list(self.redundant),
                 "seconds": round(self.seconds, 4)}
 
 
@@ -271,6 +283,13 @@ class _Forms:
         aux = flint.fmpq_mpoly_ctx.get(tuple(f"g{k}" for k in range(len(gens))), "degrevlex")
         terms = {m: flint.fmpq(int(c.p), int(c.q)) for m, c in poly.terms()}
         return aux.from_dict(terms).compose(*[img for _, img in images], ctx=self.ctx)
+
+    def number(self, x):
+        """An exact number (rationals and square roots of integers) as a constant form."""
+        p = self.form(sp.sympify(x))
+        if any(sum(m[:2 * len(self.angles) + len(self.others)]) for m in p.monoms()):
+            raise NotCertifiable(f"{sp.sstr(x)} is not a number")
+        return p
 
     def degrees(self, p):
         """Per angle: the set of degrees of the terms of ``p`` in (C_i, S_i)."""
@@ -611,6 +630,45 @@ class _ComponentData:
     rank_drop: int
     equations: list      # homogeneous forms over Q
     excluding: list
+    pieces: list | None = None   # per variable: None (free) or the list of its exact values
+
+
+def _half_tangent(value):
+    """tan(value / 2) as an exact number, or None for value = pi (mod 2 pi)."""
+    value = sp.sympify(value)
+    if isinstance(value, sp.Mul) and len(value.args) == 2 and value.args[0] == 2 \
+            and isinstance(value.args[1], sp.atan):
+        return value.args[1].args[0]
+    ratio = sp.nsimplify(value / sp.pi) if value.is_number else None
+    if ratio is not None and ratio.is_Rational and (ratio - 1) % 2 == 0:
+        return None
+    t = sp.tan(value / 2)
+    if t.has(sp.tan) or t.has(sp.atan) or not t.is_number:
+        raise NotCertifiable(f"the solved value {sp.sstr(value)} has no exact half-angle tangent")
+    return t
+
+
+def _pieces(c, variables, angles):
+    """Per variable, its exact solved values (a finite set) or None when free; None when the
+    component is not given in solved form (a variable neither free nor solved)."""
+    solved = {str(k): v for k, v in (c.solved or {}).items()}
+    free = {str(v) for v in c.free}
+    out = []
+    for v in variables:
+        if v.name in solved and solved[v.name]:
+            vals = []
+            for x in solved[v.name]:
+                if v in angles:
+                    t = _half_tangent(x)
+                    vals.append(("angle", t))
+                else:
+                    vals.append(("value", sp.sympify(x)))
+            out.append(vals)
+        elif v.name in free:
+            out.append(None)
+        else:
+            return None
+    return out
 
 
 def certify_components(matrix, variables, angles, components, *, seed: int = 0,
@@ -659,6 +717,8 @@ def certify_components(matrix, variables, angles, components, *, seed: int = 0,
     angles = tuple(a for a in variables if a in set(angles))
     others = tuple(v for v in variables if v not in set(angles))
     exprs = list(M) + [e for c in components for e in (*c.equations, *c.excluding)]
+    exprs += [sp.sympify(x) for c in components for vals in (c.solved or {}).values()
+              for x in vals]
     surds = sorted({p for e in exprs for a in sp.sympify(e).atoms(sp.Pow)
                     if a.is_number and _integer_root(a) for p in sp.factorint(_integer_root(a)[0])})
     codims = tuple(range(1, min(m - n + 1, N) + 1))
@@ -672,12 +732,25 @@ def certify_components(matrix, variables, angles, components, *, seed: int = 0,
                       [] if not components else ["a matrix without rows has full rank"])
     try:
         forms = _Forms(angles, others, surds)
+        forms.variables = tuple(variables)
         rows = forms.homogeneous_rows(M)
         comps = []
         for k, c in enumerate(components, start=1):
             eqs = [forms.homogeneous_form(e) for e in c.equations]
             exc = [forms.homogeneous_form(e) for e in c.excluding]
-            comps.append(_ComponentData(k, N - c.dimension, c.dimension, c.rank_drop, eqs, exc))
+            pieces = None
+            if N - c.dimension > MAX_CODIMENSION:
+                try:
+                    pieces = _pieces(c, variables, set(angles))
+                    if pieces is not None:
+                        for vals in pieces:
+                            for kind, x in vals or ():
+                                if x is not None:
+                                    forms.number(x)
+                except NotCertifiable:
+                    pieces = None
+            comps.append(_ComponentData(k, N - c.dimension, c.dimension, c.rank_drop, eqs,
+                                        exc, pieces))
     except NotCertifiable as exc:
         return result("undecided", [f"not certifiable: {exc}"])
 
@@ -722,7 +795,13 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
                            codimensions=(0,), witness_points={0: 1}, findings=tuple(findings_),
                            error_bound=_bound(degree_sum, P), seconds=time.perf_counter() - t0)
     planes = {1: (line, Ml, H)}
-    for c in codims:
+    redundant = [k.index for k in comps
+                 if k.codim > 0 and k.codim > k.rank_drop * (m - n + k.rank_drop)]
+    # below the Eagon-Northcott bound of its rank drop, a component lies inside a larger one if
+    # it is singular at all: the caller leaves it out (the certificate is of the rest)
+    comps = [k for k in comps if k.index not in redundant]
+    extra = sorted({k.codim for k in comps if 0 < k.codim <= MAX_CODIMENSION} - set(codims))
+    for c in sorted(set(codims) | set(extra)):
         check_time()
         if c > MAX_CODIMENSION:
             findings.append(f"codimension {c} components (possible for a {n}x{m} matrix) are "
@@ -737,14 +816,17 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
             planes[c] = (plane, Mp, Hp)
         plane, Mp, Hp = planes[c]
         progress(f"certificate: witness points of codimension {c}")
-        if c == 1:
+        if c not in codims:
+            locus_points = []        # no component of the locus has this codimension
+        elif c == 1:
             g = Hp[0]
             for h in Hp[1:]:
                 g = g.gcd(h)
             locus_points = _points_on_line(g, plane)
         else:
             locus_points, _ = _isolated_points_plane(Hp, plane, rng)
-        counts[c] = sum(p.degree for p in locus_points)
+        if c in codims:
+            counts[c] = sum(p.degree for p in locus_points)
         check_time()
         # every reported component of this codimension: its witness points, their rank
         mine = [k for k in comps if k.codim == c]
@@ -786,22 +868,95 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
             findings.append(f"{uncovered} of the {counts[c]} witness points of codimension {c} "
                             f"lie on no reported component: a component of dimension {N - c} "
                             f"is missing")
-        for k in comps:
-            if k.codim not in codims and k.codim != 0 and not any(
-                    f.startswith(f"component {k.index}:") for f in findings):
-                findings.append(f"component {k.index} has dimension {N - k.codim}, which no "
-                                f"component of a {n}x{m} matrix's locus can have: it lies "
-                                "inside a larger component")
     uncertified = [c for c in codims if c > MAX_CODIMENSION]
-    failed = [f for f in findings if "are not certified" not in f]
+    for k in comps:
+        if k.codim <= MAX_CODIMENSION or k.codim == 0:
+            continue
+        check_time()
+        if k.pieces is None:
+            findings.append(f"component {k.index} (dimension {k.dimension}) is not certified: "
+                            f"its codimension {k.codim} is above {MAX_CODIMENSION} and it is "
+                            "not given in solved form")
+            uncertified.append(k.codim)
+            continue
+        found = _check_pieces(k, rows, forms, P, roots, rng, n)
+        findings.extend(found)
+    failed = [f for f in findings if "are not certified" not in f and "is not certified" not in f]
     for k in comps:
         if k.codim == 0:
             failed.append(f"component {k.index} claims the whole space, but the matrix has "
                           "full rank at a random configuration")
+    if redundant:
+        failed.append(f"component{'s' * (len(redundant) > 1)} "
+                      f"{', '.join(map(str, redundant))} {'have' if len(redundant) > 1 else 'has'}"
+                      f" a dimension below the bound for {'their' if len(redundant) > 1 else 'its'}"
+                      " rank drop: inside a larger component, or not singular")
     verdict = "failed" if failed else ("undecided" if uncertified else "passed")
     return Certificate(verdict, prime=P, seed=seed, codimensions=codims, witness_points=counts,
                        findings=tuple(failed + [f for f in findings if f not in failed]),
-                       error_bound=_bound(degree_sum, P), seconds=time.perf_counter() - t0)
+                       error_bound=_bound(degree_sum, P), seconds=time.perf_counter() - t0,
+                       redundant=tuple(redundant))
+
+
+def _check_pieces(k, rows, forms, P, roots, rng, n):
+    """Soundness of a component in solved form: at a random point of each of its pieces (the
+    solved values of each variable, random values of the free ones) its equations vanish, its
+    exclusions do not (a piece where one does is excluded), and the matrix has the stated rank.
+
+    The rank at a random point of a piece is its generic rank except with probability at most
+    degree / P (Schwartz-Zippel), the free coordinates being random."""
+    import itertools
+
+    fctx = flint.nmod_mpoly_ctx.get(forms.ctx.names(), modulus=P)
+    na = len(forms.angles)
+
+    def value(form, point):
+        terms = {m: _mod(c, P) for m, c in zip(form.monoms(), form.coeffs())}
+        if not terms:
+            return 0
+        return int(fctx.from_dict(terms)(*point))
+
+    def number(x):
+        return value(forms.number(x), [0] * (len(forms.ctx.names()) - len(roots)) + list(roots))
+
+    found, admitted = [], 0
+    choices = [vals if vals is not None else [None] for vals in k.pieces]
+    combos = list(itertools.islice(itertools.product(*choices), 64))
+    for combo in combos:
+        C, S, X = [0] * na, [0] * na, [0] * len(forms.others)
+        point_vals = dict(zip(forms.variables, combo))
+        for i in range(na):
+            ch = point_vals.get(forms.angles[i])
+            if ch is None:
+                C[i], S[i] = 1, int(rng.integers(0, P))
+            elif ch[1] is None:
+                C[i], S[i] = 0, 1
+            else:
+                C[i], S[i] = 1, number(ch[1])
+        for j, x in enumerate(forms.others):
+            ch = point_vals.get(x)
+            X[j] = int(rng.integers(0, P)) if ch is None else number(ch[1])
+        point = C + S + X + list(roots)
+        if any(value(e, point) for e in k.equations):
+            found.append(f"component {k.index}: its solved values do not satisfy its equations")
+            return found
+        if any(value(x, point) == 0 for x in k.excluding):
+            continue
+        admitted += 1
+        mat = flint.nmod_mat([[value(e, point) for e in row] for row in rows], P)
+        r = mat.rank()
+        if r != n - k.rank_drop:
+            what = "is regular" if r == n else f"has rank {r}, not {n - k.rank_drop}"
+            found.append(f"component {k.index}: the matrix {what} at a random point of one "
+                         "of its pieces")
+            return found
+    if not admitted:
+        found.append(f"component {k.index}: every piece of its solved form is excluded")
+    dims = {sum(1 for c in combo if c is None) for combo in combos}
+    if dims != {k.dimension}:
+        found.append(f"component {k.index}: its solved form has dimension "
+                     f"{sorted(dims)}, not the stated {k.dimension}")
+    return found
 
 
 def _component_points(eqs, exc, plane, rng, k, findings):
