@@ -177,7 +177,9 @@ class Component:
         if variables is None:
             symbols = set().union(*(e.free_symbols for e in eqs)) if eqs else set()
             variables = sorted(symbols, key=_natural_key)
-        return sp.lambdify(tuple(variables), eqs, modules="numpy")
+        from .numeric.functions import numpy_function
+
+        return numpy_function(tuple(variables), eqs)
 
     def to_dict(self) -> dict:
         """The component as JSON-ready data (an entry of ``components`` in ``rankloci.locus/2``)."""

@@ -34,6 +34,7 @@ from ..tree.cover import children
 from ..tree.reducible import special_points
 from .null_vectors import left_null_vectors
 from .readable import readable_equations
+from ..numeric.functions import numpy_function
 
 __all__ = ["finalize"]
 
@@ -42,7 +43,7 @@ def _equation_functions(ring, equations, tm):
     """Numeric functions of (q, params) for sympy equations (each divided by its largest
     coefficient, so that none overflows a float)."""
     syms = list(tm.variables) + list(ring.params)
-    return sp.lambdify(syms, [normalised(e) for e in equations], modules="numpy"), syms
+    return numpy_function(syms, [normalised(e) for e in equations]), syms
 
 
 @dataclass(frozen=True, eq=False)
@@ -500,7 +501,7 @@ def _remove_contained(ctx: Context, cands: list[_Candidate]) -> list[_Candidate]
             # exact (or high-exponent) number: the coefficients may be beyond a float's range
             # (a number divides each term of a sum: no second expansion is needed)
             scaled = [e / _coefficient_size(sp.expand(e.subs(pvals))) for e in c.equations]
-            raw = sp.lambdify(syms, scaled, modules="numpy")
+            raw = numpy_function(syms, scaled)
 
             def f_rows(X, raw=raw):
                 # one call for all rows: an equation's value is an array over the rows, or
@@ -509,7 +510,7 @@ def _remove_contained(ctx: Context, cands: list[_Candidate]) -> list[_Candidate]
                                  for v in raw(*X.T)], axis=1)
 
             excl = [e / _coefficient_size(sp.expand(e.subs(pvals))) for e in c.excluding]
-            g = sp.lambdify(syms, excl, modules="numpy") if excl else None
+            g = numpy_function(syms, excl) if excl else None
             gscale = np.ones(len(excl)) if excl else None
             compiled[k] = (f_rows, g, gscale)
         return compiled[k]

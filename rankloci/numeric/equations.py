@@ -14,6 +14,7 @@ import numpy as np
 import sympy as sp
 
 from ..tolerances import DIMENSION_RTOL, EXCLUSION_RTOL, ON_COMPONENT_RESIDUAL
+from .functions import numpy_function
 
 __all__ = ["NumericMatrix", "Equations", "normalised", "dimension_from_gradient",
            "coefficient_norm", "minimum_norm_step", "points_on", "minimise_ratio",
@@ -114,7 +115,7 @@ class NumericMatrix:
         self.shape = M.shape
         self.variables = tuple(variables)
         self.angles = frozenset(angles)
-        self._J = sp.lambdify(self.variables, list(M), modules="numpy", cse=True)
+        self._J = numpy_function(self.variables, list(M), cse=True)
         self.complex_step = is_analytic(M)
         self._matrix = M
         self._dJ = self._Jmp = None
@@ -140,9 +141,15 @@ class NumericMatrix:
             Q = q[None, :] + 1j * COMPLEX_STEP * np.eye(n)
             return self._values(Q, complex).imag / COMPLEX_STEP
         if self._dJ is None:
-            self._dJ = sp.lambdify(self.variables,
-                                   [list(self._matrix.diff(v)) for v in self.variables],
-                                   modules="numpy")
+            flat = [e for v in self.variables for e in self._matrix.diff(v)]
+            n_entries = len(self._matrix)
+            derivatives = numpy_function(self.variables, flat)
+
+            def nested(*q, f=derivatives, k=n_entries):
+                vals = f(*q)
+                return [vals[i:i + k] for i in range(0, len(vals), k)]
+
+            self._dJ = nested
         vals = self._dJ(*q)
         return np.array([[float(x) for x in row] for row in vals]).reshape((-1,) + self.shape)
 
@@ -152,8 +159,8 @@ class NumericMatrix:
         import mpmath
 
         if self._Jmp is None:
-            self._Jmp = sp.lambdify(self.variables, list(self._matrix), modules="mpmath",
-                                    cse=True)
+            self._Jmp = numpy_function(self.variables, list(self._matrix), modules="mpmath",
+                                       cse=True)
         with mpmath.workdps(digits):
             rows, cols = self.shape
             vals = self._Jmp(*x)
@@ -178,11 +185,11 @@ class Equations:
         self.scales = np.array([coefficient_norm(e) for e in exprs], dtype=float)
         # cse: each sine and cosine once, not once per term (long chains' equations have
         # hundreds of terms in a dozen of them)
-        self._f = (sp.lambdify(tuple(variables), exprs, modules="numpy", cse=True)
+        self._f = (numpy_function(tuple(variables), exprs, cse=True)
                    if exprs else None)
         excl = [normalised(sp.expand(sp.sympify(e).subs(parameters))) for e in excluding]
         self.excl_scales = np.array([coefficient_norm(e) for e in excl], dtype=float)
-        self._g = (sp.lambdify(tuple(variables), excl, modules="numpy", cse=True)
+        self._g = (numpy_function(tuple(variables), excl, cse=True)
                    if excl else None)
         self._excl = excl
 
@@ -247,9 +254,9 @@ class Equations:
             ts = sp.symbols(f"t:{len(self._excl)}")
             F = list(self._exprs) + [t * e - 1 for t, e in zip(ts, self._excl)]
             unknowns = self._variables + tuple(ts)
-            f = sp.lambdify(unknowns, F, modules="mpmath", cse=True)
+            f = numpy_function(unknowns, F, modules="mpmath", cse=True)
             self._newton = (f, functools.partial(complex_step, f),
-                            sp.lambdify(self._variables, self._excl, modules="mpmath"))
+                            numpy_function(self._variables, self._excl, modules="mpmath"))
         return self._newton
 
     def refined(self, q) -> np.ndarray:
