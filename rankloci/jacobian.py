@@ -14,6 +14,7 @@ import dataclasses
 from dataclasses import dataclass, field
 from typing import Mapping, Sequence
 
+import numpy as np
 import sympy as sp
 
 from .errors import ExpressionError, ModelError
@@ -58,6 +59,7 @@ class TaskMatrix:
     frame: object = None     # frame and reference point the Jacobian rows use
     point: object = None
     rows: tuple = ()         # the selected rows of the 6-row Jacobian
+    notes: tuple = ()        # what building the matrix changed (constant angles made exact)
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -69,8 +71,9 @@ class TaskMatrix:
             return self
         import dataclasses
 
-        return dataclasses.replace(self, matrix=sp.ImmutableMatrix(self.matrix.subs(self.parameters)),
-                                   parameters={})
+        M, notes = exact_constant_angles(sp.Matrix(self.matrix.subs(self.parameters)))
+        return dataclasses.replace(self, matrix=sp.ImmutableMatrix(M), parameters={},
+                                   notes=tuple(dict.fromkeys(self.notes + notes)))
 
 
 def _small_frame(model: RobotModel, rows, point):
@@ -165,11 +168,76 @@ def task_matrix(model, *, task=None, frame=None, point="tool", augment: Sequence
         J = J.col_join(augmented_rows(model, [g for _, g in constraints]))
         labels += tuple(name for name, _ in constraints)
     robot = isinstance(model, RobotModel)
+    J, notes = exact_constant_angles(J)
     tm = TaskMatrix(model.name, sp.ImmutableMatrix(J), tuple(model.variables), angles,
                     dict(model.parameters), labels, len(constraints),
                     frame=frame if robot else None, point=point if robot else None,
-                    rows=tuple(rows) if robot else ())
+                    rows=tuple(rows) if robot else (), notes=notes)
     return tm.numeric_parameters() if numeric else tm
+
+
+def _constant_part(arg):
+    """The constant angle in a sine or cosine argument whose value has no exact radical form
+    (``3/10``, ``2*pi/7``; not ``pi/4``), or None."""
+    const = sp.Add(*[t for t in sp.Add.make_args(arg) if t.is_number])
+    if const == 0 or not const.is_real:
+        return None
+    if not (sp.cos(const).has(sp.cos) or sp.sin(const).has(sp.sin)):
+        return None
+    return const
+
+
+def exact_constant_angles(M):
+    """``M`` with the sines and cosines of constant angles made exact, and notes saying how.
+
+    One policy for every input format (DH tables, raw matrices, sympy, Robotics Toolbox and
+    Pinocchio robots), the one URDF angles get (:mod:`rankloci.io.urdf_exact`): a constant
+    angle within 1e-5 of a multiple of pi/12 is that multiple, whose sine and cosine are exact
+    square roots; any other (a twist of 0.3 rad, 2*pi/7) becomes the exactly orthogonal
+    rotation by ``2*atan(u)`` with ``u`` the shortest rational within 1e-9 rad of it, so that
+    cos**2 + sin**2 = 1 holds exactly.  Angles that already have exact radical values
+    (``pi/4``) are left as they are.
+
+    Examples
+    --------
+    >>> q = sp.Symbol("q", real=True)
+    >>> M, notes = exact_constant_angles(sp.Matrix([[sp.cos(q + sp.Rational(3, 10))]]))
+    >>> M[0, 0].atoms(sp.cos)
+    {cos(q)}
+    >>> len(notes)
+    1
+    """
+    from .io.urdf_exact import _cos_sin
+
+    found = {}
+    for a in M.atoms(sp.sin, sp.cos):
+        const = _constant_part(a.args[0])
+        if const is not None and const not in found:
+            found[const] = _cos_sin(float(const))
+    if not found:
+        return M, ()
+
+    def rewrite(f, arg):
+        const = _constant_part(arg)
+        if const is None:
+            return f(arg)
+        c, s_ = found[const]
+        rest = arg - const
+        if f is sp.cos:
+            return sp.cos(rest) * c - sp.sin(rest) * s_
+        return sp.sin(rest) * c + sp.cos(rest) * s_
+
+    out = M.applyfunc(lambda e: e.replace(
+        lambda x: isinstance(x, (sp.sin, sp.cos)) and _constant_part(x.args[0]) is not None,
+        lambda x: rewrite(type(x), x.args[0])))
+    out = out.applyfunc(sp.expand)
+    notes = []
+    for const, (c, s_) in sorted(found.items(), key=lambda kv: float(kv[0])):
+        err = abs(float(sp.atan2(s_, c)) - ((float(const) + np.pi) % (2 * np.pi) - np.pi))
+        notes.append(f"the constant angle {sp.sstr(const)} has no exact radical sine and "
+                     f"cosine: it was read as the exact rotation with cos = {sp.sstr(c)}, "
+                     f"sin = {sp.sstr(s_)}, {err:.1e} rad from it")
+    return out, tuple(notes)
 
 
 def pivot_constant_columns(tm):

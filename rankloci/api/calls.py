@@ -164,6 +164,8 @@ def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None,
         result = dataclasses.replace(result, notes=result.notes + (
             f"J was computed in {where}{about} (same rank); symbolic lost directions are "
             f"expressed there, the directions at the sample points in the model's frame",))
+    if tm.notes:
+        result = dataclasses.replace(result, notes=tuple(tm.notes) + result.notes)
     if getattr(model, "notes", ()):
         result = dataclasses.replace(result, notes=tuple(model.notes) + result.notes)
     return result
