@@ -73,8 +73,13 @@ CERTIFICATE_KIND = "witness points modulo a prime"
 #: The verdicts of a certificate.
 VERDICTS = ("passed", "failed", "undecided")
 
-#: Codimensions whose witness points are computed: affine lines and planes.
-MAX_CODIMENSION = 2
+#: Codimensions whose witness points are computed (affine subspaces of that dimension): one
+#: variable is eliminated per codimension above 1, and each elimination squares the degrees.
+MAX_CODIMENSION = 4
+#: The largest degree an elimination may reach (the square of the degree of the polynomials it
+#: eliminates from); beyond it the codimension is left undecided.  A resultant of two
+#: polynomials of degree 60 in few variables takes flint about a second.
+MAX_ELIMINATION_DEGREE = 3600
 #: Primes are drawn from [2**PRIME_BITS, 2**(PRIME_BITS + 1)): word-sized for flint's nmod
 #: arithmetic, and large enough that the Schwartz-Zippel bound of a wrong verdict (degrees of a
 #: few thousand) is below 1e-12.
@@ -517,27 +522,6 @@ def _field(f, P):
     return flint.fq_default_ctx(modulus=flint.fmpz_mod_poly_ctx(P)([int(c) for c in f.coeffs()]))
 
 
-def _points_on_line(g, plane):
-    """The distinct roots of the univariate nmod_mpoly ``g`` off the circles' points at
-    infinity, one representative per Galois orbit."""
-    P = plane.P
-    f = _to_poly(g, P)
-    for inf in plane.infinity:
-        f = _strip(f, _to_poly(inf, P))
-    if f.degree() <= 0:
-        return []
-    out = []
-    for fac, _ in f.factor()[1]:
-        if fac.degree() == 1:
-            F = flint.fq_default_ctx(P, 1)
-            root = F(int(-fac.coeffs()[0]) % P)
-            out.append(_Point(F, [root], 1))
-        else:
-            F = _field(fac, P)
-            out.append(_Point(F, [F.gen()], fac.degree()))
-    return out
-
-
 class _Degenerate(Exception):
     """A random choice that does not separate points; retried with fresh choices."""
 
@@ -549,13 +533,108 @@ def _combinations(polys, count, P, rng):
     return out
 
 
-def _isolated_points_plane(polys, plane, rng, avoid=()):
-    """The isolated common zeros of ``polys`` (nmod_mpoly in u0, u1) that lie off the curve of
-    their gcd, off the circles' points at infinity and off the zeros of every ``avoid``
-    polynomial; and the gcd itself (the curve, as a polynomial).
+class _TooLarge(Exception):
+    """The elimination would exceed :data:`MAX_ELIMINATION_DEGREE`."""
 
-    Returns (points, curve) where curve is the gcd with the factors at infinity removed.
-    """
+
+def _univariate_points(f, P):
+    """One representative point (a field element) per irreducible factor of ``f``."""
+    out = []
+    if f.degree() <= 0:
+        return out
+    for fac, _ in f.factor()[1]:
+        if fac.degree() == 1:
+            F = flint.fq_default_ctx(P, 1)
+            out.append((F, F(int(-fac.coeffs()[0]) % P), 1))
+        else:
+            F = _field(fac, P)
+            out.append((F, F.gen(), fac.degree()))
+    return out
+
+
+def _at(p, coords, F, k):
+    """``p`` (nmod_mpoly in u0..) with u0..u_{k-1} = ``coords`` (in F): a polynomial in u_k over F."""
+    coeffs: dict = {}
+    for mon, coeff in zip(p.monoms(), p.coeffs()):
+        term = F(int(coeff))
+        for j in range(k):
+            if mon[j]:
+                term *= coords[j] ** mon[j]
+        coeffs[mon[k]] = coeffs.get(mon[k], F(0)) + term
+    deg = max(coeffs) if coeffs else 0
+    return flint.fq_default_poly_ctx(F)([coeffs.get(j, F(0)) for j in range(deg + 1)])
+
+
+def _isolated(polys, k, P, rng):
+    """The isolated common zeros of ``polys`` in the variables u0 .. u_{k-1} (the others
+    absent), off the hypersurface of their gcd: (field, coords, orbit size) per Galois orbit.
+
+    One variable is eliminated at a time: the resultants in u_{k-1} of one random combination
+    of the polynomials with k others vanish on the projection of their common zeros; the
+    isolated zeros of the resultants (recursively) are lifted back by the gcd of the
+    polynomials at them, and the extraneous ones have none.  Positive-dimensional parts project
+    to positive-dimensional parts, never to isolated points, at a generic projection (the
+    subspace is random)."""
+    polys = [p for p in polys if not p.is_zero()]
+    if not polys:
+        raise _Degenerate("every polynomial vanishes")
+    if k == 1:
+        g = polys[0]
+        for p in polys[1:]:
+            g = g.gcd(p)
+        return [(F, [x], d) for F, x, d in _univariate_points(_to_poly(g, P), P)]
+    h = polys[0]
+    for p in polys[1:]:
+        h = h.gcd(p)
+    reduced = [p / h for p in polys]
+    if any(p.is_constant() for p in reduced) or len(reduced) < 2:
+        return []
+    var = f"u{k - 1}"
+    combos = _combinations(reduced, k + 1, P, rng)
+    deg = max(int(c.total_degree()) for c in combos)
+    if deg * deg > MAX_ELIMINATION_DEGREE:
+        raise _TooLarge(f"eliminating {k - 1} variables from polynomials of degree {deg}")
+    res = [combos[0].resultant(c, var) for c in combos[1:]]
+    if all(r.is_zero() for r in res):
+        raise _Degenerate("the combinations share a factor")
+    out = []
+    for F, coords, d in _isolated(res, k - 1, P, rng):
+        common = None
+        for p in reduced:
+            q = _at(p, coords, F, k - 1)
+            common = q if common is None else common.gcd(q)
+        if common is None or common.is_zero():
+            raise _Degenerate("a projection that is not generic")
+        if common.degree() <= 0:
+            continue        # extraneous: a zero of the resultants that lifts to none
+        common = common.radical()
+        if common.degree() > 1:
+            raise _Degenerate(f"the projection does not separate the witness points "
+                              f"({common.degree()} over one)")
+        c = common.coeffs()
+        point = list(coords) + [-c[0] / c[1]]
+        if _value(h, point, F).is_zero():
+            continue        # on the hypersurface part: not isolated
+        out.append((F, point, d))
+    return out
+
+
+def _value(p, coords, F):
+    total = F(0)
+    for mon, coeff in zip(p.monoms(), p.coeffs()):
+        term = F(int(coeff))
+        for j, e in enumerate(mon):
+            if e:
+                term *= coords[j] ** e
+        total += term
+    return total
+
+
+def _isolated_points(polys, plane, rng, avoid=()):
+    """Witness points: the isolated common zeros of ``polys`` on ``plane``, off the circles'
+    points at infinity and off the zeros of every ``avoid`` polynomial; and the hypersurface
+    part (the gcd of the polynomials, factors at infinity removed; a constant when there is
+    none).  On a line the zeros of the gcd are the points."""
     P = plane.P
     polys = [p for p in polys if not p.is_zero()]
     if not polys:
@@ -563,59 +642,22 @@ def _isolated_points_plane(polys, plane, rng, avoid=()):
     h = polys[0]
     for p in polys[1:]:
         h = h.gcd(p)
-    reduced = [p / h for p in polys]
     curve = h
     for inf in plane.infinity:
-        while True:
+        while not curve.is_constant():
             g = curve.gcd(inf)
             if g.is_constant():
                 break
             curve = curve / g
-    if any(p.is_constant() and not p.is_zero() for p in reduced):
-        return [], curve
-    combos = _combinations(reduced, 3, P, rng) if len(reduced) > 1 else [reduced[0]]
-    if len(combos) == 1:
-        # one polynomial after the gcd is removed: no isolated points (it is a constant)
-        return [], curve
-    r1 = _to_poly(combos[0].resultant(combos[1], "u1"), P)
-    r2 = _to_poly(combos[0].resultant(combos[2], "u1"), P)
-    proj = r1.gcd(r2)
-    if proj.is_zero():
-        raise _Degenerate("the combinations share a factor")
+    raw = _isolated(polys, plane.c, P, rng)
     points = []
-    if proj.degree() <= 0:
-        return points, curve
-    for fac, _ in proj.factor()[1]:
-        if fac.degree() == 1:
-            F = flint.fq_default_ctx(P, 1)
-            alpha = F(int(-fac.coeffs()[0]) % P)
-        else:
-            F = _field(fac, P)
-            alpha = F.gen()
-        # the polynomials at u0 = alpha, in u1
-        pctx = flint.fq_default_poly_ctx(F)
-        common = None
-        for p in reduced:
-            coeffs: dict = {}
-            for mon, coeff in zip(p.monoms(), p.coeffs()):
-                coeffs[mon[1]] = coeffs.get(mon[1], F(0)) + F(int(coeff)) * alpha ** mon[0]
-            deg = max(coeffs) if coeffs else 0
-            q = pctx([coeffs.get(k, F(0)) for k in range(deg + 1)])
-            common = q if common is None else common.gcd(q)
-        if common is None or common.is_zero():
-            raise _Degenerate("a projection that is not generic")
-        if common.degree() <= 0:
-            continue      # an extraneous root of the resultants
-        common = common.radical() if common.degree() > 1 else common
-        if common.degree() > 1:
-            raise _Degenerate(f"the projection does not separate the witness points "
-                              f"({common.degree()} over one)")
-        c = common.coeffs()
-        beta = -c[0] / c[1]
-        pt = _Point(F, [alpha, beta], fac.degree())
-        if any(pt.value(q).is_zero() for q in [h, *plane.infinity, *avoid]):
+    for F, coords, d in raw:
+        pt = _Point(F, coords, d)
+        if any(pt.value(q).is_zero() for q in [*plane.infinity, *avoid]):
             continue
         points.append(pt)
+    if plane.c == 1:
+        return points, plane.ctx.constant(1)
     return points, curve
 
 
@@ -760,6 +802,8 @@ def certify_components(matrix, variables, angles, components, *, seed: int = 0,
         try:
             return _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed,
                             deadline, progress, t0)
+        except _TooLarge as exc:
+            return result("undecided", [f"the certificate's elimination is too large ({exc})"])
         except (_Degenerate, ZeroDivisionError) as exc:
             last = exc
             progress(f"certificate: a degenerate random choice ({exc}); trying again")
@@ -818,13 +862,8 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
         progress(f"certificate: witness points of codimension {c}")
         if c not in codims:
             locus_points = []        # no component of the locus has this codimension
-        elif c == 1:
-            g = Hp[0]
-            for h in Hp[1:]:
-                g = g.gcd(h)
-            locus_points = _points_on_line(g, plane)
         else:
-            locus_points, _ = _isolated_points_plane(Hp, plane, rng)
+            locus_points, _ = _isolated_points(Hp, plane, rng)
         if c in codims:
             counts[c] = sum(p.degree for p in locus_points)
         check_time()
@@ -966,20 +1005,14 @@ def _component_points(eqs, exc, plane, rng, k, findings):
         findings.append(f"component {k.index}: its equations hold on the whole space, not on "
                         f"a set of codimension {k.codim}")
         return None
-    if plane.c == 1:
-        g = nonzero[0]
-        for e in nonzero[1:]:
-            g = g.gcd(e)
-        pts = _points_on_line(g, plane)
-        return [p for p in pts if not any(p.value(x).is_zero() for x in exc)]
-    pts, curve = _isolated_points_plane(nonzero, plane, rng, avoid=exc)
+    pts, curve = _isolated_points(nonzero, plane, rng, avoid=exc)
     if curve is not None and not curve.is_constant():
-        # a part of codimension 1: allowed only inside the exclusions
+        # a part of larger dimension: allowed only inside the exclusions
         rest = curve
         for x in exc:
             if x.is_zero():
                 continue
-            while True:
+            while not rest.is_constant():
                 g = rest.gcd(x)
                 if g.is_constant():
                     break
