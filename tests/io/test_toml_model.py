@@ -206,7 +206,7 @@ def test_planar2r_written_in_dh_and_mdh_is_the_same_arm():
 def test_puma560_rewritten_in_mdh_has_the_same_forward_kinematics():
     """Standard -> modified DH: joint i takes (a, alpha) of row i-1; the last row's go into the tool."""
     puma = load_model("puma560")
-    lines = [f'name = "puma560"\nconvention = "mdh"\nsource = "test"\n[parameters]']
+    lines = ['name = "puma560"\nconvention = "mdh"\nsource = "test"\n[parameters]']
     lines += [f"{s.name} = {float(v)!r}" for s, v in puma.parameters.items()]
     last = puma.joints[-1].dh
     lines += [f'[tool]\nxyz = ["{last.a}", 0, 0]\nrpy = ["{last.alpha}", 0, 0]']
