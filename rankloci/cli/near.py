@@ -180,7 +180,9 @@ def _check_out(option, path, suffixes):
         try:
             import matplotlib  # noqa: F401
         except ImportError:
-            raise UsageError("--plot needs matplotlib (pip install 'rankloci[report]')") from None
+            from ..extras import install_command
+
+            raise UsageError(f"--plot needs matplotlib ({install_command('report')})") from None
     p = Path(path)
     if suffixes and p.suffix.lower() not in suffixes:
         raise UsageError(f"{option} {path!r}: the file must end in {', '.join(suffixes)}")

@@ -206,7 +206,9 @@ def _executor(args, pending):
         else:
             ex = DaskExecutor.local(args.workers or _cores())
     except ImportError:
-        raise UsageError("Dask is not installed: pip install 'rankloci[sweep]', or use "
+        from ..extras import install_command
+
+        raise UsageError(f"Dask is not installed: {install_command('sweep')}, or use "
                          "--serial") from None
     except SetupError as e:
         raise UsageError(str(e)) from None
