@@ -80,3 +80,11 @@ def test_notebook_uses_only_names_it_defines(notebook):
     code = "\n".join("".join(c["source"]) for c in cells if c["cell_type"] == "code")
     bound, read = _names(ast.parse(code))
     assert sorted(read - bound - set(dir(builtins))) == []
+
+
+def test_the_limits_page_states_the_bounds_in_the_code():
+    rows = re.findall(r"^\| [^|]+ \| (\d+) \| `(rankloci(?:\.\w+)+)` \|$",
+                      (DOCS / "guide" / "limits.md").read_text(), re.M)
+    assert len(rows) >= 10
+    for value, constant in rows:
+        assert _resolve(constant) == int(value), constant
