@@ -224,8 +224,8 @@ def snapped_urdf(text) -> str:
     rankloci takes an rpy angle within URDF_ANGLE_SNAP_ATOL (1e-5) of a multiple of pi/12 as that
     exact multiple (``1.5708`` is pi/2) and any other one as a short rational rotation within
     URDF_ROTATION_ATOL (1e-9 rad), reads axes the same way and takes lengths within
-    URDF_LENGTH_SNAP_ATOL (1e-6 m) of 0 as 0; Pinocchio reads the decimals literally.  The copy writes the snapped values at full precision, so both
-    describe the same geometry to rounding.
+    URDF_LENGTH_SNAP_ATOL (1e-6 m) of 0 as 0; Pinocchio reads the decimals literally.  The copy
+    writes the snapped values at full precision, so both describe the same geometry to rounding.
     """
     import xml.etree.ElementTree as ET
 

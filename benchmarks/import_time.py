@@ -27,7 +27,7 @@ def importtime_ms() -> float:
     """Cumulative microseconds of the ``rankloci`` line of ``-X importtime``, in ms."""
     err = subprocess.run([sys.executable, "-X", "importtime", "-c", "import rankloci"],
                          capture_output=True, text=True, check=True, cwd=HERE.parent).stderr
-    line = next(l for l in err.splitlines() if l.rstrip().endswith("| rankloci"))
+    line = next(ln for ln in err.splitlines() if ln.rstrip().endswith("| rankloci"))
     return int(line.split("|")[1]) / 1000
 
 

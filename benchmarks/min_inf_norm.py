@@ -72,7 +72,7 @@ def main(argv=None):
         rate_cz, cz = timed(cadzow, Js, ys, args.repeat)
         ref = np.array([s.norm for s in lp])
 
-        def agreement(res):
+        def agreement(res, ref=ref):
             ok = np.array([s.converged for s in res])
             norms = np.array([s.norm for s in res])
             err = np.abs(norms - ref) / ref

@@ -94,12 +94,14 @@ def main(argv=None):
             "timeout_s": args.timeout, "numeric_parameters": args.numeric_parameters,
             "repeat": args.repeat}
     Path(args.output + ".json").write_text(json.dumps({"meta": meta, "runs": rows}, indent=2) + "\n")
-    lines = ["| model | J | method | J build (s) | locus (s) | whole run (s) | peak MB | tree nodes | components | svm speed-up |",
+    lines = ["| model | J | method | J build (s) | locus (s) | whole run (s) | peak MB | tree nodes "
+             "| components | svm speed-up |",
              "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     by = {(r["model"], r["method"]): r for r in rows}
     for r in rows:
         if r["status"] != "ok":
-            lines.append(f"| {r['model']} |  | {r['method']} |  |  | {r['status']} after {r['wall_s']:.0f} s |  |  |  |  |")
+            lines.append(f"| {r['model']} |  | {r['method']} |  |  "
+                         f"| {r['status']} after {r['wall_s']:.0f} s |  |  |  |  |")
             continue
         ratio = ""
         if r["method"] == "svm":

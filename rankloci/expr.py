@@ -261,7 +261,8 @@ def _build(node, text, names, depth):
                 raise ExpressionError(text, f"exponent larger than {MAX_EXPONENT}")
             if base.is_zero and exp.is_negative:
                 raise ExpressionError(text, "division by zero")
-            if abs(exp.p) * max([max(abs(r.p), r.q).bit_length() for r in base.atoms(sp.Rational)], default=0) > 4 * MAX_DIGITS * MAX_EXPONENT:
+            bits = max([max(abs(r.p), r.q).bit_length() for r in base.atoms(sp.Rational)], default=0)
+            if abs(exp.p) * bits > 4 * MAX_DIGITS * MAX_EXPONENT:
                 raise ExpressionError(text, "number too large")  # (9**64)**64)**64... would take minutes
             return _checked(base ** exp, text)
         op = _BINOPS.get(type(node.op))

@@ -314,6 +314,16 @@ INF_NORM_RTOL = 1e-9
 #: are of order 1/n and up for the systems solved here.
 INF_NORM_ZERO_RTOL = 1e-10
 
+#: A x = y with A rank deficient (rank r < m, decided at RANK_RTOL) has a solution
+#: when y lies in the range of A.  y counts as in the range when its part along the m - r
+#: left singular vectors of the dropped singular values is at most INF_NORM_RANGE_RTOL
+#: ||y||.  A y that is A x for some x carries there only rounding and the dropped
+#: singular values themselves, at most RANK_RTOL relative to sigma_max; a task velocity
+#: that the robot cannot produce (a generic y at a singular configuration) has a part of
+#: order ||y|| there.  The same 1e-8 as RANK_RTOL: the rank decision and this one are made
+#: at the same relative scale.
+INF_NORM_RANGE_RTOL = RANK_RTOL
+
 #: A manipulability polytope counts as flat when its half-width along the left
 #: singular vector of sigma_min, over its half-width along that of sigma_max, is at
 #: most FLAT_RTOL.  The half-width of the zonotope along a unit vector d is

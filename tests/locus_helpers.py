@@ -213,7 +213,7 @@ def points_on(eqs: ComponentEquations, tm, rng, n: int, *, tries: int = 40) -> l
             m = len(q0)
             t0 = 1.0 / np.clip(np.abs(eqs.excluded(q0)), 1e-3, None)
 
-            def lifted(x):
+            def lifted(x, m=m):
                 return np.concatenate([eqs(x[:m]), eqs.excluded(x[:m]) * x[m:] - 1.0])
 
             q = least_squares(lifted, np.concatenate([q0, t0]), **opts).x[:m]

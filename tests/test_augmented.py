@@ -205,8 +205,9 @@ def test_tall_augmented_matrix_has_only_kinematic_components():
     J's; so no component can be algorithmic or mixed.  J_aug is singular on a component of J
     exactly when the joint-space null motion of J there does not move joint 1: at the wrist
     singularity (s5 = 0) the null motion is q4' = -q6' (axes 4 and 6 aligned), at the elbow
-    singularity (d4 c3 + a3 s3 = 0 in this model's DH convention, as in test_locus) it involves joints 2..6 only, while at the shoulder
-    singularity (wrist centre on axis 1) the null motion turns joint 1.  So the locus of J_aug
+    singularity (d4 c3 + a3 s3 = 0 in this model's DH convention, as in test_locus) it involves
+    joints 2..6 only, while at the shoulder singularity (wrist centre on axis 1) the null motion
+    turns joint 1.  So the locus of J_aug
     is the wrist and the elbow singularity, both kinematic.
     """
     model, tm, locus = _loci("puma560", ["lock(q1)"])

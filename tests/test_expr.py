@@ -343,7 +343,8 @@ def test_parse_model_fuzz_in_expression_fields(field, text):
 
 
 TOML_PIECES = ['name = "fuzz"\n', "[[joint]]\n", "[parameters]\n", "[[augment]]\n", "[base]\n", "[tool]\n",
-               "matrix = [[1, 2], [3]]\n", 'variables = ["x"]\n', 'a = "l1"\n', "l1 = 0.5\n", "alpha = 1.5707963267948966\n",
+               "matrix = [[1, 2], [3]]\n", 'variables = ["x"]\n', 'a = "l1"\n', "l1 = 0.5\n",
+               "alpha = 1.5707963267948966\n",
                'kind = "prismatic"\n', 'kind = 3\n', 'task = "planar"\n', "rows = [0, 9]\n", 'frame = "tool"\n',
                'expr = "q1"\n', 'xyz = [0, 0, "pi"]\n', "rpy = [1, 2]\n", "limits = [1, 0]\n", 'convention = "mdh"\n',
                "q1 = 2\n", 'name = 5\n', "joint = []\n", "theta = nan\n", "d = inf\n", 'x = {a = 1}\n', "= \n",

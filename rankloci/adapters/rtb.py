@@ -83,8 +83,9 @@ def model_text(robot, *, symbolic: bool = True) -> str:
         joints.append("[[joint]]\n" + "".join(f"{k} = {v}\n" for k, v in fields.items()))
     title = str(getattr(robot, "name", "") or "robot")
     maker = str(getattr(robot, "manufacturer", "") or "")
+    source = ("Robotics Toolbox for Python DHRobot " + title + (", " + maker if maker else "")).strip()
     text = (f"name = {json.dumps(_name(robot))}\ntitle = {json.dumps(title)}\n"
-            f"source = {json.dumps(('Robotics Toolbox for Python DHRobot ' + title + (', ' + maker if maker else '')).strip())}\n"
+            f"source = {json.dumps(source)}\n"
             f"convention = {json.dumps('mdh' if robot.mdh else 'dh')}\n")
     for key in ("base", "tool"):
         T = getattr(robot, key, None)

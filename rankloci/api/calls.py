@@ -11,15 +11,26 @@ from __future__ import annotations
 import dataclasses
 import time
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from .models import as_model
 from .progress import log_progress
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+
+    from ..jacobian import TaskMatrix
+    from ..locus import Locus
+    from ..model import MatrixModel, RobotModel
+    from .models import ModelLike, ParameterValues, Variables
 
 __all__ = ["load_model", "jacobian", "locus", "check", "report", "is_singular", "Check",
            "model_locus", "certified_locus", "check_model"]
 
 
-def load_model(model, *, tip=None, base_link=None, variables=None, parameters=None):
+def load_model(model: ModelLike, *, tip: str | None = None, base_link: str | None = None,
+               variables: Variables | None = None,
+               parameters: ParameterValues | None = None) -> RobotModel | MatrixModel:
     """Load a model: a built-in name, a file, a sympy matrix, an RTB or a Pinocchio robot.
 
     Parameters
@@ -45,8 +56,11 @@ def load_model(model, *, tip=None, base_link=None, variables=None, parameters=No
                     base_link=base_link)
 
 
-def jacobian(model, *, task=None, frame=None, point="tool", augment=(), numeric=False,
-             variables=None, parameters=None, tip=None):
+def jacobian(model: ModelLike, *, task: str | Sequence[int] | None = None,
+             frame: str | int | None = None, point: str | int = "tool",
+             augment: Sequence[str] = (), numeric: bool = False,
+             variables: Variables | None = None, parameters: ParameterValues | None = None,
+             tip: str | None = None) -> TaskMatrix:
     """The symbolic matrix whose rank is studied (the command ``rankloci jacobian``).
 
     Parameters
@@ -225,8 +239,11 @@ def certified_locus(model, *, task=None, augment=(), method=None, seed=0, numeri
 _PIPELINE: dict = {}
 
 
-def locus(model, *, variables=None, parameters=None, task=None, augment=(), method=None,
-          timeout=None, seed=0, numeric=False, verify=True, frame="auto", tip=None):
+def locus(model: ModelLike, *, variables: Variables | None = None,
+          parameters: ParameterValues | None = None, task: str | Sequence[int] | None = None,
+          augment: Sequence[str] = (), method: str | None = None, timeout: float | None = None,
+          seed: int = 0, numeric: bool = False, verify: bool = True, frame: str | int = "auto",
+          tip: str | None = None) -> Locus:
     """The rank-deficiency locus of a model or a matrix (the command ``rankloci locus``).
 
     Parameters
@@ -266,6 +283,23 @@ def locus(model, *, variables=None, parameters=None, task=None, augment=(), meth
     -------
     Locus
         With ``seconds`` measured.  Progress goes to the ``rankloci`` logger.
+
+    Raises
+    ------
+    rankloci.errors.ModelError
+        The model cannot be loaded (an unknown name, a malformed file, a
+        symbol that is neither a variable nor a parameter with a value), or
+        ``task``, ``frame`` or ``augment`` does not fit it.
+    rankloci.errors.LocusError
+        The method cannot be used on this matrix (``"determinant"`` on a
+        matrix that is not square).
+    rankloci.errors.LocusTimeout
+        ``timeout`` seconds passed before the locus was complete.
+    ValueError
+        ``method`` is not one of the three; ``variables``, ``parameters``,
+        ``tip`` given for a model that does not take them.
+    TypeError
+        ``model`` is of a type that is not a model.
 
     Examples
     --------
@@ -410,7 +444,7 @@ def report(model, directory=None, *, formats=("md",), seed=0, samples=10, numeri
            timeout=None, tip=None):
     """Build a report on a model and, given a directory, write it (``rankloci report``).
 
-    Needs matplotlib (``pip install "rankloci[report]"``).
+    Needs matplotlib (the ``report`` extra).
 
     Parameters
     ----------
@@ -451,8 +485,10 @@ def require_matplotlib(what: str) -> None:
     """Raise ImportError, saying what to install, when matplotlib is missing."""
     import importlib.util
 
+    from ..extras import install_command
+
     if importlib.util.find_spec("matplotlib") is None:
-        raise ImportError(f"the {what} needs matplotlib: pip install \"rankloci[report]\"")
+        raise ImportError(f"the {what} needs matplotlib: {install_command('report')}")
 
 
 def is_singular(model, q, *, locus=None, **options) -> bool:

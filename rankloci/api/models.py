@@ -11,8 +11,26 @@ from __future__ import annotations
 import json
 import os
 import re
+from typing import TYPE_CHECKING, Any
 
 __all__ = ["as_model", "matrix_model"]
+
+if TYPE_CHECKING:
+    from collections.abc import Mapping, Sequence
+    from typing import TypeAlias
+
+    import sympy as sp
+
+    from ..model import MatrixModel, RobotModel
+
+    #: What the public functions take as a model: a built-in model name or a
+    #: ``.toml`` / ``.urdf`` path, a model, a sympy matrix, or a Robotics Toolbox
+    #: ``DHRobot`` or Pinocchio ``Model`` (optional packages, hence ``Any``).
+    ModelLike: TypeAlias = str | os.PathLike[str] | RobotModel | MatrixModel | sp.MatrixBase | Any
+    #: The column variables of a sympy matrix, as symbols or names.
+    Variables: TypeAlias = Sequence[sp.Symbol | str]
+    #: Parameter symbol or name -> value (a number or an exact sympy value).
+    ParameterValues: TypeAlias = Mapping[sp.Symbol | str, int | float | sp.Expr | str]
 
 _IDENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_]{0,31}\Z")
 

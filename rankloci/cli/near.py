@@ -35,7 +35,7 @@ EPILOG_IK = """examples:
   rankloci ik planar4r --q0 "0.62 0.23 1.0 0.46" --line "0.524572,3.032596 -> -1.475428,3.032596"
   rankloci ik planar4r --q0 "0.2 0.6 0.6 0.6" --line "1.430594,2.810773 -> 1.81366,3.56351" --norm 2
   rankloci ik pa10 --line "0.4,0.1,0.8 -> 0.5,-0.2,0.7" --norm mixed --format json -o rates.json
-  rankloci ik planar4r --path waypoints.csv --restrict 1 --plot rates.png
+  rankloci ik planar4r --path examples/waypoints.csv --restrict 1 --plot rates.png
 
 The path is in the position rows of the model's task (x, y for a planar arm,
 x, y, z otherwise), traversed at constant speed in --duration; rows of angular
@@ -46,7 +46,8 @@ x_2, r = 1 - exp(-gain d) with d the discontinuity index).  The table has t,
 q, the applied rates, the discontinuity index, the index formed with J (0 on
 the locus), Gravagne's index over every face, the mixing ratio, sigma_min/sigma_max, the tracking error and the
 distance to the nearest locus component.  The path stops early, saying so,
-when J comes within 1e-6 (sigma_min/sigma_max) of losing rank.
+when J comes within 1e-6 (sigma_min/sigma_max) of losing rank.  Paths in these
+examples are files of rankloci's source tree.
 """
 
 EPILOG_MANIP = """examples:
@@ -180,7 +181,9 @@ def _check_out(option, path, suffixes):
         try:
             import matplotlib  # noqa: F401
         except ImportError:
-            raise UsageError("--plot needs matplotlib (pip install 'rankloci[report]')") from None
+            from ..extras import install_command
+
+            raise UsageError(f"--plot needs matplotlib ({install_command('report')})") from None
     p = Path(path)
     if suffixes and p.suffix.lower() not in suffixes:
         raise UsageError(f"{option} {path!r}: the file must end in {', '.join(suffixes)}")

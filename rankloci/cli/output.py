@@ -147,11 +147,12 @@ def require_module(module: str, extra: str, what: str) -> None:
     """
     import importlib.util
 
+    from ..extras import install_command
     from .parser import UsageError
 
     if importlib.util.find_spec(module) is None:
         raise UsageError(f"{what} needs {module}, which is not installed: "
-                         f"pip install \"rankloci[{extra}]\"")
+                         f"{install_command(extra)}")
 
 
 def show_warning(message, category, filename, lineno, file=None, line=None):

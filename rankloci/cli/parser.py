@@ -133,7 +133,9 @@ EPILOG_JACOBIAN = """examples:
   rankloci jacobian planar2r
   rankloci jacobian puma560 --frame tool --format latex
   rankloci jacobian ssrms --augment q3 --numeric --format json
-  rankloci jacobian my_robot.urdf --tip tool0
+  rankloci jacobian kinematics_models/extra/iiwa_offsets.urdf --tip link_7
+
+Paths in these examples are files of rankloci's source tree.
 """
 
 EPILOG_LOCUS = """examples:
@@ -142,10 +144,11 @@ EPILOG_LOCUS = """examples:
   rankloci locus planar4r --augment "q1 + q2 + q3 + q4" --tree tree.dot
   rankloci locus pa10 --augment "lock(q3)"      # J, J_aug, kinds of J_aug's components
   rankloci locus pa10 --augment "elbow(z)" --format json
-  rankloci locus my_matrix.toml --method subdeterminant --show-tree
+  rankloci locus examples/my_matrix.toml --method subdeterminant --show-tree
 
 The locus is printed as components: equations that vanish on each, the solved
 form where there is one, dimension, rank drop and the lost task direction.
+Paths in these examples are files of rankloci's source tree.
 """
 
 EPILOG_CHECK = """examples:
@@ -153,7 +156,8 @@ EPILOG_CHECK = """examples:
   rankloci check puma560 --numeric-parameters --samples 20 --seed 7
   rankloci locus puma560 --numeric-parameters --format json > puma.json
   rankloci check puma560 --locus puma.json --format json
-  rankloci check arm.urdf --tip tool0 --locus arm.json
+  rankloci locus kinematics_models/extra/iiwa_offsets.urdf --tip link_7 --format json > iiwa.json
+  rankloci check kinematics_models/extra/iiwa_offsets.urdf --tip link_7 --locus iiwa.json
 
 Samples points on each component (J must be rank deficient there), random
 configurations away from every component (J must be full rank) and minima of
@@ -162,7 +166,8 @@ decides; where its double-precision ratio lies above 1e-14 a point of a
 component is decided again in 50 and 100 digits (singular where the ratio falls
 with the digits, regular where it stays).  FSP reducer and maximal-minor
 disagreements are listed as findings.
-Exit 0 when every check passes, 1 when one fails, 2 on bad input.
+Exit 0 when every check passes, 1 when one fails, 2 on bad input.  Paths in
+these examples are files of rankloci's source tree.
 """
 
 EPILOG_MODELS = """examples:

@@ -30,15 +30,16 @@ from .parser import UsageError, memory_arg, timeout_arg
 __all__ = ["add_sweep_arguments", "cmd_sweep", "EPILOG_SWEEP"]
 
 EPILOG_SWEEP = """examples:
-  rankloci sweep designs.toml -o out/designs                # a local Dask cluster, one worker per core
-  rankloci sweep designs.toml -o out/designs --workers 2
-  rankloci sweep corpus.toml -o out/corpus --scheduler tcp://head:8786
-  rankloci sweep designs.toml -o out/designs --serial       # no Dask: one case after another
+  rankloci sweep examples/designs.toml -o out/designs          # a local Dask cluster, one worker per core
+  rankloci sweep examples/designs.toml -o out/designs --workers 2
+  rankloci sweep examples/designs.toml -o out/designs --scheduler tcp://head:8786
+  rankloci sweep examples/designs.toml -o out/designs --serial # no Dask: one case after another
 
 A spec (TOML, read as data) names the models (built-in names, .toml/.urdf files,
 directories, every chain of a URDF file with chains = "all"), a grid over parameter
-values and constraint rows, the task, the method and the limits per case; see the
-README.  Writes DIR/cases/*.json (one locus per case), DIR/summary.csv,
+values and constraint rows, the task, the method and the limits per case; see
+examples/designs.toml in rankloci's source tree and the user guide's page on
+sweeps.  Writes DIR/cases/*.json (one locus per case), DIR/summary.csv,
 DIR/summary.md and a figure.  Run again to resume: finished cases are skipped.
 Exit 0 when every case is done and passes its self-check, 1 otherwise, 2 on bad input.
 """
@@ -206,7 +207,9 @@ def _executor(args, pending):
         else:
             ex = DaskExecutor.local(args.workers or _cores())
     except ImportError:
-        raise UsageError("Dask is not installed: pip install 'rankloci[sweep]', or use "
+        from ..extras import install_command
+
+        raise UsageError(f"Dask is not installed: {install_command('sweep')}, or use "
                          "--serial") from None
     except SetupError as e:
         raise UsageError(str(e)) from None

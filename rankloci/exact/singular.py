@@ -181,7 +181,7 @@ def _compare(primes, gens, cs, tm, locus, rng):
         if not any(on_prime(k, x) for k in range(len(polys))):
             findings.append(f"component {[sp.sstr(e) for e in c.equations]} is on no prime")
     comp_funcs = [(sp.lambdify(list(tm.variables), list(c.equations)), c) for c in comps]
-    for k, P in enumerate(polys):
+    for k in range(len(polys)):
         x = _real_point(funcs[k], scales[k], len(tm.variables), rng)
         if x is None:
             continue  # a prime without real points has nothing to compare

@@ -61,8 +61,9 @@ class Snaps:
     --------
     >>> snaps = Snaps()
     >>> T = exact_origin((0.1, 4.33681e-19, 0.0), (1.5708, 0.0, 0.0), snaps)
-    >>> print(snaps.note())
-    reading the URDF snapped 1 rpy angle to an exact multiple of pi/12 (largest change 3.7e-06 rad) and 1 length to 0 (largest 4.3e-19 m); results are for the snapped model
+    >>> print(snaps.note())  # doctest: +NORMALIZE_WHITESPACE
+    reading the URDF snapped 1 rpy angle to an exact multiple of pi/12 (largest change 3.7e-06 rad)
+    and 1 length to 0 (largest 4.3e-19 m); results are for the snapped model
     """
 
     angles: list = field(default_factory=list)

@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..tolerances import INF_NORM_RTOL, INF_NORM_ZERO_RTOL
-from .min_inf_norm import InfNormSolution, _checked, _result, _trivial
+from .min_inf_norm import InfNormSolution, _checked, _on_range, _result
 
 __all__ = ["cadzow"]
 
@@ -43,7 +43,9 @@ def cadzow(A, y, *, max_iter: int | None = None) -> InfNormSolution:
 
     Parameters
     ----------
-    A : array_like, shape (m, n), m <= n, full row rank
+    A : array_like, shape (m, n), m <= n
+        Rank deficient: solved on its range when y is in it, as by every method
+        of :func:`~rankloci.near.min_inf_norm.min_inf_norm`.
     y : array_like, shape (m,)
     max_iter : int, optional
         Column exchanges allowed (default 50 n).
@@ -52,7 +54,9 @@ def cadzow(A, y, *, max_iter: int | None = None) -> InfNormSolution:
     -------
     InfNormSolution
         ``converged`` False, with the reason, when a basis repeats (cycling,
-        which happens where the Haar condition fails) or ``max_iter`` runs out.
+        which happens where the Haar condition fails) or ``max_iter`` runs out,
+        or when A is rank deficient and y is not in its range (``consistent``
+        False).
 
     Examples
     --------
@@ -61,9 +65,11 @@ def cadzow(A, y, *, max_iter: int | None = None) -> InfNormSolution:
     (array([-0.1162, -0.5404,  0.5404]), True)
     """
     A, y = _checked(A, y)
-    done = _trivial(A, y, "cadzow")
-    if done is not None:
-        return done
+    return _on_range(A, y, "cadzow", lambda A, y: _cadzow(A, y, max_iter))
+
+
+def _cadzow(A, y, max_iter):
+    """C-steps 1 to 11 on A of full row rank and y != 0."""
     m, n = A.shape
     max_iter = 50 * n if max_iter is None else max_iter
     free = _initial_free(A)

@@ -18,16 +18,23 @@ Three interchangeable methods share one contract, :func:`min_inf_norm`:
 
 Every method returns an :class:`InfNormSolution`; a method that does not
 reach a certified optimum says so in ``converged`` and ``reason``.
+
+A of full row rank is solved as it is.  A rank-deficient A (rank r < m, decided
+at RANK_RTOL) is solved on its range: when y lies in the range of A, A x = y has
+the same solutions as the r x n system S_r V_r' x = U_r' y of its SVD, which has
+full row rank and goes to the method; when y does not, no x solves A x = y and
+the result says so (``consistent`` False, x NaN).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..tolerances import INF_NORM_RTOL, INF_NORM_ZERO_RTOL, RANK_RTOL
+from ..tolerances import INF_NORM_RANGE_RTOL, INF_NORM_RTOL, INF_NORM_ZERO_RTOL, RANK_RTOL
 
 __all__ = ["METHODS", "InfNormSolution", "min_inf_norm", "ha_lee", "linear_program",
            "haar_condition", "sign_choices", "MAX_SIGN_CHOICES"]
@@ -69,6 +76,15 @@ class InfNormSolution:
         One entry per iteration: ``free``, ``bound`` (y'u), ``x1_norm``
         (max |x_i| over the free columns) and ``zeros`` (columns of A_2 with
         A_2'u = 0), to show how an algorithm proceeds or fails.
+    rank : int or None
+        The numerical rank of A (RANK_RTOL).  Below m, the method solved the
+        system on the range of A (see the module's description): ``free`` then
+        has r - 1 columns, and the history is that of the reduced system (its
+        bounds are bounds for A x = y too).
+    consistent : bool
+        False when A is rank deficient and y is not in its range: no x solves
+        A x = y (``converged`` False, x NaN, ``reason`` gives the part of y
+        outside the range).
     """
 
     x: np.ndarray
@@ -81,6 +97,8 @@ class InfNormSolution:
     free: tuple = ()
     reason: str = ""
     history: tuple = field(default=(), repr=False)
+    rank: int | None = None
+    consistent: bool = True
 
 
 def _checked(A, y):
@@ -115,16 +133,30 @@ def haar_condition(A) -> bool:
     return True
 
 
-def _trivial(A, y, method):
+def _on_range(A, y, method, solve):
+    """``solve(A, y)`` on a system of full row rank: A itself, or A reduced to its range.
+
+    ``A`` and ``y`` are checked (:func:`_checked`).  y = 0 gives x = 0 at once.  A of rank
+    r < m: when y is in the range of A (INF_NORM_RANGE_RTOL), ``solve`` gets the r x n
+    system S_r V_r' x = U_r' y of the SVD A = U S V', with the same solutions; when it is
+    not, the result says so.  Every result carries the rank.
+    """
     m, n = A.shape
     s = np.linalg.svd(A, compute_uv=False)
-    if s[0] == 0 or s[-1] <= RANK_RTOL * s[0]:
-        ratio = 0.0 if s[0] == 0 else s[-1] / s[0]
-        return InfNormSolution(np.full(n, np.nan), np.nan, np.nan, False, method,
-                               reason=f"A is rank deficient (sigma_min/sigma_max = {ratio:.1e})")
+    r = int(np.sum(s > RANK_RTOL * s[0])) if s[0] > 0 else 0
     if not np.any(y):
-        return InfNormSolution(np.zeros(n), 0.0, 0.0, True, method)
-    return None
+        return InfNormSolution(np.zeros(n), 0.0, 0.0, True, method, rank=r)
+    if r == m:
+        return dataclasses.replace(solve(A, y), rank=m)
+    U, s, Vt = np.linalg.svd(A, full_matrices=False)
+    outside = float(np.linalg.norm(U[:, r:].T @ y)) / float(np.linalg.norm(y))
+    if outside > INF_NORM_RANGE_RTOL:
+        return InfNormSolution(np.full(n, np.nan), np.nan, np.nan, False, method,
+                               reason=f"y is not in the range of A (rank {r} < {m}): its part "
+                                      f"outside the range is {outside:.1e} of |y|, so no x "
+                                      f"solves A x = y",
+                               rank=r, consistent=False)
+    return dataclasses.replace(solve(s[:r, None] * Vt[:r], U[:, :r].T @ y), rank=r)
 
 
 def _dual_vector(A1, y, m):
@@ -191,19 +223,31 @@ def ha_lee(A, y, *, max_iter: int | None = None) -> InfNormSolution:
     Returns
     -------
     InfNormSolution
-        ``converged`` False, with the reason, when A is rank deficient or the
-        exchanges do not reach a certified optimum.
+        ``converged`` False, with the reason, when the exchanges do not reach a
+        certified optimum, or when A is rank deficient and y is not in its range
+        (``consistent`` False).  A rank-deficient A with y in its range is
+        solved on its range.
 
     Examples
     --------
     >>> s = ha_lee([[0.7, 0.1, -1.6], [2.0, -0.2, 0.6]], [-1.0, 0.2])
     >>> np.round(s.x, 4), s.converged
     (array([-0.1162, -0.5404,  0.5404]), True)
+
+    Rank one, y in the range: the solutions are those of x1 + 2 x2 + 3 x3 = 1.
+
+    >>> s = ha_lee([[1, 2, 3], [2, 4, 6]], [1, 2])
+    >>> round(s.norm, 12), s.rank, s.converged
+    (0.166666666667, 1, True)
+    >>> ha_lee([[1, 2, 3], [2, 4, 6]], [1, 0]).consistent
+    False
     """
     A, y = _checked(A, y)
-    done = _trivial(A, y, "ha_lee")
-    if done is not None:
-        return done
+    return _on_range(A, y, "ha_lee", lambda A, y: _ha_lee(A, y, max_iter))
+
+
+def _ha_lee(A, y, max_iter):
+    """Steps 1 to 13 on A of full row rank and y != 0."""
     m, n = A.shape
     max_iter = 50 * n if max_iter is None else max_iter
     # step 1: minimum two-norm solution and an orthonormal null-space basis
@@ -304,7 +348,8 @@ def _result(x, bound, converged, method, it, sat, free, history, reason=""):
 def linear_program(A, y) -> InfNormSolution:
     """The minimum infinity-norm solution as a linear program (scipy HiGHS).
 
-    min t subject to A x = y and -t <= x_i <= t.
+    min t subject to A x = y and -t <= x_i <= t.  A rank-deficient A is handled as
+    by every method: solved on its range when y is in it, reported otherwise.
 
     Examples
     --------
@@ -312,12 +357,14 @@ def linear_program(A, y) -> InfNormSolution:
     >>> round(s.norm, 6), s.converged
     (1.0, True)
     """
+    A, y = _checked(A, y)
+    return _on_range(A, y, "lp", _linear_program)
+
+
+def _linear_program(A, y):
+    """The linear program on A of full row rank and y != 0."""
     from scipy.optimize import linprog
 
-    A, y = _checked(A, y)
-    done = _trivial(A, y, "lp")
-    if done is not None:
-        return done
     m, n = A.shape
     c = np.zeros(n + 1)
     c[-1] = 1.0
@@ -343,13 +390,23 @@ def min_inf_norm(A, y, *, method: str = "ha_lee") -> InfNormSolution:
 
     Parameters
     ----------
-    A : array_like, shape (m, n), m <= n, full row rank
+    A : array_like, shape (m, n), m <= n
+        Of full row rank, or rank deficient with y in its range (then solved on
+        its range: see :mod:`rankloci.near.min_inf_norm`).
     y : array_like, shape (m,)
     method : {"ha_lee", "cadzow", "lp"}
 
     Returns
     -------
     InfNormSolution
+        ``consistent`` is False, and x NaN, when A is rank deficient and y is
+        not in its range: no x solves A x = y.
+
+    Raises
+    ------
+    ValueError
+        ``method`` is not one of the three; A is not m x n with 1 <= m <= n;
+        y does not have m entries; A or y is not finite.
 
     Examples
     --------

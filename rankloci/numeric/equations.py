@@ -501,10 +501,10 @@ def points_on(eqs: Equations, nm: NumericMatrix, rng, n: int) -> list:
             m = len(q0)
             t0 = 1.0 / np.clip(np.abs(eqs.excluded_values(q0)), 1e-3, None)
 
-            def lifted(x):
+            def lifted(x, m=m):
                 return np.concatenate([eqs(x[:m]), eqs.excluded_values(x[:m]) * x[m:] - 1.0])
 
-            def lifted_rows(X):
+            def lifted_rows(X, m=m):
                 return np.concatenate([eqs.batch(X[:, :m]).T,
                                        eqs.excluded_batch(X[:, :m]) * X[:, m:] - 1.0], axis=1)
 

@@ -133,7 +133,7 @@ def tree_summary(tree: nx.DiGraph, max_nodes: int = 30, components=None) -> Tree
 
     if tree.number_of_nodes() <= max_nodes:
         G = nx.DiGraph()
-        for n, d in tree.nodes(data=True):
+        for n in tree.nodes:
             G.add_node(n, label=label(n), role=role(n))
         G.add_edges_from(tree.edges())
         return TreeSummary(G, tree.number_of_nodes(), 0, dict(outcomes))

@@ -32,6 +32,7 @@ paths are taken from the spec's directory.  Every problem is a
 
 from __future__ import annotations
 
+import math
 import tomllib
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -135,7 +136,7 @@ def _number(value, file, key, *, integer=False, minimum=None):
     if isinstance(value, bool) or not isinstance(value, (int, float)) or (
             integer and not isinstance(value, int)):
         raise _err(file, key, f"{str(value)[:40]!r} is not {'an integer' if integer else 'a number'}")
-    if value != value or value in (float("inf"), float("-inf")):
+    if isinstance(value, float) and not math.isfinite(value):
         raise _err(file, key, f"{value!r} is not finite")
     if minimum is not None and value < minimum:
         raise _err(file, key, f"{value!r} is below {minimum}")

@@ -149,3 +149,36 @@ def test_report_builds_and_writes(tmp_path):
     assert built.locus is not None and len(built.locus.components) == 1
     with pytest.raises(ValueError, match="'docx' is not one of"):
         rankloci.report("planar2r", tmp_path, formats=("docx",))
+
+
+@pytest.mark.parametrize("name", ["load_model", "jacobian", "locus"])
+def test_public_calls_annotate_every_parameter_and_the_return(name):
+    import inspect
+
+    sig = inspect.signature(getattr(rankloci, name))
+    assert sig.return_annotation is not inspect.Signature.empty
+    assert [p for p, v in sig.parameters.items() if v.annotation is inspect.Parameter.empty] == []
+
+
+@pytest.mark.parametrize("call, error", [
+    (lambda: rankloci.locus("no_such_model"), "rankloci.errors.ModelError"),
+    (lambda: rankloci.locus("puma560", augment=["q1 +"]), "rankloci.errors.ModelError"),
+    (lambda: rankloci.locus("planar2r", task="position", method="determinant", numeric=True,
+                            augment=["q1"]), "rankloci.errors.LocusError"),
+    (lambda: rankloci.locus("planar2r", method="qr"), "ValueError"),
+    (lambda: rankloci.locus("puma560", variables=["q1"]), "ValueError"),
+    (lambda: rankloci.locus(3), "TypeError"),
+])
+def test_locus_raises_what_its_docstring_lists(call, error):
+    import inspect
+    import re
+
+    # the numpydoc section: unindented lines name the exceptions, until the next heading
+    section = re.search(r"^Raises\n-+\n(.*?)\n\S+\n-+\n", inspect.getdoc(rankloci.locus),
+                        re.S | re.M).group(1)
+    documented = [line for line in section.splitlines() if line and not line[0].isspace()]
+    assert error in documented
+    with pytest.raises(Exception) as info:
+        call()
+    raised = type(info.value)
+    assert f"{raised.__module__}.{raised.__name__}".removeprefix("builtins.") == error

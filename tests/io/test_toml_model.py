@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -112,20 +113,27 @@ def test_a_number_named_like_a_top_level_key_is_a_parameter():
     assert model.title == "m"
 
 
-def _readme_raw_matrix_example() -> str:
-    """The TOML block under **Raw matrices.** in README.md."""
-    import re
-    from pathlib import Path
+ROOT = Path(__file__).resolve().parents[2]
 
-    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text(encoding="utf-8")
-    section = readme.split("**Raw matrices.**", 1)[1]
+
+def _documented_raw_matrix_example() -> str:
+    """The TOML block under **Raw matrices.** in the user guide's page on input formats."""
+    import re
+
+    page = (ROOT / "docs" / "guide" / "input-formats.md").read_text(encoding="utf-8")
+    section = page.split("**Raw matrices.**", 1)[1]
     return re.search(r"```toml\n(.*?)```", section, re.S).group(1)
 
 
-def test_the_readme_raw_matrix_example_parses():
-    text = _readme_raw_matrix_example()
+@pytest.mark.parametrize("source", ["documented", "examples/my_matrix.toml"])
+def test_the_raw_matrix_example_parses(source):
+    """The documented example, and the example file that --help names, are the same matrix."""
+    if source == "documented":
+        text, file = _documented_raw_matrix_example(), "example.toml"
+    else:
+        text, file = (ROOT / source).read_text(encoding="utf-8"), Path(source).name
     assert "matrix = " in text
-    model = parse_model(text, file="example.toml")
+    model = parse_model(text, file=file)
     assert isinstance(model, MatrixModel)
     x, y = model.variables
     (k,) = model.parameters
@@ -206,7 +214,7 @@ def test_planar2r_written_in_dh_and_mdh_is_the_same_arm():
 def test_puma560_rewritten_in_mdh_has_the_same_forward_kinematics():
     """Standard -> modified DH: joint i takes (a, alpha) of row i-1; the last row's go into the tool."""
     puma = load_model("puma560")
-    lines = [f'name = "puma560"\nconvention = "mdh"\nsource = "test"\n[parameters]']
+    lines = ['name = "puma560"\nconvention = "mdh"\nsource = "test"\n[parameters]']
     lines += [f"{s.name} = {float(v)!r}" for s, v in puma.parameters.items()]
     last = puma.joints[-1].dh
     lines += [f'[tool]\nxyz = ["{last.a}", 0, 0]\nrpy = ["{last.alpha}", 0, 0]']

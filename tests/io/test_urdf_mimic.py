@@ -184,10 +184,10 @@ class CoupledChain:
             o = j.find("origin")
             xyz = [snapped_length(x) for x in _floats(o, "xyz", "0 0 0")]
             rpy = [snapped(t) for t in _floats(o, "rpy", "0 0 0")]
-            O = np.eye(4)
-            O[:3, :3] = rot((0, 0, 1), rpy[2]) @ rot((0, 1, 0), rpy[1]) @ rot((1, 0, 0), rpy[0])
-            O[:3, 3] = xyz
-            T = T @ O
+            origin = np.eye(4)
+            origin[:3, :3] = rot((0, 0, 1), rpy[2]) @ rot((0, 1, 0), rpy[1]) @ rot((1, 0, 0), rpy[0])
+            origin[:3, 3] = xyz
+            T = T @ origin
             if j.get("type") == "fixed":
                 continue
             axis = _floats(j.find("axis"), "xyz", "1 0 0")

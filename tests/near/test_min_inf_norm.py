@@ -107,10 +107,73 @@ def test_zero_right_hand_side(method):
     assert s.converged and s.norm == 0.0
 
 
+def scipy_min_inf_norm(A, y):
+    """scipy's linprog on min t, A x = y, -t <= x_i <= t, on A as given (any rank).
+
+    Returns the optimum t, or None when HiGHS finds the equations infeasible."""
+    from scipy.optimize import linprog
+
+    A = np.asarray(A, dtype=float)
+    m, n = A.shape
+    ones = np.ones((n, 1))
+    res = linprog(np.r_[np.zeros(n), 1.0],
+                  A_ub=np.block([[np.eye(n), -ones], [-np.eye(n), -ones]]), b_ub=np.zeros(2 * n),
+                  A_eq=np.hstack([A, np.zeros((m, 1))]), b_eq=y,
+                  bounds=[(None, None)] * n + [(0, None)], method="highs")
+    assert res.status in (0, 2), res.message   # solved, or infeasible
+    return float(res.x[-1]) if res.status == 0 else None
+
+
 @pytest.mark.parametrize("method", METHODS)
-def test_rank_deficient_matrix_is_reported_not_solved(method):
-    s = min_inf_norm([[1.0, 2.0, 3.0], [2.0, 4.0, 6.0]], [1.0, 2.0], method=method)
-    assert not s.converged and "rank deficient" in s.reason and np.all(np.isnan(s.x))
+def test_consistent_rank_deficient_system_is_solved(method):
+    """Rank 1, y in the range: the solutions are those of x1 + 2 x2 + 3 x3 = 1, least
+    infinity norm 1/6 at x = (1/6, 1/6, 1/6), as scipy's linprog finds on A itself."""
+    A, y = [[1.0, 2.0, 3.0], [2.0, 4.0, 6.0]], [1.0, 2.0]
+    s = min_inf_norm(A, y, method=method)
+    assert s.converged and s.consistent and s.rank == 1, s.reason
+    assert s.norm == pytest.approx(scipy_min_inf_norm(A, y), rel=1e-9)
+    assert s.norm == pytest.approx(1 / 6, rel=1e-12)
+    np.testing.assert_allclose(np.asarray(A) @ s.x, y, atol=1e-12)
+    assert s.bound <= s.norm * (1 + INF_NORM_RTOL), "y'u is a lower bound (weak duality)"
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_inconsistent_rank_deficient_system_is_reported(method):
+    A, y = [[1.0, 2.0, 3.0], [2.0, 4.0, 6.0]], [1.0, 0.0]
+    assert scipy_min_inf_norm(A, y) is None, "no x solves it"
+    s = min_inf_norm(A, y, method=method)
+    assert not s.consistent and not s.converged and s.rank == 1
+    assert np.all(np.isnan(s.x)) and "not in the range of A" in s.reason
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_zero_matrix(method):
+    assert min_inf_norm(np.zeros((2, 3)), [0.0, 0.0], method=method).norm == 0.0
+    s = min_inf_norm(np.zeros((2, 3)), [0.0, 1.0], method=method)
+    assert not s.consistent and s.rank == 0
+
+
+@settings(max_examples=100, deadline=None)
+@given(m=st.integers(2, 6), extra=st.integers(0, 4), drop=st.integers(1, 5),
+       seed=st.integers(0, 2**32 - 1))
+def test_rank_deficient_systems_match_scipy_linprog(m, extra, drop, seed):
+    """A = B C of rank r < m: with y = A x0 every method reaches scipy's optimum on A; with y
+    moved out of the range of A, the result says that no x solves it."""
+    rng = np.random.default_rng(seed)
+    n, r = m + extra, max(m - drop, 1)
+    A = rng.normal(size=(m, r)) @ rng.normal(size=(r, n))
+    y = A @ rng.normal(size=n)
+    reference = scipy_min_inf_norm(A, y)
+    for method in METHODS:
+        s = min_inf_norm(A, y, method=method)
+        assert s.consistent and s.rank == r
+        assert s.converged, (method, s.reason)   # the reduced r x n system is generic (Haar)
+        np.testing.assert_allclose(A @ s.x, y, atol=1e-8 * (1 + np.abs(y).max()))
+        assert s.norm == pytest.approx(reference, rel=1e-7)
+    left_null = np.linalg.svd(A)[0][:, -1]           # orthogonal to the range of A
+    outside = y + (1 + np.linalg.norm(y)) * left_null
+    s = min_inf_norm(A, outside)
+    assert not s.consistent and np.all(np.isnan(s.x))
 
 
 @pytest.mark.parametrize("A, y, what", [

@@ -3,7 +3,7 @@
 The worked examples are those of section 6 of K. A. Morgansen, F. G. Pin,
 ORNL/TM-12816 (1995), with the matrices of tests/numeric/test_fsp.py where
 that reading fits the report's solution vectors (6.2 to 6.4).  Example 6.1
-needs another reading of two rows, derived below.  Indices in the code are
+needs four printed entries of two rows corrected, as derived below.  Indices in the code are
 0-based; comments about the report count from 1, as it does.  Every result
 is also checked against numpy's pseudo-inverse, and random systems (full
 rank, held joints, rank deficient, sparse integer ones with restrictions)
@@ -66,13 +66,16 @@ def points_of(s, rng, count=5):
 # dx_5 = 0.000.  The columns of a Jacobian settle it: rows 4-6 of a revolute
 # column are its unit axis, and as printed joints 5 and 6 have no unit axis
 # and the base rotation (column 10, whose rows 1-2 are its -y, x lever arms)
-# none at all.  The reading
-#   row 5: 0 -1 -0 -1 [-1] -0.001 0 | 0 0 0   (the lost arm number is -1.000,
-#          joint 5 about -y: its linear part (0, 0, -0.343) says so too)
-#   row 6: 1 0 -1 -0 [0] [-1] 0.001 | 0 0 [1]  (joint 6 about -z, whose linear
-#          part (-0.006, 0.343, 0) puts it at joint 5's point, a wrist; the
-#          base rotation about z)
-# gives every column a unit axis, and the search then finds the blocking the
+# none at all.  J_6_1_FITTED is therefore a correction, not a reading: it
+# changes four printed entries, the bracketed ones below (row 5 column 5;
+# row 6 columns 5, 6 and 10), to the values that make eqs. (32) and (33) hold:
+#   row 5: 0 -1 -0 -1 [-1] -0.001 0 | 0 0 0    (printed 0 at column 5; -1 makes
+#          joint 5 a rotation about -y, as its linear part (0, 0, -0.343) fits)
+#   row 6: 1 0 -1 -0 [0] [-1] 0.001 | 0 0 [1]  (printed -1, -0 and 0.001 at
+#          columns 5, 6 and 10; these make joint 6 a rotation about -z, whose
+#          linear part (-0.006, 0.343, 0) puts it at joint 5's point, a wrist,
+#          and the base rotation one about z)
+# With it every column has a unit axis, and the search finds the blocking the
 # zeros of eq. (32) show (its first blocking is the third in lexicographic
 # order), vectors within 0.001 of eq. (32) except two printed entries (see the
 # test) and dq of eq. (33) to 0.0007.
@@ -91,7 +94,7 @@ DQ_6_1 = np.array([0.004, -0.003, -0.002, 0.001, 0.002, -0.007, 0.000, 0.007,
                    0.010, 0.004])  # eq. (33)
 
 
-def test_6_1_reading_gives_unit_axes():
+def test_6_1_correction_gives_unit_axes():
     axes = J_6_1_FITTED[3:]
     np.testing.assert_allclose(np.linalg.norm(axes[:, :7], axis=0), 1.0, atol=3e-4)
     np.testing.assert_array_equal(axes[:, 7:9], 0.0)   # base translations

@@ -77,7 +77,7 @@ def test_overlay_of_an_excluded_component_is_singular_and_admitted(ssrms):
         for i, lines, pts in data.curves:
             eqs = A.component_equations(dict(comps)[i], nm, params)
 
-            def at(xy):
+            def at(xy, point=point, axes=axes):
                 q = point.copy()
                 q[axes[0]], q[axes[1]] = xy
                 return q

@@ -1,0 +1,59 @@
+"""The examples of every --help name input files that exist in the source tree."""
+
+import argparse
+import shlex
+from pathlib import Path
+
+import pytest
+
+from rankloci.cli.parser import build_parser
+
+ROOT = Path(__file__).resolve().parents[2]
+#: Options whose value a command writes (or a shell redirection): not inputs.
+OUTPUTS = {">", "-o", "--output", "--tree", "--plot"}
+SUFFIXES = (".toml", ".urdf", ".csv", ".json", ".txt", ".dot")
+
+
+def _epilogs():
+    parser = build_parser()
+    yield "rankloci", parser.epilog
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for name, sub in action.choices.items():
+                yield name, sub.epilog or ""
+
+
+def input_paths(epilog: str) -> list[str]:
+    """Files the example lines read: arguments ending in a file suffix, except those that
+    an option or redirection writes, and files an earlier example line wrote."""
+    written, read = set(), []
+    for line in epilog.splitlines():
+        if not line.startswith("  rankloci "):
+            continue
+        words = shlex.split(line.split("  #", 1)[0])
+        for prev, word in zip(words, words[1:]):
+            if prev in OUTPUTS:
+                written.add(word)
+            elif word.endswith(SUFFIXES) and word not in written:
+                read.append(word)
+    return read
+
+
+def test_input_paths_reads_examples_as_meant():
+    epilog = ("examples:\n  rankloci locus a.toml --format json > a.json   # a comment x.toml\n"
+              "  rankloci check a.toml --locus a.json --tree t.dot\n"
+              "  rankloci ik m --path w.csv -o r.json\nnot an example: b.toml\n")
+    assert input_paths(epilog) == ["a.toml", "a.toml", "w.csv"]
+
+
+@pytest.mark.parametrize("command, epilog", list(_epilogs()), ids=lambda v: str(v)[:20])
+def test_every_file_an_example_reads_exists(command, epilog):
+    missing = [p for p in input_paths(epilog) if not (ROOT / p).is_file()]
+    assert missing == [], f"rankloci {command} --help names files that are not shipped: {missing}"
+
+
+def test_the_examples_name_files_at_all():
+    """The check above has something to check: the examples read shipped files."""
+    named = {p for _, epilog in _epilogs() for p in input_paths(epilog)}
+    assert {"examples/my_matrix.toml", "examples/waypoints.csv", "examples/designs.toml",
+            "kinematics_models/extra/iiwa_offsets.urdf"} <= named
