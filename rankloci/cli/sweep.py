@@ -20,11 +20,12 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import sys
 import time
 from pathlib import Path
 
-from .output import write_atomic
+from .output import TEMP_SUFFIX, check_names, write_atomic
 from .parser import UsageError, memory_arg, timeout_arg
 
 __all__ = ["add_sweep_arguments", "cmd_sweep", "EPILOG_SWEEP"]
@@ -174,12 +175,18 @@ def _finished_record(path: Path, case, timeout: float, memory: int):
 
 def _output_dir(text: str) -> Path:
     out = Path(text)
+    check_names(out, "-o")
     if out.exists() and not out.is_dir():
         raise UsageError(f"-o {text!r}: exists and is not a directory")
     anchor = next(p for p in [out, *out.absolute().parents] if p.exists())
     if not anchor.is_dir():
         raise UsageError(f"-o {text!r}: {str(anchor)!r} is not a directory")
     return out
+
+
+#: The name of a temporary file that :func:`~rankloci.cli.output.write_atomic` left in the
+#: cases folder (``.ID.json.XXXXXXXX.rankloci-tmp``): nothing else there is removed.
+_OWN_TEMP = re.compile(r"\.[A-Za-z0-9_.-]+\.json\.[a-z0-9_]{8}" + re.escape(TEMP_SUFFIX))
 
 
 def _settings(spec, timeout, memory) -> str:
@@ -261,8 +268,9 @@ def cmd_sweep(args) -> int:
         if executor:
             executor.close()
         raise UsageError(f"-o {args.output!r}: cannot write there: {e.strerror or e}") from None
-    for stale in case_dir.glob(".*.json.*"):  # temporary files of a run killed while writing
-        stale.unlink(missing_ok=True)
+    for stale in case_dir.iterdir():       # temporary files of a run killed while writing
+        if _OWN_TEMP.fullmatch(stale.name) and stale.is_file() and not stale.is_symlink():
+            stale.unlink(missing_ok=True)
     progress.line(f"sweep {spec.file}: {len(cases)} case{'' if len(cases) == 1 else 's'}, "
                   f"{len(records)} finished before, {len(pending)} to run"
                   + (f" {where}" if pending else ""))
@@ -298,7 +306,7 @@ def cmd_sweep(args) -> int:
     figures = []
     if figure:
         name, caption, png = figure
-        _write_bytes(out / name, png)
+        write_atomic(out / name, png, "-o")
         figures.append((name, caption))
     write_atomic(out / "summary.csv", render_csv(ordered))
     write_atomic(out / "summary.md", render_markdown(
@@ -310,18 +318,3 @@ def cmd_sweep(args) -> int:
     print(out / "summary.md")
     ok = counts["done"] == len(cases) and not counts["check failed"]
     return 0 if ok else 1
-
-
-def _write_bytes(path: Path, data: bytes) -> None:
-    """``data`` to ``path`` through a temporary file: never half-written."""
-    import os
-    import tempfile
-
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise

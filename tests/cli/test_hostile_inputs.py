@@ -226,3 +226,216 @@ def test_fifty_fixed_rotations_stay_short(tmp_path, monkeypatch, capsys):
     assert main(["jacobian", "f.urdf"]) == 0
     out = capsys.readouterr().out
     assert max(len(word) for word in out.replace("*", " ").replace("/", " ").split()) < 200
+
+
+# --- output files: never replace what is not a regular file; respect the umask ------------------
+
+IK = ["ik", "planar4r", "--q0", "0.62 0.23 1.0 0.46", "--line",
+      "0.524572,3.032596 -> -1.475428,3.032596", "--steps", "5", "--quiet"]
+
+
+def _one_error_line(capsys, code):
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    assert code == 2, err
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert len(lines) == 1 and lines[0].startswith("rankloci: error: "), err
+    return lines[0]
+
+
+@pytest.mark.parametrize("argv, option", [(IK + ["-o", "{}"], "-o"),
+                                          (IK + ["--plot", "{}.png"], "--plot"),
+                                          (["locus", "planar2r", "--quiet", "--tree", "{}.json"],
+                                           "--tree")])
+def test_output_onto_a_fifo_is_refused_and_the_fifo_stays(tmp_path, monkeypatch, capsys, argv,
+                                                          option):
+    import os
+    import stat
+
+    monkeypatch.chdir(tmp_path)
+    name = [a for a in argv if "{}" in a][0].format("fifo")
+    os.mkfifo(name)
+    line = _one_error_line(capsys, main([a.format("fifo") for a in argv]))
+    assert f"{option} '{name}' is not a regular file" in line
+    assert stat.S_ISFIFO(os.lstat(name).st_mode)
+    assert sorted(p.name for p in tmp_path.iterdir()) == [name]
+
+
+@pytest.mark.parametrize("argv", [IK + ["-o", "null.csv"],
+                                  ["locus", "planar2r", "--quiet", "--tree", "null.json"]])
+def test_output_through_a_link_to_a_device_is_refused(tmp_path, monkeypatch, capsys, argv):
+    """``-o /dev/null`` as root would replace the system's /dev/null: a link to it must not."""
+    import os
+    import stat
+
+    monkeypatch.chdir(tmp_path)
+    link = argv[-1]
+    os.symlink("/dev/null", link)
+    line = _one_error_line(capsys, main(argv))
+    assert "is not a regular file" in line
+    assert os.readlink(link) == "/dev/null"
+    assert stat.S_ISCHR(os.stat("/dev/null").st_mode)
+
+
+def test_output_through_a_link_to_a_file_writes_the_file(tmp_path, monkeypatch, capsys):
+    import os
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "real.csv").write_text("old\n")
+    os.symlink("real.csv", "link.csv")
+    assert main(IK + ["-o", "link.csv"]) == 0
+    assert os.readlink("link.csv") == "real.csv"
+    assert (tmp_path / "real.csv").read_text().startswith("t,q1,q2,q3,q4,")
+
+
+@pytest.fixture
+def umask_022():
+    import os
+
+    old = os.umask(0o022)
+    yield
+    os.umask(old)
+
+
+def _modes(root):
+    import stat
+
+    return {str(p.relative_to(root)): oct(stat.S_IMODE(p.stat().st_mode))
+            for p in sorted(root.rglob("*")) if p.is_file()}
+
+
+def test_output_files_respect_the_umask(tmp_path, monkeypatch, capsys, umask_022):
+    monkeypatch.chdir(tmp_path)
+    assert main(IK + ["-o", "path.csv", "--plot", "path.png"]) == 0
+    assert main(["locus", "planar2r", "--quiet", "--tree", "tree.json"]) == 0
+    assert main(["report", "planar2r", "-o", "rep", "--format", "md", "--quiet", "--samples",
+                 "2"]) == 0
+    modes = _modes(tmp_path)
+    assert {"path.csv", "path.png", "tree.json", "rep/planar2r.md"} <= set(modes)
+    assert set(modes.values()) == {"0o644"}, modes
+
+
+def test_a_replaced_output_keeps_its_permission_bits(tmp_path, monkeypatch, capsys, umask_022):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "tree.json").write_text("old")
+    (tmp_path / "tree.json").chmod(0o640)
+    assert main(["locus", "planar2r", "--quiet", "--tree", "tree.json"]) == 0
+    assert _modes(tmp_path) == {"tree.json": "0o640"}
+    assert "nodes" in (tmp_path / "tree.json").read_text()
+
+
+def test_sweep_outputs_respect_the_umask(tmp_path, monkeypatch, capsys, umask_022):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "s.toml").write_text('models = ["planar2r"]\n')
+    assert main(["sweep", "s.toml", "-o", "out", "--serial", "--quiet"]) == 0
+    modes = _modes(tmp_path / "out")
+    assert "summary.md" in modes and any(k.startswith("cases/") for k in modes)
+    assert set(modes.values()) == {"0o644"}, modes
+
+
+@pytest.mark.parametrize("argv", [IK + ["-o", "/proc/rankloci-path.csv"],
+                                  IK + ["--plot", "/proc/rankloci-path.png"],
+                                  ["locus", "planar2r", "--quiet", "--tree",
+                                   "/proc/rankloci-tree.json"]])
+def test_unwritable_output_is_refused_before_computing(tmp_path, monkeypatch, capsys, argv):
+    """/proc takes no new files, even from root: refused at once, not after the work."""
+    import time
+
+    monkeypatch.chdir(tmp_path)
+    t0 = time.monotonic()
+    line = _one_error_line(capsys, main(argv))
+    assert "cannot write in '/proc'" in line
+    assert time.monotonic() - t0 < 1.5
+
+
+@pytest.mark.parametrize("argv", [IK + ["-o", "x" * 300 + ".csv"],
+                                  ["locus", "planar2r", "--quiet", "--tree", "x" * 300 + ".json"],
+                                  ["report", "planar2r", "--quiet", "-o", "x" * 300]])
+def test_output_name_longer_than_the_file_system_takes(tmp_path, monkeypatch, capsys, argv):
+    monkeypatch.chdir(tmp_path)
+    line = _one_error_line(capsys, main(argv))
+    assert "longer than 255 bytes" in line
+    assert list(tmp_path.iterdir()) == []
+
+
+# --- reports: nothing outside -o, nothing half-moved -------------------------------------------
+
+REPORT = ["report", "planar2r", "--format", "md", "--quiet", "--samples", "2"]
+
+
+@pytest.mark.parametrize("blocker", ["directory", "fifo", "symlink"])
+def test_report_onto_a_non_file_moves_nothing(tmp_path, monkeypatch, capsys, blocker):
+    import os
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "out").mkdir()
+    target = tmp_path / "out" / "planar2r.md"
+    {"directory": target.mkdir, "fifo": lambda: os.mkfifo(target),
+     "symlink": lambda: os.symlink("/dev/null", target)}[blocker]()
+    line = _one_error_line(capsys, main(REPORT + ["-o", "out"]))
+    assert "'out/planar2r.md' is not a regular file" in line
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["planar2r.md"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
+def test_report_figure_name_taken_by_a_directory_moves_nothing(tmp_path, monkeypatch, capsys):
+    """Figure names are known only once the report is built: checked before any move."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "out" / "planar2r-sigma-1.png").mkdir(parents=True)
+    line = _one_error_line(capsys, main(REPORT + ["-o", "out"]))
+    assert "planar2r-sigma-1.png is a directory; nothing was written" in line
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["planar2r-sigma-1.png"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
+def test_report_into_a_dot_dot_path_creates_only_the_target(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    assert main(REPORT + ["-o", "a/../b"]) == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["b"]
+    assert (tmp_path / "b" / "planar2r.md").is_file()
+
+
+def test_report_into_a_directory_whose_parent_takes_no_files(tmp_path, monkeypatch, capsys):
+    """The build folder goes inside an existing -o, not beside it: /proc/self/fd is not
+    writable, and a report into a writable folder must not need its parent."""
+    import os
+
+    monkeypatch.chdir(tmp_path)
+    out = tmp_path / "ro" / "out"
+    out.mkdir(parents=True)
+    made = []
+    real_mkdtemp = __import__("tempfile").mkdtemp
+
+    def mkdtemp(*args, dir=None, **kw):
+        made.append(os.path.realpath(dir))
+        if os.path.realpath(dir) != str(out):
+            raise PermissionError(13, "Permission denied")
+        return real_mkdtemp(*args, dir=dir, **kw)
+
+    monkeypatch.setattr("tempfile.mkdtemp", mkdtemp)
+    assert main(REPORT + ["-o", str(out)]) == 0, capsys.readouterr().err
+    assert made == [str(out)]
+    assert sorted(p.name for p in out.iterdir()) == sorted(
+        p.name for p in out.iterdir() if not p.name.startswith("."))
+
+
+@pytest.mark.parametrize("sig", ["SIGINT", "SIGTERM"])
+def test_interrupted_report_leaves_no_build_folder(tmp_path, sig):
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    proc = subprocess.Popen([sys.executable, "-m", "rankloci", "report", "ssrms", "-o", "out",
+                             "--format", "md", "--quiet"], cwd=tmp_path,
+                            stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while not any(p.name.startswith(".out.tmp-") for p in tmp_path.iterdir()):
+        assert proc.poll() is None and time.monotonic() < deadline, proc.stderr.read()
+        time.sleep(0.05)
+    time.sleep(1.0)                       # the child is computing
+    proc.send_signal(getattr(signal, sig))
+    _, err = proc.communicate(timeout=30)
+    assert "Traceback" not in err
+    assert proc.returncode == 130, err
+    assert list(tmp_path.iterdir()) == []
