@@ -231,36 +231,51 @@ def cmd_locus(args) -> int:
     return EXIT_OK
 
 
+#: The largest locus file ``check --locus`` reads (the built-in models' loci are below 100 kB).
+MAX_LOCUS_BYTES = 20_000_000
+
+
+def _parsed_locus(raw: bytes, file: str, model):
+    """The locus of a ``--locus`` file's bytes; a ModelError naming the file."""
+    from ..errors import ModelError
+    from ..locus import Locus
+
+    try:
+        data = json.loads(raw.decode("utf-8"))
+    except (json.JSONDecodeError, UnicodeDecodeError) as e:
+        raise ModelError(f"not JSON: {e}", file=file) from None
+    except RecursionError:
+        raise ModelError("not a locus: nested too deeply", file=file) from None
+    try:
+        return Locus.from_dict(data, model)
+    except ModelError as e:
+        raise e.located(file=file) from None
+
+
 def cmd_check(args) -> int:
     from ..errors import LocusTimeout, ModelError
     from ..io import load_model
-    from ..locus import Locus
     from .limits import LimitExceeded, run_limited
 
     if args.samples < 1:
         raise UsageError(f"--samples must be at least 1, got {args.samples}")
     progress = progress_printer(args.quiet)
     model = load_model(args.model, base_link=args.base_link, tip_link=args.tip_link)
+    raw = None
     if args.locus:
+        from ..io.files import read_bounded
+
         try:
-            with open(args.locus, encoding="utf-8") as fh:
-                data = json.load(fh)
+            raw = read_bounded(args.locus, MAX_LOCUS_BYTES)
         except OSError as e:
             raise ModelError(f"cannot read: {e.strerror}", file=args.locus) from None
-        except (json.JSONDecodeError, UnicodeDecodeError) as e:
-            raise ModelError(f"not JSON: {e}", file=args.locus) from None
-        except RecursionError:
-            raise ModelError("not a locus: nested too deeply", file=args.locus) from None
-        try:
-            locus = Locus.from_dict(data, model)
-        except ModelError as e:
-            raise e.located(file=args.locus) from None
-    else:
-        locus = None
 
     def work(report_progress):
         from ..api.calls import check_model
 
+        # parsed here, in the child, under --timeout and --memory: a large locus file
+        # takes time and memory to read
+        locus = None if raw is None else _parsed_locus(raw, args.locus, model)
         return check_model(model, locus, samples=args.samples, seed=args.seed,
                            numeric=args.numeric, should_stop=_deadline(args.timeout),
                            progress=report_progress)

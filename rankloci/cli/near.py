@@ -258,13 +258,12 @@ def cmd_ik(args) -> int:
             raise UsageError(f'--line {args.line[:60]!r}: write it as "X0 -> X1"')
         points = [parse_vector(p, k, "--line") for p in parts]
     else:
+        from ..io.files import read_bounded
+
         try:
-            with open(args.path, "rb") as fh:
-                raw = fh.read(MAX_PATH_BYTES + 1)
+            raw = read_bounded(args.path, MAX_PATH_BYTES)
         except OSError as e:
             raise UsageError(f"--path {args.path!r}: cannot read: {e.strerror}") from None
-        if len(raw) > MAX_PATH_BYTES:
-            raise UsageError(f"--path {args.path!r}: larger than {MAX_PATH_BYTES} bytes")
         try:
             text = raw.decode("utf-8")
         except UnicodeDecodeError:

@@ -297,10 +297,14 @@ def _entry(raw, base: Path, file, key, grid: Grid) -> ModelEntry:
             raise _err(file, key, "chains, base_link and tip apply to URDF files")
     elif chains or "base_link" in raw or "tip" in raw or "pattern" in raw:
         raise _err(file, key, "chains, base_link, tip and pattern apply to paths")
+    pattern = raw.get("pattern", "*")
+    if pattern.startswith(("/", "\\")) or ".." in pattern.replace("\\", "/").split("/"):
+        raise _err(file, f"{key}.pattern", f"{pattern[:60]!r}: a pattern names files inside "
+                                           "the entry's directory (no leading / and no ..)")
     own = _grid(raw["grid"], file, f"{key}.grid") if "grid" in raw else grid
     return ModelEntry(name=raw.get("name"), path=path, base_link=raw.get("base_link"),
                       tip=raw.get("tip"), chains=bool(chains), min_joints=lo, max_joints=hi,
-                      pattern=raw.get("pattern", "*"),
+                      pattern=pattern,
                       task=_task(raw.get("task"), file, f"{key}.task"), grid=own, where=key)
 
 
@@ -380,14 +384,14 @@ def parse_spec(text: str, *, base: Path | str = ".", file: str = "") -> SweepSpe
 def read_spec(path) -> SweepSpec:
     """Read a sweep specification file; see :func:`parse_spec`."""
     p = Path(path)
+    from ..io.files import read_bounded
+
+    if p.is_dir():
+        raise _err(p.name, "", "is a directory, not a spec file")
     try:
-        if p.stat().st_size > MAX_SPEC_BYTES:
-            raise _err(p.name, "", f"larger than {MAX_SPEC_BYTES} bytes")
-        text = p.read_text(encoding="utf-8")
+        text = read_bounded(p, MAX_SPEC_BYTES).decode("utf-8")
     except UnicodeDecodeError:
         raise _err(p.name, "", "not UTF-8 text") from None
-    except IsADirectoryError:
-        raise _err(p.name, "", "is a directory, not a spec file") from None
     except OSError as e:
         raise _err(p.name, "", f"cannot read: {e.strerror}") from None
     return parse_spec(text, base=p.resolve().parent, file=p.name)

@@ -439,3 +439,102 @@ def test_interrupted_report_leaves_no_build_folder(tmp_path, sig):
     assert "Traceback" not in err
     assert proc.returncode == 130, err
     assert list(tmp_path.iterdir()) == []
+
+
+# --- bounded reads: regular files only, a size limit, no blocking --------------------------------
+
+def _special(tmp_path, name, kind):
+    import os
+
+    if kind == "fifo":
+        os.mkfifo(tmp_path / name)
+    else:
+        os.symlink("/dev/zero", tmp_path / name)
+
+
+@pytest.mark.parametrize("kind", ["fifo", "zero"])
+@pytest.mark.parametrize("argv, name", [
+    (["check", "planar2r", "--locus", "l.json", "--quiet", "--samples", "2"], "l.json"),
+    (IK[:4] + ["--path", "p.txt", "--steps", "5", "--quiet"], "p.txt"),
+    (["sweep", "s.toml", "-o", "out", "--serial", "--quiet"], "m.toml"),
+])
+def test_a_fifo_or_dev_zero_as_input_is_refused_at_once(tmp_path, monkeypatch, capsys, kind,
+                                                        argv, name):
+    """Before: a FIFO blocked forever, /dev/zero grew without bound."""
+    import threading
+    import time
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "s.toml").write_text('models = ["m.toml"]\n')
+    _special(tmp_path, name, kind)
+    got = []
+    t0 = time.monotonic()
+    runner = threading.Thread(target=lambda: got.append(main(argv)), daemon=True)
+    runner.start()
+    runner.join(20)
+    if runner.is_alive():        # let the blocked open return, so that the thread ends
+        with open(tmp_path / name, "w"):
+            pass
+        runner.join(5)
+        pytest.fail(f"{name} ({kind}) blocked the command")
+    line = _one_error_line(capsys, got[0])
+    assert "not a regular file" in line and name in line
+    assert time.monotonic() - t0 < 20
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_large_locus_file_is_refused_and_read_under_the_limits(tmp_path, monkeypatch, capsys):
+    from rankloci.cli import commands
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "l.json").write_text(_locus_file())
+    monkeypatch.setattr(commands, "MAX_LOCUS_BYTES", 50)
+    line = _one_error_line(capsys, main(["check", "planar2r", "--locus", "l.json", "--quiet",
+                                         "--samples", "2"]))
+    assert "l.json" in line and "larger than 50 bytes" in line
+
+
+def test_a_locus_file_is_parsed_inside_the_time_limit(tmp_path, monkeypatch, capsys):
+    """A locus file that takes long to parse ends at --timeout (exit 1), not after it."""
+    import time
+
+    from rankloci.cli import commands
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "l.json").write_text(_locus_file())
+
+    def slow(*args):
+        time.sleep(30)
+
+    monkeypatch.setattr(commands, "_parsed_locus", slow)
+    t0 = time.monotonic()
+    code = main(["check", "planar2r", "--locus", "l.json", "--quiet", "--samples", "2",
+                 "--timeout", "1"])
+    err = capsys.readouterr().err
+    assert code == 1 and "within 1 s" in err, err
+    assert time.monotonic() - t0 < 10
+
+
+@pytest.mark.parametrize("pattern", ["../*.toml", "/etc/*", "sub/../../*.toml", "**a"])
+def test_sweep_pattern_outside_the_directory_is_refused(tmp_path, monkeypatch, capsys, pattern):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "d").mkdir()
+    (tmp_path / "s.toml").write_text(f'[[model]]\npath = "d"\npattern = "{pattern}"\n')
+    line = _one_error_line(capsys, main(["sweep", "s.toml", "-o", "out", "--serial",
+                                         "--quiet"]))
+    assert "pattern" in line and "s.toml" in line
+    assert not (tmp_path / "out").exists()
+
+
+def test_sweep_cleanup_removes_only_its_own_temporary_files(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "s.toml").write_text('models = ["planar2r"]\n')
+    cases = tmp_path / "out" / "cases"
+    cases.mkdir(parents=True)
+    mine = cases / ".planar2r.json.abc123_z.rankloci-tmp"
+    users = [cases / ".notes.json.bak", cases / ".x.json.1"]
+    for p in [mine, *users]:
+        p.write_text("x")
+    assert main(["sweep", "s.toml", "-o", "out", "--serial", "--quiet"]) == 0
+    assert not mine.exists()
+    assert all(p.read_text() == "x" for p in users)
