@@ -131,7 +131,7 @@ def _err(file, key, message) -> SpecError:
     return SpecError(message, file=file or None, field=key or None)
 
 
-def _number(value, file, key, *, integer=False, minimum=None):
+def _number(value, file, key, *, integer=False, minimum=None, maximum=None):
     if isinstance(value, bool) or not isinstance(value, (int, float)) or (
             integer and not isinstance(value, int)):
         raise _err(file, key, f"{str(value)[:40]!r} is not {'an integer' if integer else 'a number'}")
@@ -139,6 +139,8 @@ def _number(value, file, key, *, integer=False, minimum=None):
         raise _err(file, key, f"{value!r} is not finite")
     if minimum is not None and value < minimum:
         raise _err(file, key, f"{value!r} is below {minimum}")
+    if maximum is not None and value > maximum:
+        raise _err(file, key, f"{str(value)[:40]} is above {maximum}")
     return value
 
 
@@ -337,6 +339,8 @@ def parse_spec(text: str, *, base: Path | str = ".", file: str = "") -> SweepSpe
     >>> spec.entries[0].name, spec.timeout, spec.entries[0].grid.parameters[0][1]
     ('planar3r', 30.0, (('0.5', 1/2), ('1', 1), ('1.5', 3/2)))
     """
+    from ..cli.limits import MAX_MEMORY_MB, MAX_TIMEOUT_S
+
     base = Path(base)
     if len(text) > MAX_SPEC_BYTES:
         raise _err(file, "", f"larger than {MAX_SPEC_BYTES} bytes")
@@ -375,9 +379,10 @@ def parse_spec(text: str, *, base: Path | str = ".", file: str = "") -> SweepSpe
         entries=entries, task=_task(data.get("task"), file, "task"), method=method,
         numeric=flags["numeric_parameters"], verify=flags["verify"],
         seed=_number(data.get("seed", 0), file, "seed", integer=True, minimum=0),
-        timeout=float(_number(data.get("timeout", DEFAULT_TIMEOUT), file, "timeout", minimum=0)),
+        timeout=float(_number(data.get("timeout", DEFAULT_TIMEOUT), file, "timeout", minimum=0,
+                              maximum=MAX_TIMEOUT_S)),
         memory=_number(data.get("memory", DEFAULT_MEMORY_MB), file, "memory", integer=True,
-                       minimum=0),
+                       minimum=0, maximum=MAX_MEMORY_MB),
         file=file)
 
 

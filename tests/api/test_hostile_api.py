@@ -160,3 +160,14 @@ def test_the_source_check_finds_what_it_looks_for():
             "sp.S('1')\n")
     assert [name for _, name in _evaluating_calls(ast.parse(code))] == [
         "import of sympy.parsing", "import of ['parse_expr']", "sympify", "eval", "S"]
+
+
+# --- time limits ---------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("timeout", [float("nan"), float("inf"), -1.0, "5", True])
+def test_timeout_that_is_no_number_of_seconds_is_refused(timeout):
+    """nan compared with the clock is never reached: it silently meant no limit."""
+    with pytest.raises(ValueError, match="timeout must be a finite number"):
+        rankloci.locus("planar2r", timeout=timeout)
+    with pytest.raises(ValueError, match="timeout must be a finite number"):
+        rankloci.check("planar2r", timeout=timeout, samples=1)

@@ -126,6 +126,46 @@ CASES = [
      ["locus", "planar2r", "--tree", "D.json", "--quiet"], 2, "is a directory"),
     ("non-polynomial-entry-given-as-a-path", {"r.toml": _raw("r", [["x", "1/x"]], ["x"])},
      ["locus", "./r.toml", "--quiet"], 2, "r.toml: entry"),
+    # limits beyond what the system's waits and address-space limits take
+    ("timeout-past-the-system-timers", {}, ["locus", "planar2r", "--timeout", "2147483"], 2,
+     "--timeout: '2147483' is more than 1000000 seconds"),
+    ("timeout-past-the-system-timers-check", {},
+     ["check", "planar2r", "--timeout", "1e300"], 2, "--timeout"),
+    ("timeout-past-the-system-timers-manipulability", {},
+     ["manipulability", "planar2r", "--q", "0 1", "--timeout", "3000000"], 2, "--timeout"),
+    ("memory-past-64-bits", {}, ["locus", "planar2r", "--memory", "99999999999999"], 2,
+     "--memory: '99999999999999' is more than"),
+    ("sweep-timeout-past-the-system-timers",
+     {"s.toml": 'models = ["planar2r"]\ntimeout = 2147483\n'},
+     ["sweep", "s.toml", "-o", "out", "--serial", "--quiet"], 2, "timeout"),
+    ("sweep-memory-past-64-bits", {"s.toml": 'models = ["planar2r"]\nmemory = 99999999999999\n'},
+     ["sweep", "s.toml", "-o", "out", "--serial", "--quiet"], 2, "memory"),
+    # names longer than the file system takes
+    ("model-name-of-300-characters", {}, ["locus", "x" * 300, "--quiet"], 2, "File name too long"),
+    ("model-file-name-of-300-characters", {}, ["check", "x" * 300 + ".toml", "--quiet"], 2,
+     "File name too long"),
+    # locus files whose equations have no value at some configurations
+    ("square-root-of-a-sine-in-a-locus-file", {"l.json": _locus_file(["sqrt(sin(q2))"])},
+     ["check", "planar2r", "--locus", "l.json", "--quiet", "--samples", "2"], 2,
+     "sqrt(sin(q2)) is not defined at every configuration"),
+    ("arc-cosine-in-a-locus-file", {"l.json": _locus_file(["acos(q2)"])},
+     ["check", "planar2r", "--locus", "l.json", "--quiet", "--samples", "2"], 2,
+     "acos(q2) is not defined"),
+    ("division-in-a-locus-file-exclusion", {"l.json": _locus_file(raw=json.dumps({
+        "schema": "rankloci.locus/2", "model": "planar2r", "variables": ["q1", "q2"],
+        "components": [{"equations": ["sin(q2)"], "excluding": ["1/q1"]}]}))},
+     ["check", "planar2r", "--locus", "l.json", "--quiet", "--samples", "2"], 2,
+     "1/q1 is not defined"),
+    # scheduler addresses Dask cannot use: refused before anything runs
+    ("scheduler-port-not-a-number", {"s.toml": 'models = ["planar2r", "planar3r"]\n'},
+     ["sweep", "s.toml", "-o", "out", "--scheduler", "tcp://127.0.0.1:notaport"], 2,
+     "--scheduler 'tcp://127.0.0.1:notaport'"),
+    ("scheduler-in-process", {"s.toml": 'models = ["planar2r", "planar3r"]\n'},
+     ["sweep", "s.toml", "-o", "out", "--scheduler", "inproc://x"], 2, "tcp://HOST:8786"),
+    ("scheduler-unclosed-bracket", {"s.toml": 'models = ["planar2r", "planar3r"]\n'},
+     ["sweep", "s.toml", "-o", "out", "--scheduler", "tcp://[::1"], 2, "Invalid IPv6 URL"),
+    ("scheduler-without-port-one-case", {"s.toml": 'models = ["planar2r"]\n'},
+     ["sweep", "s.toml", "-o", "out", "--scheduler", "tcp://localhost"], 2, "--scheduler"),
 ]
 
 
@@ -538,3 +578,38 @@ def test_sweep_cleanup_removes_only_its_own_temporary_files(tmp_path, monkeypatc
     assert main(["sweep", "s.toml", "-o", "out", "--serial", "--quiet"]) == 0
     assert not mine.exists()
     assert all(p.read_text() == "x" for p in users)
+
+
+# --- sweeps: the scheduler named is used; case files edited by hand are recomputed --------------
+
+def test_scheduler_named_for_one_case_is_not_ignored(tmp_path, monkeypatch, capsys):
+    from rankloci.sweep import execute
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(execute, "WORKER_WAIT_SECONDS", 1.0)
+    (tmp_path / "s.toml").write_text('models = ["planar2r"]\n')
+    line = _one_error_line(capsys, main(["sweep", "s.toml", "-o", "out", "--scheduler",
+                                         "tcp://127.0.0.1:1", "--quiet"]))
+    assert "cannot reach the Dask scheduler at tcp://127.0.0.1:1" in line
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("field, value", [("components", "many"), ("seconds", None),
+                                          ("limits", [1, 2]), ("note", 7), ("hash", {})])
+def test_case_file_edited_by_hand_is_computed_again(tmp_path, monkeypatch, capsys, field, value):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "s.toml").write_text('models = ["planar2r"]\n')
+    argv = ["sweep", "s.toml", "-o", "out", "--serial", "--quiet"]
+    assert main(argv) == 0
+    [case] = (tmp_path / "out" / "cases").glob("*.json")
+    data = json.loads(case.read_text())
+    first = dict(data["sweep"])
+    data["sweep"][field] = value
+    case.write_text(json.dumps(data))
+    capsys.readouterr()
+    assert main(argv) == 0, capsys.readouterr().err
+    again = json.loads(case.read_text())["sweep"]
+    assert again[field] != value and type(again[field]) is type(first[field])
+    assert {k: v for k, v in again.items() if k != "seconds"} == {
+        k: v for k, v in first.items() if k != "seconds"}
+    assert "| planar2r |" in (tmp_path / "out" / "summary.md").read_text()
