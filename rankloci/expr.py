@@ -24,7 +24,7 @@ import sympy as sp
 from .errors import ExpressionError
 from .tolerances import ANGLE_SNAP_ATOL
 
-__all__ = ["parse_expression", "exact_number", "snap_angle", "FUNCTIONS", "AngleSnapWarning"]
+__all__ = ["parse_expression", "as_expression", "exact_number", "snap_angle", "FUNCTIONS", "AngleSnapWarning"]
 
 #: Functions an expression may call, by name.
 FUNCTIONS = {
@@ -124,7 +124,8 @@ def angle_value(value, *, what: str = "angle") -> sp.Expr:
     return exact_number(value)
 
 
-def parse_expression(text, names: Mapping[str, sp.Expr] | None = None) -> sp.Expr:
+def parse_expression(text, names: Mapping[str, sp.Expr] | None = None, *,
+                     bounded: bool = True) -> sp.Expr:
     """Parse an expression string into a sympy expression, safely.
 
     Parameters
@@ -135,6 +136,12 @@ def parse_expression(text, names: Mapping[str, sp.Expr] | None = None) -> sp.Exp
         The names the expression may use (joint variables, parameters), mapped
         to their symbols.  ``pi`` and the functions in :data:`FUNCTIONS` are
         always allowed.
+    bounded : bool, default True
+        Apply the size limits (:data:`MAX_LENGTH`, :data:`MAX_DEPTH`,
+        :data:`MAX_EXPONENT`, :data:`MAX_DIGITS`, :data:`MAX_NUMBER_DIGITS`).
+        Only text that rankloci itself wrote from an expression (a branch
+        condition of its own tree) is read with ``bounded=False``; the syntax
+        whitelist holds either way.
 
     Raises
     ------
@@ -157,7 +164,7 @@ def parse_expression(text, names: Mapping[str, sp.Expr] | None = None) -> sp.Exp
     if not isinstance(text, str):
         return exact_number(text)
     names = dict(names or {})
-    if len(text) > MAX_LENGTH:
+    if bounded and len(text) > MAX_LENGTH:
         raise ExpressionError(text[:40] + "...", f"longer than {MAX_LENGTH} characters")
     if not text.strip():
         raise ExpressionError(text, "empty expression")
@@ -174,6 +181,8 @@ def parse_expression(text, names: Mapping[str, sp.Expr] | None = None) -> sp.Exp
     except RecursionError:
         raise ExpressionError(text, "nested too deeply") from None
     try:
+        if not bounded:
+            return _build(tree.body, text, names, 0, bounded=False)
         return _checked(_build(tree.body, text, names, 0), text)
     except RecursionError:
         raise ExpressionError(text, "nested too deeply") from None
@@ -212,14 +221,21 @@ def _finite(value, text):
     return _checked(value, text)
 
 
-def _build(node, text, names, depth):
-    if depth > MAX_DEPTH:
+def _as_is(value, text):
+    return value
+
+
+def _build(node, text, names, depth, bounded=True):
+    if bounded and depth > MAX_DEPTH:
         raise ExpressionError(text, "nested too deeply")
     depth += 1
+    check, finite = (_checked, _finite) if bounded else (_as_is, _as_is)
     if isinstance(node, ast.Constant):
         v = node.value
         if isinstance(v, bool) or not isinstance(v, (int, float)):
             raise ExpressionError(text, f"literal {v!r} is not a number")
+        if not bounded:
+            return sp.Integer(v) if isinstance(v, int) else exact_number(v)
         if isinstance(v, int) and len(str(abs(v))) > MAX_DIGITS:
             raise ExpressionError(text, "integer literal too long")
         return exact_number(v)
@@ -232,7 +248,7 @@ def _build(node, text, names, depth):
             raise ExpressionError(text, f"function {node.id!r} used without arguments")
         raise ExpressionError(text, f"unknown name {node.id!r}")
     if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
-        arg = _build(node.operand, text, names, depth)
+        arg = _build(node.operand, text, names, depth, bounded)
         return -arg if isinstance(node.op, ast.USub) else arg
     if isinstance(node, ast.BinOp) and type(node.op) in _BINOPS:
         # a + b + c ... is parsed as ((a + b) + c) ...: a flat chain, not nesting
@@ -240,23 +256,27 @@ def _build(node, text, names, depth):
         while isinstance(node, ast.BinOp) and type(node.op) in _BINOPS:
             chain.append(node)
             node = node.left
-        value = _build(node, text, names, depth)
+        value = _build(node, text, names, depth, bounded)
         for link in reversed(chain):
-            right = _build(link.right, text, names, depth)
+            right = _build(link.right, text, names, depth, bounded)
             if isinstance(link.op, ast.Div) and right.is_zero:
                 raise ExpressionError(text, "division by zero")
-            value = _checked(_BINOPS[type(link.op)](value, right), text)
+            value = check(_BINOPS[type(link.op)](value, right), text)
         return value
     if isinstance(node, ast.BinOp):
         if isinstance(node.op, ast.Pow):
-            base = _build(node.left, text, names, depth)
-            exp = _build(node.right, text, names, depth)
+            base = _build(node.left, text, names, depth, bounded)
+            exp = _build(node.right, text, names, depth, bounded)
             if not exp.is_number:
                 raise ExpressionError(text, "exponent must be a number")
-            if exp.is_Integer and abs(int(exp)) > MAX_EXPONENT:
-                raise ExpressionError(text, f"exponent larger than {MAX_EXPONENT}")
             if not exp.is_Rational:
                 raise ExpressionError(text, "exponent must be rational")
+            if not bounded:
+                if base.is_zero and exp.is_negative:
+                    raise ExpressionError(text, "division by zero")
+                return base ** exp
+            if exp.is_Integer and abs(int(exp)) > MAX_EXPONENT:
+                raise ExpressionError(text, f"exponent larger than {MAX_EXPONENT}")
             if abs(exp.p) > MAX_EXPONENT or exp.q > MAX_EXPONENT:
                 raise ExpressionError(text, f"exponent larger than {MAX_EXPONENT}")
             if base.is_zero and exp.is_negative:
@@ -264,15 +284,15 @@ def _build(node, text, names, depth):
             bits = max([max(abs(r.p), r.q).bit_length() for r in base.atoms(sp.Rational)], default=0)
             if abs(exp.p) * bits > 4 * MAX_DIGITS * MAX_EXPONENT:
                 raise ExpressionError(text, "number too large")  # (9**64)**64)**64... would take minutes
-            return _checked(base ** exp, text)
+            return check(base ** exp, text)
         op = _BINOPS.get(type(node.op))
         if op is None:
             raise ExpressionError(text, f"operator {type(node.op).__name__} is not allowed")
-        left = _build(node.left, text, names, depth)
-        right = _build(node.right, text, names, depth)
+        left = _build(node.left, text, names, depth, bounded)
+        right = _build(node.right, text, names, depth, bounded)
         if isinstance(node.op, ast.Div) and right.is_zero:
             raise ExpressionError(text, "division by zero")
-        return _checked(op(left, right), text)
+        return check(op(left, right), text)
     if isinstance(node, ast.Call):
         if not isinstance(node.func, ast.Name) or node.func.id not in FUNCTIONS:
             what = node.func.id if isinstance(node.func, ast.Name) else type(node.func).__name__
@@ -285,6 +305,44 @@ def _build(node, text, names, depth):
             raise ExpressionError(text, f"{fname} takes {nargs} argument(s)")
         if any(isinstance(a, ast.Starred) for a in node.args):
             raise ExpressionError(text, "starred arguments are not allowed")
-        args = [_build(a, text, names, depth) for a in node.args]
-        return _finite(FUNCTIONS[fname](*args), text)
+        args = [_build(a, text, names, depth, bounded) for a in node.args]
+        return finite(FUNCTIONS[fname](*args), text)
     raise ExpressionError(text, f"{type(node).__name__} is not allowed in an expression")
+
+
+def as_expression(value, names: Mapping[str, sp.Expr] | None = None) -> sp.Expr:
+    """A sympy expression from a value handed to the Python API.
+
+    A string is parsed by :func:`parse_expression` over ``names``, as a model
+    file's would be, never by ``sympy.sympify`` (which evaluates strings as
+    Python).  A sympy object is returned as it is; a number becomes a sympy
+    number; anything else is refused.
+
+    Raises
+    ------
+    ExpressionError
+        A string the parser refuses, a boolean, or an object that is neither
+        a number nor a sympy object.
+
+    Examples
+    --------
+    >>> k = sp.Symbol("k")
+    >>> as_expression("2*k + 1", {"k": k}), as_expression(0.5)
+    (2*k + 1, 0.500000000000000)
+    >>> as_expression("__import__('os').getcwd()")
+    Traceback (most recent call last):
+    ...
+    rankloci.errors.ExpressionError: cannot parse "__import__('os').getcwd()": call of 'Attribute' is not allowed
+    """
+    if isinstance(value, str):
+        return parse_expression(value, names)
+    if isinstance(value, sp.Basic):
+        return value
+    if isinstance(value, bool):
+        raise ExpressionError(repr(value), "a boolean is not a number")
+    try:
+        # strict: numbers and objects that convert themselves; never a string, never str(value)
+        return sp.sympify(value, strict=True)
+    except sp.SympifyError:
+        raise ExpressionError(repr(value)[:40], f"a {type(value).__name__} is not a number or "
+                                                "an expression") from None

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
+from .expr import as_expression
 from .tolerances import LOCUS_CONTAINS_RTOL
 
 __all__ = ["Component", "Locus", "Outcome", "SCHEMA", "READABLE_SCHEMAS"]
@@ -172,8 +173,8 @@ class Component:
         >>> [round(float(v), 6) for v in f(0.0, 1.5707963267948966)]
         [1.0]
         """
-        subs = dict(parameters or {})
-        eqs = [sp.sympify(e).subs(subs) for e in self.equations]
+        subs = {k: as_expression(v) for k, v in dict(parameters or {}).items()}
+        eqs = [as_expression(e).subs(subs) for e in self.equations]
         if variables is None:
             symbols = set().union(*(e.free_symbols for e in eqs)) if eqs else set()
             variables = sorted(symbols, key=_natural_key)

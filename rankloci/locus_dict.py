@@ -78,19 +78,44 @@ def _symbols(data, model):
             {p.name: p for p in params})
 
 
+def _undefined_somewhere(e):
+    """The part of ``e`` that is not finite at some configuration, or None.
+
+    Equations of a locus are polynomials in the variables and in sines and
+    cosines of them; ``sqrt(sin(q2))``, ``acos(q2)`` or ``1/q2`` have no real
+    value at some points, where a numeric check could not evaluate them.
+    Functions of constants only (``sqrt(2)``) are numbers.
+    """
+    for node in sp.preorder_traversal(e):
+        if not node.free_symbols:
+            continue
+        if isinstance(node, sp.Function) and not isinstance(node, (sp.sin, sp.cos)):
+            return node
+        if isinstance(node, sp.Pow) and not (node.exp.is_Integer and node.exp >= 0):
+            return node
+    return None
+
+
 def _component(c, where, symbols, schema_1, special):
     from .locus import Component
 
     if not isinstance(c, dict) or "equations" not in c:
         raise ModelError("each component must be an object with 'equations'", field=where)
 
-    def exprs(items, field):
+    def exprs(items, field, *, everywhere=False):
         if not isinstance(items, list) or len(items) > MAX_ITEMS:
             raise ModelError(f"{where}.{field} must be a list of strings", field=f"{where}.{field}")
         try:
-            return tuple(parse_expression(t, symbols) for t in items)
+            got = tuple(parse_expression(t, symbols) for t in items)
         except ExpressionError as e:
             raise ModelError(str(e), field=f"{where}.{field}") from None
+        for e in got if everywhere else ():
+            bad = _undefined_somewhere(e)
+            if bad is not None:
+                raise ModelError(f"{sp.sstr(bad)[:60]} is not defined at every configuration; "
+                                 "equations are polynomials in the variables and in sines and "
+                                 "cosines", field=f"{where}.{field}")
+        return got
 
     def integer(field, default, low, high):
         v = c.get(field, default)
@@ -130,7 +155,7 @@ def _component(c, where, symbols, schema_1, special):
         raise ModelError("must be a list of objects", field=f"{where}.meets")
     conditions = exprs(c.get("parameter_conditions", []), "parameter_conditions")
     return Component(
-        equations=exprs(c["equations"], "equations"),
+        equations=exprs(c["equations"], "equations", everywhere=True),
         solved=solved,
         free=tuple(symbols[n] for n in free),
         dimension=integer("dimension", 0, 0, MAX_ITEMS),
@@ -143,7 +168,7 @@ def _component(c, where, symbols, schema_1, special):
         # schema /1 listed special-parameter components among the others
         for_model=not special and bool(c.get("for_model", True))
         and not (schema_1 and c.get("parameter_conditions")),
-        excluding=exprs(c.get("excluding", []), "excluding"),
+        excluding=exprs(c.get("excluding", []), "excluding", everywhere=True),
         kind=kind, meets=tuple(meets))
 
 

@@ -33,6 +33,7 @@ import flint
 import numpy as np
 import sympy as sp
 
+from ..expr import as_expression
 from ..errors import LocusError
 
 __all__ = ["PolyRing", "square_root_primes"]
@@ -67,7 +68,7 @@ def square_root_primes(exprs) -> tuple:
     """
     primes = set()
     for e in exprs:
-        for atom in sp.sympify(e).atoms(sp.Pow):
+        for atom in as_expression(e).atoms(sp.Pow):
             if atom.is_number:
                 root = _square_root_of_integer(atom)
                 if root is not None:
@@ -374,7 +375,7 @@ class PolyRing:
 
     def _raw(self, expr):
         """Polynomial in (c, s, x, p) as a dict, and its degree per angle."""
-        expr = sp.sympify(expr)
+        expr = as_expression(expr)
         _check_angle_multiples(expr, self.angles)
         rep = {}
         for q, (c, s) in self._trig_symbols.items():

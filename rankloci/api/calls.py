@@ -105,7 +105,15 @@ def jacobian(model: ModelLike, *, task: str | Sequence[int] | None = None,
 
 def _deadline(seconds):
     """A ``should_stop`` that is True once ``seconds`` have passed; None for no limit."""
-    if seconds is None or seconds <= 0:
+    import math
+
+    if seconds is None:
+        return None
+    if isinstance(seconds, bool) or not isinstance(seconds, (int, float)) \
+            or not math.isfinite(seconds) or seconds < 0:
+        raise ValueError(f"timeout must be a finite number of seconds 0 or above (0 or None: "
+                         f"no limit), got {seconds!r}")
+    if seconds == 0:
         return None
     end = time.monotonic() + seconds
     return lambda: time.monotonic() > end

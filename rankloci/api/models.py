@@ -48,10 +48,31 @@ def _toml_value(value) -> str:
         raise ValueError(f"parameter value {value!r} is not a number")
     if isinstance(value, (int, float)):
         return repr(value)
-    expr = sp.sympify(value)
+    from ..errors import ExpressionError, ModelError
+    from ..expr import as_expression
+
+    try:
+        expr = as_expression(value, {})   # a string is parsed as a model file's would be
+    except ExpressionError as e:
+        raise ModelError(f"parameter value: {e}") from None
     if expr.free_symbols or not expr.is_real:
         raise ValueError(f"parameter value {value!r} is not a real number")
+    if isinstance(expr, sp.Integer):
+        return str(int(expr))
+    if isinstance(expr, sp.Float) or (expr.is_Rational and _decimal_exact(expr)):
+        return repr(float(expr))
     return json.dumps(sp.sstr(expr))
+
+
+def _decimal_exact(r) -> bool:
+    """Is the rational ``r`` what a model file reads from ``repr(float(r))``?"""
+    from ..errors import ExpressionError
+    from ..expr import exact_number
+
+    try:
+        return exact_number(float(r)) == r
+    except ExpressionError:      # too large for a model file's number
+        return False
 
 
 def matrix_model(matrix, *, variables=None, parameters=None, name: str = "matrix"):
@@ -100,8 +121,8 @@ def matrix_model(matrix, *, variables=None, parameters=None, name: str = "matrix
     from ..errors import ModelError
     from ..io.toml_model import parse_model
 
-    M = sp.Matrix(matrix)
     params = {str(k): v for k, v in (parameters or {}).items()}
+    M = _sympy_matrix(matrix, [str(v) for v in variables or ()] + list(params))
     symbols = set().union(*(e.free_symbols for e in M)) if M else set()
     if variables is None:
         variables = sorted((s for s in symbols if s.name not in params), key=_natural_key)
@@ -121,6 +142,34 @@ def matrix_model(matrix, *, variables=None, parameters=None, name: str = "matrix
     if params:
         text += "[parameters]\n" + "".join(f"{k} = {_toml_value(v)}\n" for k, v in params.items())
     return parse_model(text)
+
+
+def _sympy_matrix(matrix, names):
+    """``matrix`` as a sympy Matrix; string entries are parsed over ``names``, never evaluated.
+
+    ``sympy.Matrix`` would pass strings to ``sympify``, which evaluates them as Python.
+    """
+    import sympy as sp
+
+    from ..errors import ExpressionError, ModelError
+    from ..expr import as_expression
+
+    if isinstance(matrix, sp.MatrixBase):
+        return sp.Matrix(matrix)
+    if isinstance(matrix, (str, bytes)):
+        raise TypeError("matrix must be a sympy Matrix or a sequence of rows, not a string")
+    symbols = {n: sp.Symbol(n, real=True) for n in names if _IDENT.match(n)}
+    try:
+        rows = [list(row) for row in matrix]
+    except TypeError:
+        raise TypeError(f"matrix must be a sympy Matrix or a sequence of rows, not a "
+                        f"{type(matrix).__name__}") from None
+    if any(isinstance(row, (str, bytes)) for row in matrix) or len({len(r) for r in rows}) > 1:
+        raise TypeError("matrix must be a sequence of rows of equal length")
+    try:
+        return sp.Matrix([[as_expression(e, symbols) for e in row] for row in rows])
+    except ExpressionError as e:
+        raise ModelError(f"matrix entry: {e}") from None
 
 
 def _is_from(obj, package: str) -> bool:
@@ -167,6 +216,13 @@ def as_model(model, *, variables=None, parameters=None, tip=None, base_link=None
         if tip is not None or base_link is not None:
             raise ValueError("tip= and base_link= apply to URDF files and Pinocchio models, "
                              f"not to a loaded {type(model).__name__}")
+        bad = [k for k, v in dict(model.parameters).items() if not isinstance(v, sp.Basic)]
+        if bad:
+            # later substitutions would hand a string to sympify, which evaluates it
+            raise ValueError(f"parameter {str(bad[0])!r} of {type(model).__name__} "
+                             f"{model.name!r} has a {type(model.parameters[bad[0]]).__name__} "
+                             "value; model parameters are sympy numbers (load_model parses "
+                             "strings)")
         return model
     if isinstance(model, (str, os.PathLike)):
         spec = os.fspath(model)

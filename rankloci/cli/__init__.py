@@ -64,7 +64,10 @@ def _run(argv) -> int:
 def _is_model_file(spec: str) -> bool:
     """Whether ``rankloci.io.load_model`` reads ``spec`` as a file (not a built-in name)."""
     path = Path(spec)
-    return path.suffix.lower() in (".toml", ".urdf") or path.exists()
+    try:
+        return path.suffix.lower() in (".toml", ".urdf") or path.exists()
+    except OSError:               # a name longer than the file system takes
+        return False
 
 
 def _check_chain_options(args) -> None:

@@ -10,11 +10,14 @@ functions so that ``rankloci --help`` stays fast.
 
 from __future__ import annotations
 
+import contextlib
 import json
+import signal
 import sys
 import time
 
-from .output import clear_status, progress_printer, require_module, write_atomic
+from .output import (check_names, clear_status, output_target, progress_printer, require_module,
+                     write_atomic)
 from .near import cmd_ik, cmd_manipulability
 from .parser import UsageError
 from .sweep import cmd_sweep
@@ -182,10 +185,8 @@ def cmd_locus(args) -> int:
 
     if args.tree and Path(args.tree).suffix not in (".dot", ".json", ".txt"):
         raise UsageError(f"--tree {args.tree!r}: the file must end in .dot, .json or .txt")
-    if args.tree and not Path(args.tree).resolve().parent.is_dir():
-        raise UsageError(f"--tree {args.tree!r}: directory does not exist")
-    if args.tree and Path(args.tree).is_dir():
-        raise UsageError(f"--tree {args.tree!r} is a directory; give a file name")
+    if args.tree:
+        output_target(args.tree, "--tree")     # before the computation, not after it
     progress = progress_printer(args.quiet)
     model, extra = _load_model(args)
 
@@ -213,7 +214,7 @@ def cmd_locus(args) -> int:
     locus, row_labels = got
     if args.tree:
         text = {".dot": tree_dot, ".json": tree_json, ".txt": tree_text}[Path(args.tree).suffix](locus.tree)
-        write_atomic(args.tree, text + "\n")
+        write_atomic(args.tree, text + "\n", "--tree")
     if args.format == "json":
         print(locus_json(locus, rows=list(row_labels), seed=args.seed))
     elif args.format == "latex":
@@ -235,36 +236,51 @@ def cmd_locus(args) -> int:
     return EXIT_OK
 
 
+#: The largest locus file ``check --locus`` reads (the built-in models' loci are below 100 kB).
+MAX_LOCUS_BYTES = 20_000_000
+
+
+def _parsed_locus(raw: bytes, file: str, model):
+    """The locus of a ``--locus`` file's bytes; a ModelError naming the file."""
+    from ..errors import ModelError
+    from ..locus import Locus
+
+    try:
+        data = json.loads(raw.decode("utf-8"))
+    except (json.JSONDecodeError, UnicodeDecodeError) as e:
+        raise ModelError(f"not JSON: {e}", file=file) from None
+    except RecursionError:
+        raise ModelError("not a locus: nested too deeply", file=file) from None
+    try:
+        return Locus.from_dict(data, model)
+    except ModelError as e:
+        raise e.located(file=file) from None
+
+
 def cmd_check(args) -> int:
     from ..errors import LocusTimeout, ModelError
     from ..io import load_model
-    from ..locus import Locus
     from .limits import LimitExceeded, run_limited
 
     if args.samples < 1:
         raise UsageError(f"--samples must be at least 1, got {args.samples}")
     progress = progress_printer(args.quiet)
     model = load_model(args.model, base_link=args.base_link, tip_link=args.tip_link)
+    raw = None
     if args.locus:
+        from ..io.files import read_bounded
+
         try:
-            with open(args.locus, encoding="utf-8") as fh:
-                data = json.load(fh)
+            raw = read_bounded(args.locus, MAX_LOCUS_BYTES)
         except OSError as e:
             raise ModelError(f"cannot read: {e.strerror}", file=args.locus) from None
-        except (json.JSONDecodeError, UnicodeDecodeError) as e:
-            raise ModelError(f"not JSON: {e}", file=args.locus) from None
-        except RecursionError:
-            raise ModelError("not a locus: nested too deeply", file=args.locus) from None
-        try:
-            locus = Locus.from_dict(data, model)
-        except ModelError as e:
-            raise e.located(file=args.locus) from None
-    else:
-        locus = None
 
     def work(report_progress):
         from ..api.calls import check_model
 
+        # parsed here, in the child, under --timeout and --memory: a large locus file
+        # takes time and memory to read
+        locus = None if raw is None else _parsed_locus(raw, args.locus, model)
         return check_model(model, locus, samples=args.samples, seed=args.seed,
                            numeric=args.numeric, should_stop=_deadline(args.timeout),
                            progress=report_progress)
@@ -292,6 +308,23 @@ REPORT_TIME_FACTOR = 4
 REPORT_TIME_EXTRA = 120.0
 
 
+@contextlib.contextmanager
+def _terminate_as_interrupt():
+    """SIGTERM raises KeyboardInterrupt while the block runs, so that its cleanup runs."""
+    def interrupt(signum, frame):
+        raise KeyboardInterrupt
+
+    try:
+        old = signal.signal(signal.SIGTERM, interrupt)
+    except ValueError:        # not the main thread: signals stay as they are
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, old)
+
+
 def cmd_report(args) -> int:
     import shutil
     from pathlib import Path
@@ -300,6 +333,7 @@ def cmd_report(args) -> int:
     from .limits import LimitExceeded, run_limited
     from ..report import (FORMATS, ReportError, build_report, file_stem, read_model_notes,
                           write_report)
+    from ..report.write import report_workdir
 
     formats = [f.strip() for f in args.format.split(",") if f.strip()]
     require_module("matplotlib", "report", "rankloci report")  # the figures
@@ -316,9 +350,15 @@ def cmd_report(args) -> int:
     else:
         targets = [Path(args.output) if args.output
                    else Path("reports") / file_stem(models[0].name)]
-    for out in targets:
+    for model, out in zip(models, targets):
+        check_names(out, "-o")
         if out.exists() and not out.is_dir():
             raise UsageError(f"-o {str(out)!r}: exists and is not a directory")
+        for fmt in formats:
+            dest = out / f"{file_stem(model.name)}.{fmt}"
+            if dest.is_symlink() or (dest.exists() and not dest.is_file()):
+                raise UsageError(f"-o {str(out)!r}: {str(dest)!r} is not a regular file; "
+                                 "nothing was written")
         anchor = next(p for p in [out, *out.absolute().parents] if p.exists())
         if not anchor.is_dir():
             raise UsageError(f"-o {str(out)!r}: {str(anchor)!r} is not a directory")
@@ -340,14 +380,21 @@ def cmd_report(args) -> int:
     for model, out in zip(models, targets):
         t0 = time.perf_counter()
 
-        def work(tell, model=model, out=out):
+        try:
+            # made here, not in the child, so that it is removed even when the child is killed
+            workdir = report_workdir(out)
+        except OSError as e:
+            raise UsageError(f"-o {str(out)!r}: cannot write there: {e.strerror or e}") from None
+
+        def work(tell, model=model, out=out, workdir=workdir):
             report = build_report(model, seed=args.seed, samples=args.samples,
                                   numeric=args.numeric, timeout=args.timeout,
                                   clock=time.perf_counter, progress=tell,
                                   dot=dot, model_notes=read_model_notes(model), stamp=stamp)
             try:
                 paths = write_report(report, out, formats=formats, fragment=args.fragment,
-                                     latex=latex, timings=not args.no_timings)
+                                     latex=latex, timings=not args.no_timings,
+                                     workdir=workdir)
             except ReportError as e:
                 return None, str(e), False, False
             except OSError as e:
@@ -359,13 +406,16 @@ def cmd_report(args) -> int:
 
         limit = REPORT_TIME_FACTOR * args.timeout + REPORT_TIME_EXTRA if args.timeout else None
         try:
-            paths, failure, no_locus, check_ok = run_limited(
-                work, timeout=limit, memory_mb=args.memory, progress=progress)
+            with _terminate_as_interrupt():
+                paths, failure, no_locus, check_ok = run_limited(
+                    work, timeout=limit, memory_mb=args.memory, progress=progress)
         except LimitExceeded as e:
             clear_status()
             print(f"rankloci: error: {model.name}: the report {e}", file=sys.stderr)
             status = EXIT_FAILED
             continue
+        finally:
+            shutil.rmtree(workdir, ignore_errors=True)
         clear_status()
         if paths is None:
             print(f"rankloci: error: {model.name}: {failure}", file=sys.stderr)

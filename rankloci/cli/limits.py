@@ -29,7 +29,8 @@ import traceback
 from ..errors import LocusTimeout, RanklociError
 from .output import shortened
 
-__all__ = ["run_limited", "LimitExceeded", "KILL_GRACE", "DEFAULT_MEMORY_MB"]
+__all__ = ["run_limited", "LimitExceeded", "KILL_GRACE", "DEFAULT_MEMORY_MB", "MAX_TIMEOUT_S",
+           "MAX_MEMORY_MB"]
 
 #: Seconds between the work's own deadline and the parent's kill.
 KILL_GRACE = 1.0
@@ -38,6 +39,14 @@ KILL_GRACE = 1.0
 #: of resident memory; the address space of an idle child (Python, numpy, sympy, FLINT and
 #: their thread arenas) is about 1.5 GB.
 DEFAULT_MEMORY_MB = 8192
+
+
+#: The longest time limit, in seconds (about 11.6 days): the operating system's waits refuse
+#: much longer ones (2147483 s and above overflow them).
+MAX_TIMEOUT_S = 1_000_000
+
+#: The largest memory limit, in MiB (16 TiB): an address-space limit in bytes must fit 64 bits.
+MAX_MEMORY_MB = 2 ** 24
 
 
 class LimitExceeded(Exception):
@@ -159,7 +168,12 @@ def _child(work, send, memory_mb):
     _die_with_parent()
     if memory_mb:
         limit = int(memory_mb) * 2 ** 20
-        resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+        try:
+            resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+        except (ValueError, OverflowError, OSError) as e:
+            send.send(("usage", f"--memory {memory_mb}: the system refuses this limit ({e})"))
+            send.close()
+            os._exit(0)
 
     def progress(msg):
         send.send(("progress", str(msg)))

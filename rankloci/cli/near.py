@@ -17,7 +17,7 @@ import re
 import sys
 from pathlib import Path
 
-from .output import progress_printer, write_atomic
+from .output import output_target, progress_printer, write_atomic
 from .parser import UsageError, memory_arg, seed_arg, timeout_arg
 from .limits import DEFAULT_MEMORY_MB
 
@@ -187,10 +187,7 @@ def _check_out(option, path, suffixes):
     p = Path(path)
     if suffixes and p.suffix.lower() not in suffixes:
         raise UsageError(f"{option} {path!r}: the file must end in {', '.join(suffixes)}")
-    if p.is_dir():
-        raise UsageError(f"{option} {path!r} is a directory; give a file name")
-    if not p.resolve().parent.is_dir():
-        raise UsageError(f"{option} {path!r}: directory does not exist")
+    output_target(path, option)     # before the computation, not after it
 
 
 def _locus_distance(model, args, tell):
@@ -259,13 +256,12 @@ def cmd_ik(args) -> int:
             raise UsageError(f'--line {args.line[:60]!r}: write it as "X0 -> X1"')
         points = [parse_vector(p, k, "--line") for p in parts]
     else:
+        from ..io.files import read_bounded
+
         try:
-            with open(args.path, "rb") as fh:
-                raw = fh.read(MAX_PATH_BYTES + 1)
+            raw = read_bounded(args.path, MAX_PATH_BYTES)
         except OSError as e:
             raise UsageError(f"--path {args.path!r}: cannot read: {e.strerror}") from None
-        if len(raw) > MAX_PATH_BYTES:
-            raise UsageError(f"--path {args.path!r}: larger than {MAX_PATH_BYTES} bytes")
         try:
             text = raw.decode("utf-8")
         except UnicodeDecodeError:
@@ -316,7 +312,7 @@ def cmd_ik(args) -> int:
         fig = path_figure(path, None if distance is None else distance[0], labels)
         _save(fig, args.plot)
     if args.output:
-        write_atomic(args.output, text)
+        write_atomic(args.output, text, "-o")
     else:
         sys.stdout.write(text)
     if path.stopped:
@@ -328,19 +324,11 @@ def cmd_ik(args) -> int:
 
 
 def _save(fig, path):
-    import os
-    import tempfile
+    import io
 
-    target = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=target.resolve().parent, prefix=f".{target.name}.",
-                               suffix=target.suffix)
-    os.close(fd)
-    try:
-        fig.savefig(tmp, dpi=120)
-        os.replace(tmp, target)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    buf = io.BytesIO()
+    fig.savefig(buf, format=Path(path).suffix.lower().lstrip("."), dpi=120)
+    write_atomic(path, buf.getvalue(), "--plot")
 
 
 def _ik_table(model, path, distance, labels, fmt) -> str:

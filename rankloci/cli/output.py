@@ -14,13 +14,15 @@ from __future__ import annotations
 import logging
 import os
 import shutil
+import stat
 import sys
 import tempfile
 import time
 from pathlib import Path
 
 __all__ = ["progress_printer", "clear_status", "detach_progress", "require_module",
-           "show_warning", "write_atomic", "shortened", "STATUS_DELAY", "PROGRESS_LINE_MAX"]
+           "show_warning", "write_atomic", "output_target", "check_names", "new_file_mode", "shortened",
+           "STATUS_DELAY", "PROGRESS_LINE_MAX", "NAME_MAX", "TEMP_SUFFIX"]
 
 #: Seconds after the first progress message before a terminal gets the status line: a run
 #: that ends sooner shows none.
@@ -160,17 +162,113 @@ def show_warning(message, category, filename, lineno, file=None, line=None):
     print(f"rankloci: warning: {message}", file=sys.stderr)
 
 
-def write_atomic(path, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file: never half-written."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent if str(path.parent) else ".", prefix=f".{path.name}.")
+#: The longest name of one path component that common file systems take, in bytes.
+NAME_MAX = 255
+
+#: The suffix of the temporary file :func:`write_atomic` writes beside its target.
+TEMP_SUFFIX = ".rankloci-tmp"
+
+
+def check_names(path, option: str) -> None:
+    """A usage error when a name in ``path`` is longer than the file system takes."""
+    from .parser import UsageError
+
+    if any(len(os.fsencode(part)) > NAME_MAX for part in Path(path).parts):
+        raise UsageError(f"{option} {shortened(str(path), 80)!r}: a name in the path is longer "
+                         f"than {NAME_MAX} bytes")
+
+
+def output_target(path, option: str) -> Path:
+    """The file that writing ``path`` replaces, checked; a usage error when it may not be.
+
+    A symbolic link is written through: its target is replaced and the link
+    stays.  The target must be absent or a regular file (never a device, a
+    FIFO or a directory), in an existing directory that can be written to,
+    and every name in the path must fit the file system.  Commands call this
+    before they compute, and :func:`write_atomic` again before it writes.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    option : str
+        How the command line names the file in its error line (``"-o"``, ``"--tree"``).
+    """
+    from .parser import UsageError
+
+    shown = f"{option} {shortened(str(path), 80)!r}"
+    p = Path(path)
+    check_names(p, option)
+    real = Path(os.path.realpath(p))
     try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
+        st = os.stat(real)
+    except FileNotFoundError:
+        st = None
+    except OSError as e:
+        raise UsageError(f"{shown}: {e.strerror}") from None
+    if st is not None and stat.S_ISDIR(st.st_mode):
+        raise UsageError(f"{shown} is a directory; give a file name")
+    if st is not None and not stat.S_ISREG(st.st_mode):
+        raise UsageError(f"{shown} is not a regular file (a device, a FIFO or a socket); "
+                         "refused")
+    if not real.parent.is_dir():
+        raise UsageError(f"{shown}: directory does not exist")
+    if st is not None and not os.access(real, os.W_OK):
+        raise UsageError(f"{shown}: the file is not writable (permission denied)")
+    try:       # the only sure test (root, read-only mounts, /proc): create a file there
+        fd, probe = tempfile.mkstemp(dir=real.parent, prefix=f".{real.name}.",
+                                     suffix=TEMP_SUFFIX)
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as e:
+        raise UsageError(f"{shown}: cannot write in {shortened(str(real.parent), 80)!r}: "
+                         f"{e.strerror or e}") from None
+    return real
+
+
+def new_file_mode() -> int:
+    """The permission bits ``open()`` gives a new file: 0o666 without the process's umask."""
+    try:
+        with open("/proc/self/status", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("Umask:"):
+                    return 0o666 & ~int(line.split()[1], 8)
+    except (OSError, ValueError):
+        pass
+    mask = os.umask(0o022)       # no other way to read it: set and put back
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
+def write_atomic(path, data, option: str = "output") -> None:
+    """Write ``data`` (str or bytes) to ``path`` through a temporary file: never half-written.
+
+    The target is checked by :func:`output_target` (a symbolic link is written
+    through; a device, FIFO or directory is refused).  The file keeps the
+    permission bits of the file it replaces; a new file gets those of
+    ``open()``, which respect the umask.
+    """
+    target = output_target(path, option)
+    try:
+        mode = stat.S_IMODE(os.stat(target).st_mode)
+    except FileNotFoundError:
+        mode = new_file_mode()
+    from .parser import UsageError
+
+    tmp = None
+    try:
+        fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.",
+                                   suffix=TEMP_SUFFIX)
+        with os.fdopen(fd, "wb") as fh:
+            os.fchmod(fh.fileno(), mode)
+            fh.write(data.encode("utf-8") if isinstance(data, str) else data)
+        os.replace(tmp, target)
+    except BaseException as e:
+        if tmp is not None:
+            try:
+                os.unlink(tmp)
+            except OSError:
+                pass
+        if isinstance(e, OSError):
+            raise UsageError(f"{option} {shortened(str(path), 80)!r}: cannot write: "
+                             f"{e.strerror or e}") from None
         raise

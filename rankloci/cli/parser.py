@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import argparse
 
-from .limits import DEFAULT_MEMORY_MB
+from .limits import DEFAULT_MEMORY_MB, MAX_MEMORY_MB, MAX_TIMEOUT_S
 
 __all__ = ["UsageError", "ArgumentParser", "build_parser", "frame_arg", "task_arg", "seed_arg"]
 
@@ -63,6 +63,9 @@ def timeout_arg(text: str) -> float:
     if not math.isfinite(value) or value < 0:
         raise argparse.ArgumentTypeError(
             f"{text[:20]!r} is not a number of seconds 0 or above (0 = no limit)")
+    if value > MAX_TIMEOUT_S:
+        raise argparse.ArgumentTypeError(
+            f"{text[:20]!r} is more than {MAX_TIMEOUT_S} seconds (0 = no limit)")
     return value
 
 
@@ -81,6 +84,9 @@ def memory_arg(text: str) -> int:
     if value < 0:
         raise argparse.ArgumentTypeError(
             f"{text[:20]!r} is not a number of MiB 0 or above (0 = no limit)")
+    if value > MAX_MEMORY_MB:
+        raise argparse.ArgumentTypeError(
+            f"{text[:20]!r} is more than {MAX_MEMORY_MB} MiB (0 = no limit)")
     return value
 
 

@@ -20,11 +20,12 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import sys
 import time
 from pathlib import Path
 
-from .output import write_atomic
+from .output import TEMP_SUFFIX, check_names, write_atomic
 from .parser import UsageError, memory_arg, timeout_arg
 
 __all__ = ["add_sweep_arguments", "cmd_sweep", "EPILOG_SWEEP"]
@@ -148,17 +149,48 @@ class _Progress:
             self._drawn = False
 
 
+def _number(value, *, integer=False) -> bool:
+    """Is ``value`` a finite number 0 or above (an integer when asked) in a case file?"""
+    kinds = (int,) if integer else (int, float)
+    return (isinstance(value, kinds) and not isinstance(value, bool) and value == value
+            and 0 <= value < float("inf"))
+
+
+#: The fields of a case file's ``sweep`` record that a resumed sweep takes from the file,
+#: and what each must be; the others (model, case, parameters, ...) come from the spec.
+_RESULT_FIELDS = {
+    "components": lambda v: v is None or _number(v, integer=True),
+    "special": lambda v: v is None or _number(v, integer=True),
+    "kinds": lambda v: isinstance(v, str),
+    "check": lambda v: isinstance(v, str),
+    "note": lambda v: isinstance(v, str),
+    "message": lambda v: isinstance(v, str),
+    "matrix": lambda v: isinstance(v, str),
+    "method": lambda v: v is None or isinstance(v, str),
+    "seconds": _number,
+    "limits": lambda v: isinstance(v, dict) and all(_number(v.get(k, 0))
+                                                    for k in ("timeout", "memory")),
+}
+
+
 def _finished_record(path: Path, case, timeout: float, memory: int):
-    """The record of ``case`` in ``path`` if it counts as finished for these limits, else None."""
-    from ..sweep.task import STATUSES
+    """The record of ``case`` in ``path`` if it counts as finished for these limits, else None.
+
+    A file that is not what a sweep writes (edited by hand, truncated, from another
+    version) does not count: its case is computed again.
+    """
+    from ..io.files import read_bounded
+    from ..sweep.task import STATUSES, failed_result
 
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
+        data = json.loads(read_bounded(path, MAX_CASE_BYTES).decode("utf-8"))
         record = data["sweep"]
         if record["hash"] != case.hash or record["status"] not in STATUSES:
             return None
+        if not all(ok(record[k]) for k, ok in _RESULT_FIELDS.items()):
+            return None
         before = record["limits"]
-    except (OSError, ValueError, KeyError, TypeError):
+    except (OSError, ValueError, KeyError, TypeError, RecursionError):
         return None
     if record["status"] == "error" and record.get("transient"):
         return None
@@ -170,17 +202,59 @@ def _finished_record(path: Path, case, timeout: float, memory: int):
         return None
     if record["status"] == "memory" and not covers(before.get("memory", 0), memory):
         return None
-    return record
+    fresh = failed_result(case, "", timeout=timeout, memory=memory)["sweep"]
+    return fresh | {k: record[k] for k in (*_RESULT_FIELDS, "status")}
+
+
+#: The largest case file a resumed sweep reads (a locus of a long chain: a few MB).
+MAX_CASE_BYTES = 50_000_000
+
+
+#: The address schemes a Dask scheduler is reached by from here.
+SCHEDULER_SCHEMES = ("tcp", "tls")
+
+
+def scheduler_address(text: str) -> str:
+    """``text`` when it is a Dask scheduler address ``SCHEME://HOST:PORT``; a usage error if not.
+
+    Examples
+    --------
+    >>> scheduler_address("tcp://10.0.0.5:8786")
+    'tcp://10.0.0.5:8786'
+    >>> scheduler_address("tcp://[::1]:8786")
+    'tcp://[::1]:8786'
+    """
+    from urllib.parse import urlsplit
+
+    shown = f"--scheduler {text[:80]!r}"
+    hint = f"give an address like tcp://HOST:8786 ({' or '.join(SCHEDULER_SCHEMES)})"
+    try:
+        parts = urlsplit(text)
+        port = parts.port
+    except ValueError as e:
+        raise UsageError(f"{shown}: {e}; {hint}") from None
+    if parts.scheme not in SCHEDULER_SCHEMES or not parts.hostname or port is None \
+            or parts.path or parts.query or parts.fragment or parts.username:
+        raise UsageError(f"{shown}: {hint}")
+    if port == 0:
+        raise UsageError(f"{shown}: port 0 is not a port; {hint}")
+    return text
 
 
 def _output_dir(text: str) -> Path:
     out = Path(text)
+    check_names(out, "-o")
     if out.exists() and not out.is_dir():
         raise UsageError(f"-o {text!r}: exists and is not a directory")
     anchor = next(p for p in [out, *out.absolute().parents] if p.exists())
     if not anchor.is_dir():
         raise UsageError(f"-o {text!r}: {str(anchor)!r} is not a directory")
     return out
+
+
+#: The name of a temporary file that :func:`~rankloci.cli.output.write_atomic` left in the
+#: cases folder (``.ID.json.XXXXXXXX.rankloci-tmp``): nothing else there is removed.
+_OWN_TEMP = re.compile(r"\.[A-Za-z0-9_.-]+\.json\.[a-z0-9_]{8}" + re.escape(TEMP_SUFFIX))
 
 
 def _settings(spec, timeout, memory) -> str:
@@ -199,7 +273,9 @@ def _executor(args, pending):
     """``(DaskExecutor or None, where it runs)`` for the cases to run (None: in this process)."""
     from ..sweep.execute import DaskExecutor, SetupError
 
-    if args.serial or len(pending) <= 1:
+    if args.serial or (len(pending) <= 1 and not args.scheduler):
+        # one case runs here, unless a scheduler was named: then its address is used (and a
+        # wrong one is reported, not ignored)
         return None, "in this process, one after another"
     try:
         if args.scheduler:
@@ -236,9 +312,8 @@ def cmd_sweep(args) -> int:
     if args.scheduler and args.workers:
         raise UsageError("--workers sizes a local cluster; a running scheduler has its own "
                          "workers")
-    if args.scheduler and "://" not in args.scheduler:
-        raise UsageError(f"--scheduler {args.scheduler!r}: give an address like "
-                         f"tcp://HOST:8786")
+    if args.scheduler:
+        scheduler_address(args.scheduler)    # checked even when no case needs the cluster
     spec = read_spec(args.spec)
     timeout = spec.timeout if args.timeout is None else args.timeout
     memory = spec.memory if args.memory is None else args.memory
@@ -264,8 +339,9 @@ def cmd_sweep(args) -> int:
         if executor:
             executor.close()
         raise UsageError(f"-o {args.output!r}: cannot write there: {e.strerror or e}") from None
-    for stale in case_dir.glob(".*.json.*"):  # temporary files of a run killed while writing
-        stale.unlink(missing_ok=True)
+    for stale in case_dir.iterdir():       # temporary files of a run killed while writing
+        if _OWN_TEMP.fullmatch(stale.name) and stale.is_file() and not stale.is_symlink():
+            stale.unlink(missing_ok=True)
     progress.line(f"sweep {spec.file}: {len(cases)} case{'' if len(cases) == 1 else 's'}, "
                   f"{len(records)} finished before, {len(pending)} to run"
                   + (f" {where}" if pending else ""))
@@ -301,7 +377,7 @@ def cmd_sweep(args) -> int:
     figures = []
     if figure:
         name, caption, png = figure
-        _write_bytes(out / name, png)
+        write_atomic(out / name, png, "-o")
         figures.append((name, caption))
     write_atomic(out / "summary.csv", render_csv(ordered))
     write_atomic(out / "summary.md", render_markdown(
@@ -313,18 +389,3 @@ def cmd_sweep(args) -> int:
     print(out / "summary.md")
     ok = counts["done"] == len(cases) and not counts["check failed"]
     return 0 if ok else 1
-
-
-def _write_bytes(path: Path, data: bytes) -> None:
-    """``data`` to ``path`` through a temporary file: never half-written."""
-    import os
-    import tempfile
-
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise

@@ -37,8 +37,12 @@ def load_model(spec: str, *, base_link: str | None = None, tip_link: str | None 
     from .toml_model import read_model
 
     path = Path(spec)
-    if path.suffix.lower() in (".toml", ".urdf") or path.exists():
-        if not path.is_file():
+    try:
+        exists, is_file = path.exists(), path.is_file()
+    except OSError as e:          # a name longer than the file system takes
+        raise ModelError(f"cannot read: {e.strerror}", file=str(spec)[:80]) from None
+    if path.suffix.lower() in (".toml", ".urdf") or exists:
+        if not is_file:
             raise ModelError("no such file", file=str(spec))
         if path.suffix.lower() == ".urdf":
             from .urdf import read_urdf

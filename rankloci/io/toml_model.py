@@ -335,11 +335,10 @@ def parse_model(text: str, *, file: str = "", name: str | None = None):
 def read_model(path, *, require_source: bool = False):
     """Read a TOML model file; see :func:`parse_model`."""
     path = Path(path)
+    from .files import read_bounded
+
     try:
-        size = path.stat().st_size
-        if size > MAX_FILE_BYTES:
-            raise ModelError(f"file larger than {MAX_FILE_BYTES} bytes", file=path.name)
-        text = path.read_text(encoding="utf-8")
+        text = read_bounded(path, MAX_FILE_BYTES).decode("utf-8")
     except UnicodeDecodeError:
         raise ModelError("not UTF-8 text", file=path.name) from None
     except OSError as e:

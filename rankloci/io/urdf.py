@@ -370,10 +370,10 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
         If the file cannot be read or decoded as UTF-8, or does not parse.
     """
     p = Path(path)
+    from .files import read_bounded
+
     try:
-        if p.stat().st_size > MAX_FILE_BYTES:
-            raise ModelError(f"file larger than {MAX_FILE_BYTES} bytes", file=p.name)
-        text = p.read_bytes().decode("utf-8-sig")
+        text = read_bounded(p, MAX_FILE_BYTES).decode("utf-8-sig")
     except OSError as e:
         raise ModelError(f"cannot read file: {e.strerror or e}", file=p.name) from None
     except UnicodeDecodeError as e:

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
+from ..expr import as_expression
 from ..errors import ModelError
 from ..model import RobotModel
 
@@ -45,7 +46,7 @@ class BatchJacobian:
         self.tool = num(model.tool)
         self.pre = [num(j.pre) for j in model.joints]
         self.post = [num(j.post) for j in model.joints]
-        self.axes = [np.array([float(sp.sympify(a).subs(values)) for a in j.axis]) for j in model.joints]
+        self.axes = [np.array([float(as_expression(a).subs(values)) for a in j.axis]) for j in model.joints]
         self.revolute = [j.kind == "revolute" for j in model.joints]
         self.rows = list(model.task)
 

@@ -26,6 +26,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import sympy as sp
 
+from ..expr import as_expression
 from ..tolerances import (COVER_RESIDUAL, MINOR_RTOL, OFF_LOCUS_MIN_RESIDUAL, ON_COMPONENT_RESIDUAL,
                           ON_LOCUS_RTOL, PRECISE_CHECK_DIGITS, PRECISE_CHECK_FLOOR, PRECISE_FALL,
                           PRECISE_STABLE_RTOL, PROBE_DESCENT_RTOL, PROBE_SINGULAR_RTOL, RANK_RTOL)
@@ -262,7 +263,7 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
     params_by_name = {str(k): v for k, v in parameters.items()}
 
     def prepared(e):
-        e = sp.sympify(e).xreplace(rename)
+        e = as_expression(e).xreplace(rename)
         return e.subs({s: params_by_name[s.name] for s in e.free_symbols if s.name in params_by_name})
 
     checked, findings = [], []

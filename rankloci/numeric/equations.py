@@ -13,6 +13,7 @@ import functools
 import numpy as np
 import sympy as sp
 
+from ..expr import as_expression
 from ..tolerances import DIMENSION_RTOL, EXCLUSION_RTOL, ON_COMPONENT_RESIDUAL
 from .functions import numpy_function
 
@@ -98,7 +99,7 @@ def is_analytic(expressions) -> bool:
     """
     ok = (sp.Symbol, sp.Number, sp.NumberSymbol, sp.Add, sp.Mul, sp.Pow) + ANALYTIC_FUNCTIONS
     return all(isinstance(node, ok) for e in expressions
-               for node in sp.preorder_traversal(sp.sympify(e)))
+               for node in sp.preorder_traversal(as_expression(e)))
 
 
 class NumericMatrix:
@@ -180,14 +181,16 @@ class Equations:
     """A component's equations as a scaled numpy function of the joint variables."""
 
     def __init__(self, equations, variables, parameters, excluding=()):
-        exprs = [normalised(sp.expand(sp.sympify(e).subs(parameters))) for e in equations]
+        # a string value would be evaluated by subs (through sympify): parse it instead
+        parameters = {k: as_expression(v) for k, v in dict(parameters).items()}
+        exprs = [normalised(sp.expand(as_expression(e).subs(parameters))) for e in equations]
         self._exprs, self._variables, self._newton = exprs, tuple(variables), None
         self.scales = np.array([coefficient_norm(e) for e in exprs], dtype=float)
         # cse: each sine and cosine once, not once per term (long chains' equations have
         # hundreds of terms in a dozen of them)
         self._f = (numpy_function(tuple(variables), exprs, cse=True)
                    if exprs else None)
-        excl = [normalised(sp.expand(sp.sympify(e).subs(parameters))) for e in excluding]
+        excl = [normalised(sp.expand(as_expression(e).subs(parameters))) for e in excluding]
         self.excl_scales = np.array([coefficient_norm(e) for e in excl], dtype=float)
         self._g = (numpy_function(tuple(variables), excl, cse=True)
                    if excl else None)

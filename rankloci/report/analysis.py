@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
+from ..expr import as_expression
 from ..numeric.equations import Equations, NumericMatrix, points_on
 from ..tolerances import REGULAR_MIN_RATIO, SENSITIVITY_MIN
 
@@ -75,7 +76,7 @@ def component_equations(comp, nm: NumericMatrix, parameters) -> Equations:
     params = {str(k): v for k, v in parameters.items()}
 
     def numeric(e):
-        e = sp.sympify(e)
+        e = as_expression(e)
         e = e.xreplace({s: by_name[s.name] for s in e.free_symbols if s.name in by_name})
         return e.subs({s: params[s.name] for s in e.free_symbols if s.name in params})
 
@@ -347,7 +348,7 @@ def equation_weights(comps, variables) -> dict:
     index = {v.name: k for k, v in enumerate(variables)}
     for _, c in comps:
         for e in c.equations:
-            for s in sp.sympify(e).free_symbols:
+            for s in as_expression(e).free_symbols:
                 if s.name in index:
                     counts[index[s.name]] += 1
     return dict(counts)

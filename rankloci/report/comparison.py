@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
+from ..expr import as_expression
 from ..numeric.equations import NumericMatrix
 from ..tolerances import COVER_RESIDUAL, RANK_RTOL
 from .analysis import component_equations, component_points, model_components, sigma_ratios
@@ -112,7 +113,7 @@ class Comparison:
 
 
 def _normal(e):
-    e = sp.sympify(e)
+    e = as_expression(e)
     return sp.sstr(-e if e.could_extract_minus_sign() else e)
 
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from ..expr import as_expression
 from .blocks import (Appendix, Bullets, Code, Heading, Marker, Math, Para, Table, block_label,
                      counted, plural, variables_text)
 from .escape import literal, ref
@@ -182,7 +183,7 @@ def _units_sentence(m) -> str:
 
     if not isinstance(m, RobotModel):
         return "The values are in the units of the matrix entries."
-    if all(sp.sympify(v) == 1 for v in m.parameters.values()):
+    if all(as_expression(v) == 1 for v in m.parameters.values()):
         return "Every link length is 1 (unit links), so the values carry no unit."
     return "Lengths in metres."
 
@@ -209,7 +210,7 @@ def _joint_table(report, m):
         for i, (j, q) in enumerate(zip(m.joints, m.variables), start=1):
             pre = sp.Matrix(j.pre)
             xyz = ", ".join(_num(float(pre[k, 3].subs(m.parameters)), 4) for k in range(3))
-            axis = ", ".join(_num(float(sp.sympify(a).subs(m.parameters)), 4) for a in j.axis)
+            axis = ", ".join(_num(float(as_expression(a).subs(m.parameters)), 4) for a in j.axis)
             lim = (f"[{j.limits[0]:.4g}, {j.limits[1]:.4g}]" if j.limits else "none")
             rows.append((str(i), literal(j.name, code=True) if j.name else "-", j.kind, _m(q),
                          f"({xyz})", f"({axis})", lim))

@@ -16,6 +16,8 @@ from __future__ import annotations
 
 import sympy as sp
 
+from ..expr import as_expression
+
 __all__ = ["LINE_WIDTH", "FACTOR_MAX_TERMS", "math_width", "latex", "abbreviations",
            "angle_sums", "compact", "factor_rational", "terms_latex", "broken_lines",
            "trig_latex", "value_latex"]
@@ -337,7 +339,7 @@ def value_latex(v) -> str:
     >>> value_latex(2 * sp.atan(sp.Rational(1, 3)))
     '2 \\\\operatorname{atan}{\\\\left(\\\\frac{1}{3} \\\\right)} \\\\approx 0.643501'
     """
-    v = sp.sympify(v)
+    v = as_expression(v)
     text = latex(v)
     if not (v / sp.pi).is_rational:
         text += rf" \approx {float(v):.6g}"

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
+from ..expr import as_expression
 from ..model import RobotModel
 
 __all__ = ["AxisLine", "axis_lines", "direction_readings", "lost_motion", "GEOMETRY_RTOL",
@@ -62,7 +63,7 @@ def axis_lines(model: RobotModel, q: dict, params=None):
     lines = []
     for i, j in enumerate(model.joints):
         T = poses[3 * i + 2]
-        axis = np.array([float(sp.sympify(a).subs(values)) for a in j.axis])
+        axis = np.array([float(as_expression(a).subs(values)) for a in j.axis])
         d = T[:3, :3] @ axis
         lines.append(AxisLine(i + 1, j.kind, T[:3, 3].copy(), d / np.linalg.norm(d)))
     return lines, poses[-1][:3, 3].copy()

@@ -64,6 +64,9 @@ def component_leaves(tree: nx.DiGraph, points: dict, variables, parameters) -> d
     """
     import sympy as sp
 
+    from ..errors import ExpressionError
+    from ..expr import parse_expression
+
     names = {v.name: v for v in variables}
     params = {str(k): v for k, v in parameters.items()}
     cache = {}
@@ -71,8 +74,11 @@ def component_leaves(tree: nx.DiGraph, points: dict, variables, parameters) -> d
     def value(cond, q):
         if cond not in cache:
             try:
-                e = sp.sympify(cond, locals={**names, **{k: sp.Symbol(k) for k in params}})
-            except (sp.SympifyError, SyntaxError, TypeError):
+                # conditions are text that the tree computation wrote: parsed without the
+                # size limits of model files, and never evaluated as Python
+                e = parse_expression(cond, {**names, **{k: sp.Symbol(k) for k in params}},
+                                     bounded=False)
+            except ExpressionError:
                 cache[cond] = None
                 return None
             e = e.subs({sp.Symbol(k): v for k, v in params.items()})

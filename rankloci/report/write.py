@@ -27,7 +27,7 @@ import subprocess
 import tempfile
 from pathlib import Path
 
-__all__ = ["write_report", "read_model_notes", "ReportError", "FORMATS"]
+__all__ = ["write_report", "report_workdir", "read_model_notes", "ReportError", "FORMATS"]
 
 #: The formats :func:`write_report` writes (the PNG figures come with each).
 FORMATS = ("md", "tex", "pdf")
@@ -78,7 +78,8 @@ def _checked_name(fname: str) -> str:
 
 
 def write_report(report, directory, *, formats=FORMATS, fragment: bool = False,
-                 latex: tuple | None = None, timings: bool = True) -> list[Path]:
+                 latex: tuple | None = None, timings: bool = True,
+                 workdir=None) -> list[Path]:
     """Write ``report`` into ``directory`` (created if missing) and return the paths written.
 
     Parameters
@@ -95,8 +96,12 @@ def write_report(report, directory, *, formats=FORMATS, fragment: bool = False,
         skips the PDF.
     timings : bool
         Include the timing table (it differs from run to run).
+    workdir : path, optional
+        An empty directory from :func:`report_workdir` to build in, which the
+        caller removes (so that it can, even when this process is killed);
+        by default one is made and removed here.
 
-    Everything is first built in a temporary directory beside ``directory``;
+    Everything is first built in a temporary directory (:func:`report_workdir`);
     only when all of it succeeded are the files moved into place.
     """
     from .latex import render_latex
@@ -106,12 +111,11 @@ def write_report(report, directory, *, formats=FORMATS, fragment: bool = False,
     if bad:
         raise ValueError(f"formats {bad} are not among {FORMATS}")
     directory = Path(directory)
-    # the temporary directory goes into the nearest directory that exists, so that a
-    # failure creates nothing, and the final moves stay on one file system (atomic)
-    anchor = directory.resolve().parent
-    while not anchor.is_dir():
-        anchor = anchor.parent
-    tmp = Path(tempfile.mkdtemp(dir=anchor, prefix=f".{directory.name}.tmp-"))
+    if ".." in directory.parts:
+        # "a/../b" is b: mkdir(parents=True) would create a on the way
+        directory = Path(os.path.realpath(directory))
+    own = workdir is None
+    tmp = report_workdir(directory) if own else Path(workdir)
     try:
         produced = []
         name = report.name
@@ -131,6 +135,7 @@ def write_report(report, directory, *, formats=FORMATS, fragment: bool = False,
             _build_pdf(tmp, name, tex if not fragment else render_latex(
                 report, fragment=False, timings=timings), latex)
             produced.append(f"{name}.pdf")
+        _check_destinations(directory, produced)    # before anything is moved
         directory.mkdir(parents=True, exist_ok=True)
         written = []
         stale = _owned_figures(directory, name) - set(produced)
@@ -141,7 +146,43 @@ def write_report(report, directory, *, formats=FORMATS, fragment: bool = False,
             (directory / fname).unlink(missing_ok=True)
         return written
     finally:
-        shutil.rmtree(tmp, ignore_errors=True)
+        if own:
+            shutil.rmtree(tmp, ignore_errors=True)
+
+
+def report_workdir(directory) -> Path:
+    """A new empty directory in which :func:`write_report` can build a report for ``directory``.
+
+    It is made inside ``directory`` when that exists, else in its nearest
+    existing ancestor, so that a failure creates nothing and the final moves
+    stay on one file system (atomic).  Whoever made it removes it.
+    """
+    directory = Path(directory)
+    if ".." in directory.parts:
+        directory = Path(os.path.realpath(directory))
+    anchor = directory.absolute()
+    while not anchor.is_dir():
+        anchor = anchor.parent
+    return Path(tempfile.mkdtemp(dir=anchor, prefix=f".{directory.name}.tmp-"))
+
+
+def _check_destinations(directory: Path, names) -> None:
+    """Raise OSError when a file of the report would replace anything but a regular file."""
+    import errno
+    import stat
+
+    for fname in names:
+        try:
+            mode = os.lstat(directory / fname).st_mode
+        except FileNotFoundError:
+            continue
+        except NotADirectoryError:
+            raise NotADirectoryError(errno.ENOTDIR, f"{directory} is not a directory") from None
+        if not stat.S_ISREG(mode):
+            what = ("a directory" if stat.S_ISDIR(mode) else "a symbolic link"
+                    if stat.S_ISLNK(mode) else "not a regular file")
+            raise FileExistsError(errno.EEXIST, f"{directory / fname} is {what}; nothing was "
+                                                "written")
 
 
 def _build_pdf(workdir: Path, name: str, document: str, latex: tuple):

@@ -97,8 +97,13 @@ def _slug(text: str) -> str:
 
 
 def _read_text(path: Path, where: str, file: str) -> str:
+    from ..io import toml_model, urdf
+    from ..io.files import read_bounded
+
+    limit = (urdf.MAX_FILE_BYTES if path.suffix.lower() == ".urdf"
+             else toml_model.MAX_FILE_BYTES)
     try:
-        data = path.read_bytes()
+        data = read_bounded(path, limit)
     except OSError as e:
         raise SpecError(f"{where}: cannot read {path.name}: {e.strerror}", file=file) from None
     try:
@@ -138,8 +143,12 @@ class _Models:
                    model, "")
             return
         if entry.path.is_dir():
-            files = sorted(p for p in entry.path.glob(entry.pattern)
-                           if p.is_file() and p.suffix.lower() in (".toml", ".urdf"))
+            try:
+                files = sorted(p for p in entry.path.glob(entry.pattern)
+                               if p.is_file() and p.suffix.lower() in (".toml", ".urdf"))
+            except (ValueError, NotImplementedError) as e:
+                raise SpecError(f"{entry.where}.pattern: {entry.pattern[:60]!r}: {e}",
+                                file=file) from None
             if not files:
                 raise SpecError(f"{entry.where}: no .toml or .urdf file matches "
                                 f"{entry.pattern!r} in {entry.path.name}", file=file)

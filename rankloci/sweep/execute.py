@@ -137,8 +137,12 @@ class DaskExecutor:
 
         try:
             client = Client(address, timeout=WORKER_WAIT_SECONDS)
-        except OSError as e:
+        except (OSError, TimeoutError) as e:
             raise SetupError(f"cannot reach the Dask scheduler at {address}: {e}") from None
+        except (Exception, MemoryError) as e:  # noqa: BLE001 -- whatever answered is no scheduler
+            # (a web server's reply read as a message length asks for exabytes)
+            raise SetupError(f"no Dask scheduler answers at {address} ({type(e).__name__}: "
+                             f"{str(e)[:120]})") from None
         return cls(client)
 
     def check_workers(self) -> int:

@@ -132,7 +132,7 @@ def _err(file, key, message) -> SpecError:
     return SpecError(message, file=file or None, field=key or None)
 
 
-def _number(value, file, key, *, integer=False, minimum=None):
+def _number(value, file, key, *, integer=False, minimum=None, maximum=None):
     if isinstance(value, bool) or not isinstance(value, (int, float)) or (
             integer and not isinstance(value, int)):
         raise _err(file, key, f"{str(value)[:40]!r} is not {'an integer' if integer else 'a number'}")
@@ -140,6 +140,8 @@ def _number(value, file, key, *, integer=False, minimum=None):
         raise _err(file, key, f"{value!r} is not finite")
     if minimum is not None and value < minimum:
         raise _err(file, key, f"{value!r} is below {minimum}")
+    if maximum is not None and value > maximum:
+        raise _err(file, key, f"{str(value)[:40]} is above {maximum}")
     return value
 
 
@@ -298,10 +300,14 @@ def _entry(raw, base: Path, file, key, grid: Grid) -> ModelEntry:
             raise _err(file, key, "chains, base_link and tip apply to URDF files")
     elif chains or "base_link" in raw or "tip" in raw or "pattern" in raw:
         raise _err(file, key, "chains, base_link, tip and pattern apply to paths")
+    pattern = raw.get("pattern", "*")
+    if pattern.startswith(("/", "\\")) or ".." in pattern.replace("\\", "/").split("/"):
+        raise _err(file, f"{key}.pattern", f"{pattern[:60]!r}: a pattern names files inside "
+                                           "the entry's directory (no leading / and no ..)")
     own = _grid(raw["grid"], file, f"{key}.grid") if "grid" in raw else grid
     return ModelEntry(name=raw.get("name"), path=path, base_link=raw.get("base_link"),
                       tip=raw.get("tip"), chains=bool(chains), min_joints=lo, max_joints=hi,
-                      pattern=raw.get("pattern", "*"),
+                      pattern=pattern,
                       task=_task(raw.get("task"), file, f"{key}.task"), grid=own, where=key)
 
 
@@ -334,6 +340,8 @@ def parse_spec(text: str, *, base: Path | str = ".", file: str = "") -> SweepSpe
     >>> spec.entries[0].name, spec.timeout, spec.entries[0].grid.parameters[0][1]
     ('planar3r', 30.0, (('0.5', 1/2), ('1', 1), ('1.5', 3/2)))
     """
+    from ..cli.limits import MAX_MEMORY_MB, MAX_TIMEOUT_S
+
     base = Path(base)
     if len(text) > MAX_SPEC_BYTES:
         raise _err(file, "", f"larger than {MAX_SPEC_BYTES} bytes")
@@ -372,23 +380,24 @@ def parse_spec(text: str, *, base: Path | str = ".", file: str = "") -> SweepSpe
         entries=entries, task=_task(data.get("task"), file, "task"), method=method,
         numeric=flags["numeric_parameters"], verify=flags["verify"],
         seed=_number(data.get("seed", 0), file, "seed", integer=True, minimum=0),
-        timeout=float(_number(data.get("timeout", DEFAULT_TIMEOUT), file, "timeout", minimum=0)),
+        timeout=float(_number(data.get("timeout", DEFAULT_TIMEOUT), file, "timeout", minimum=0,
+                              maximum=MAX_TIMEOUT_S)),
         memory=_number(data.get("memory", DEFAULT_MEMORY_MB), file, "memory", integer=True,
-                       minimum=0),
+                       minimum=0, maximum=MAX_MEMORY_MB),
         file=file)
 
 
 def read_spec(path) -> SweepSpec:
     """Read a sweep specification file; see :func:`parse_spec`."""
     p = Path(path)
+    from ..io.files import read_bounded
+
+    if p.is_dir():
+        raise _err(p.name, "", "is a directory, not a spec file")
     try:
-        if p.stat().st_size > MAX_SPEC_BYTES:
-            raise _err(p.name, "", f"larger than {MAX_SPEC_BYTES} bytes")
-        text = p.read_text(encoding="utf-8")
+        text = read_bounded(p, MAX_SPEC_BYTES).decode("utf-8")
     except UnicodeDecodeError:
         raise _err(p.name, "", "not UTF-8 text") from None
-    except IsADirectoryError:
-        raise _err(p.name, "", "is a directory, not a spec file") from None
     except OSError as e:
         raise _err(p.name, "", f"cannot read: {e.strerror}") from None
     return parse_spec(text, base=p.resolve().parent, file=p.name)

@@ -126,6 +126,46 @@ CASES = [
      ["locus", "planar2r", "--tree", "D.json", "--quiet"], 2, "is a directory"),
     ("non-polynomial-entry-given-as-a-path", {"r.toml": _raw("r", [["x", "1/x"]], ["x"])},
      ["locus", "./r.toml", "--quiet"], 2, "r.toml: entry"),
+    # limits beyond what the system's waits and address-space limits take
+    ("timeout-past-the-system-timers", {}, ["locus", "planar2r", "--timeout", "2147483"], 2,
+     "--timeout: '2147483' is more than 1000000 seconds"),
+    ("timeout-past-the-system-timers-check", {},
+     ["check", "planar2r", "--timeout", "1e300"], 2, "--timeout"),
+    ("timeout-past-the-system-timers-manipulability", {},
+     ["manipulability", "planar2r", "--q", "0 1", "--timeout", "3000000"], 2, "--timeout"),
+    ("memory-past-64-bits", {}, ["locus", "planar2r", "--memory", "99999999999999"], 2,
+     "--memory: '99999999999999' is more than"),
+    ("sweep-timeout-past-the-system-timers",
+     {"s.toml": 'models = ["planar2r"]\ntimeout = 2147483\n'},
+     ["sweep", "s.toml", "-o", "out", "--serial", "--quiet"], 2, "timeout"),
+    ("sweep-memory-past-64-bits", {"s.toml": 'models = ["planar2r"]\nmemory = 99999999999999\n'},
+     ["sweep", "s.toml", "-o", "out", "--serial", "--quiet"], 2, "memory"),
+    # names longer than the file system takes
+    ("model-name-of-300-characters", {}, ["locus", "x" * 300, "--quiet"], 2, "File name too long"),
+    ("model-file-name-of-300-characters", {}, ["check", "x" * 300 + ".toml", "--quiet"], 2,
+     "File name too long"),
+    # locus files whose equations have no value at some configurations
+    ("square-root-of-a-sine-in-a-locus-file", {"l.json": _locus_file(["sqrt(sin(q2))"])},
+     ["check", "planar2r", "--locus", "l.json", "--quiet", "--samples", "2"], 2,
+     "sqrt(sin(q2)) is not defined at every configuration"),
+    ("arc-cosine-in-a-locus-file", {"l.json": _locus_file(["acos(q2)"])},
+     ["check", "planar2r", "--locus", "l.json", "--quiet", "--samples", "2"], 2,
+     "acos(q2) is not defined"),
+    ("division-in-a-locus-file-exclusion", {"l.json": _locus_file(raw=json.dumps({
+        "schema": "rankloci.locus/2", "model": "planar2r", "variables": ["q1", "q2"],
+        "components": [{"equations": ["sin(q2)"], "excluding": ["1/q1"]}]}))},
+     ["check", "planar2r", "--locus", "l.json", "--quiet", "--samples", "2"], 2,
+     "1/q1 is not defined"),
+    # scheduler addresses Dask cannot use: refused before anything runs
+    ("scheduler-port-not-a-number", {"s.toml": 'models = ["planar2r", "planar3r"]\n'},
+     ["sweep", "s.toml", "-o", "out", "--scheduler", "tcp://127.0.0.1:notaport"], 2,
+     "--scheduler 'tcp://127.0.0.1:notaport'"),
+    ("scheduler-in-process", {"s.toml": 'models = ["planar2r", "planar3r"]\n'},
+     ["sweep", "s.toml", "-o", "out", "--scheduler", "inproc://x"], 2, "tcp://HOST:8786"),
+    ("scheduler-unclosed-bracket", {"s.toml": 'models = ["planar2r", "planar3r"]\n'},
+     ["sweep", "s.toml", "-o", "out", "--scheduler", "tcp://[::1"], 2, "Invalid IPv6 URL"),
+    ("scheduler-without-port-one-case", {"s.toml": 'models = ["planar2r"]\n'},
+     ["sweep", "s.toml", "-o", "out", "--scheduler", "tcp://localhost"], 2, "--scheduler"),
 ]
 
 
@@ -226,3 +266,350 @@ def test_fifty_fixed_rotations_stay_short(tmp_path, monkeypatch, capsys):
     assert main(["jacobian", "f.urdf"]) == 0
     out = capsys.readouterr().out
     assert max(len(word) for word in out.replace("*", " ").replace("/", " ").split()) < 200
+
+
+# --- output files: never replace what is not a regular file; respect the umask ------------------
+
+IK = ["ik", "planar4r", "--q0", "0.62 0.23 1.0 0.46", "--line",
+      "0.524572,3.032596 -> -1.475428,3.032596", "--steps", "5", "--quiet"]
+
+
+def _one_error_line(capsys, code):
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    assert code == 2, err
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert len(lines) == 1 and lines[0].startswith("rankloci: error: "), err
+    return lines[0]
+
+
+@pytest.mark.parametrize("argv, option", [(IK + ["-o", "{}"], "-o"),
+                                          (IK + ["--plot", "{}.png"], "--plot"),
+                                          (["locus", "planar2r", "--quiet", "--tree", "{}.json"],
+                                           "--tree")])
+def test_output_onto_a_fifo_is_refused_and_the_fifo_stays(tmp_path, monkeypatch, capsys, argv,
+                                                          option):
+    import os
+    import stat
+
+    monkeypatch.chdir(tmp_path)
+    name = [a for a in argv if "{}" in a][0].format("fifo")
+    os.mkfifo(name)
+    line = _one_error_line(capsys, main([a.format("fifo") for a in argv]))
+    assert f"{option} '{name}' is not a regular file" in line
+    assert stat.S_ISFIFO(os.lstat(name).st_mode)
+    assert sorted(p.name for p in tmp_path.iterdir()) == [name]
+
+
+@pytest.mark.parametrize("argv", [IK + ["-o", "null.csv"],
+                                  ["locus", "planar2r", "--quiet", "--tree", "null.json"]])
+def test_output_through_a_link_to_a_device_is_refused(tmp_path, monkeypatch, capsys, argv):
+    """``-o /dev/null`` as root would replace the system's /dev/null: a link to it must not."""
+    import os
+    import stat
+
+    monkeypatch.chdir(tmp_path)
+    link = argv[-1]
+    os.symlink("/dev/null", link)
+    line = _one_error_line(capsys, main(argv))
+    assert "is not a regular file" in line
+    assert os.readlink(link) == "/dev/null"
+    assert stat.S_ISCHR(os.stat("/dev/null").st_mode)
+
+
+def test_output_through_a_link_to_a_file_writes_the_file(tmp_path, monkeypatch, capsys):
+    import os
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "real.csv").write_text("old\n")
+    os.symlink("real.csv", "link.csv")
+    assert main(IK + ["-o", "link.csv"]) == 0
+    assert os.readlink("link.csv") == "real.csv"
+    assert (tmp_path / "real.csv").read_text().startswith("t,q1,q2,q3,q4,")
+
+
+@pytest.fixture
+def umask_022():
+    import os
+
+    old = os.umask(0o022)
+    yield
+    os.umask(old)
+
+
+def _modes(root):
+    import stat
+
+    return {str(p.relative_to(root)): oct(stat.S_IMODE(p.stat().st_mode))
+            for p in sorted(root.rglob("*")) if p.is_file()}
+
+
+def test_output_files_respect_the_umask(tmp_path, monkeypatch, capsys, umask_022):
+    monkeypatch.chdir(tmp_path)
+    assert main(IK + ["-o", "path.csv", "--plot", "path.png"]) == 0
+    assert main(["locus", "planar2r", "--quiet", "--tree", "tree.json"]) == 0
+    assert main(["report", "planar2r", "-o", "rep", "--format", "md", "--quiet", "--samples",
+                 "2"]) == 0
+    modes = _modes(tmp_path)
+    assert {"path.csv", "path.png", "tree.json", "rep/planar2r.md"} <= set(modes)
+    assert set(modes.values()) == {"0o644"}, modes
+
+
+def test_a_replaced_output_keeps_its_permission_bits(tmp_path, monkeypatch, capsys, umask_022):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "tree.json").write_text("old")
+    (tmp_path / "tree.json").chmod(0o640)
+    assert main(["locus", "planar2r", "--quiet", "--tree", "tree.json"]) == 0
+    assert _modes(tmp_path) == {"tree.json": "0o640"}
+    assert "nodes" in (tmp_path / "tree.json").read_text()
+
+
+def test_sweep_outputs_respect_the_umask(tmp_path, monkeypatch, capsys, umask_022):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "s.toml").write_text('models = ["planar2r"]\n')
+    assert main(["sweep", "s.toml", "-o", "out", "--serial", "--quiet"]) == 0
+    modes = _modes(tmp_path / "out")
+    assert "summary.md" in modes and any(k.startswith("cases/") for k in modes)
+    assert set(modes.values()) == {"0o644"}, modes
+
+
+@pytest.mark.parametrize("argv", [IK + ["-o", "/proc/rankloci-path.csv"],
+                                  IK + ["--plot", "/proc/rankloci-path.png"],
+                                  ["locus", "planar2r", "--quiet", "--tree",
+                                   "/proc/rankloci-tree.json"]])
+def test_unwritable_output_is_refused_before_computing(tmp_path, monkeypatch, capsys, argv):
+    """/proc takes no new files, even from root: refused at once, not after the work."""
+    import time
+
+    monkeypatch.chdir(tmp_path)
+    t0 = time.monotonic()
+    line = _one_error_line(capsys, main(argv))
+    assert "cannot write in '/proc'" in line
+    assert time.monotonic() - t0 < 1.5
+
+
+@pytest.mark.parametrize("argv", [IK + ["-o", "x" * 300 + ".csv"],
+                                  ["locus", "planar2r", "--quiet", "--tree", "x" * 300 + ".json"],
+                                  ["report", "planar2r", "--quiet", "-o", "x" * 300]])
+def test_output_name_longer_than_the_file_system_takes(tmp_path, monkeypatch, capsys, argv):
+    monkeypatch.chdir(tmp_path)
+    line = _one_error_line(capsys, main(argv))
+    assert "longer than 255 bytes" in line
+    assert list(tmp_path.iterdir()) == []
+
+
+# --- reports: nothing outside -o, nothing half-moved -------------------------------------------
+
+REPORT = ["report", "planar2r", "--format", "md", "--quiet", "--samples", "2"]
+
+
+@pytest.mark.parametrize("blocker", ["directory", "fifo", "symlink"])
+def test_report_onto_a_non_file_moves_nothing(tmp_path, monkeypatch, capsys, blocker):
+    import os
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "out").mkdir()
+    target = tmp_path / "out" / "planar2r.md"
+    {"directory": target.mkdir, "fifo": lambda: os.mkfifo(target),
+     "symlink": lambda: os.symlink("/dev/null", target)}[blocker]()
+    line = _one_error_line(capsys, main(REPORT + ["-o", "out"]))
+    assert "'out/planar2r.md' is not a regular file" in line
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["planar2r.md"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
+def test_report_figure_name_taken_by_a_directory_moves_nothing(tmp_path, monkeypatch, capsys):
+    """Figure names are known only once the report is built: checked before any move."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "out" / "planar2r-sigma-1.png").mkdir(parents=True)
+    line = _one_error_line(capsys, main(REPORT + ["-o", "out"]))
+    assert "planar2r-sigma-1.png is a directory; nothing was written" in line
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["planar2r-sigma-1.png"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
+def test_report_into_a_dot_dot_path_creates_only_the_target(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    assert main(REPORT + ["-o", "a/../b"]) == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["b"]
+    assert (tmp_path / "b" / "planar2r.md").is_file()
+
+
+def test_report_into_a_directory_whose_parent_takes_no_files(tmp_path, monkeypatch, capsys):
+    """The build folder goes inside an existing -o, not beside it: /proc/self/fd is not
+    writable, and a report into a writable folder must not need its parent."""
+    import os
+
+    monkeypatch.chdir(tmp_path)
+    out = tmp_path / "ro" / "out"
+    out.mkdir(parents=True)
+    made = []
+    real_mkdtemp = __import__("tempfile").mkdtemp
+
+    def mkdtemp(*args, dir=None, **kw):
+        made.append(os.path.realpath(dir))
+        if os.path.realpath(dir) != str(out):
+            raise PermissionError(13, "Permission denied")
+        return real_mkdtemp(*args, dir=dir, **kw)
+
+    monkeypatch.setattr("tempfile.mkdtemp", mkdtemp)
+    assert main(REPORT + ["-o", str(out)]) == 0, capsys.readouterr().err
+    assert made == [str(out)]
+    assert sorted(p.name for p in out.iterdir()) == sorted(
+        p.name for p in out.iterdir() if not p.name.startswith("."))
+
+
+@pytest.mark.parametrize("sig", ["SIGINT", "SIGTERM"])
+def test_interrupted_report_leaves_no_build_folder(tmp_path, sig):
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    proc = subprocess.Popen([sys.executable, "-m", "rankloci", "report", "ssrms", "-o", "out",
+                             "--format", "md", "--quiet"], cwd=tmp_path,
+                            stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while not any(p.name.startswith(".out.tmp-") for p in tmp_path.iterdir()):
+        assert proc.poll() is None and time.monotonic() < deadline, proc.stderr.read()
+        time.sleep(0.05)
+    time.sleep(1.0)                       # the child is computing
+    proc.send_signal(getattr(signal, sig))
+    _, err = proc.communicate(timeout=30)
+    assert "Traceback" not in err
+    assert proc.returncode == 130, err
+    assert list(tmp_path.iterdir()) == []
+
+
+# --- bounded reads: regular files only, a size limit, no blocking --------------------------------
+
+def _special(tmp_path, name, kind):
+    import os
+
+    if kind == "fifo":
+        os.mkfifo(tmp_path / name)
+    else:
+        os.symlink("/dev/zero", tmp_path / name)
+
+
+@pytest.mark.parametrize("kind", ["fifo", "zero"])
+@pytest.mark.parametrize("argv, name", [
+    (["check", "planar2r", "--locus", "l.json", "--quiet", "--samples", "2"], "l.json"),
+    (IK[:4] + ["--path", "p.txt", "--steps", "5", "--quiet"], "p.txt"),
+    (["sweep", "s.toml", "-o", "out", "--serial", "--quiet"], "m.toml"),
+])
+def test_a_fifo_or_dev_zero_as_input_is_refused_at_once(tmp_path, monkeypatch, capsys, kind,
+                                                        argv, name):
+    """Before: a FIFO blocked forever, /dev/zero grew without bound."""
+    import threading
+    import time
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "s.toml").write_text('models = ["m.toml"]\n')
+    _special(tmp_path, name, kind)
+    got = []
+    t0 = time.monotonic()
+    runner = threading.Thread(target=lambda: got.append(main(argv)), daemon=True)
+    runner.start()
+    runner.join(20)
+    if runner.is_alive():        # let the blocked open return, so that the thread ends
+        with open(tmp_path / name, "w"):
+            pass
+        runner.join(5)
+        pytest.fail(f"{name} ({kind}) blocked the command")
+    line = _one_error_line(capsys, got[0])
+    assert "not a regular file" in line and name in line
+    assert time.monotonic() - t0 < 20
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_large_locus_file_is_refused_and_read_under_the_limits(tmp_path, monkeypatch, capsys):
+    from rankloci.cli import commands
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "l.json").write_text(_locus_file())
+    monkeypatch.setattr(commands, "MAX_LOCUS_BYTES", 50)
+    line = _one_error_line(capsys, main(["check", "planar2r", "--locus", "l.json", "--quiet",
+                                         "--samples", "2"]))
+    assert "l.json" in line and "larger than 50 bytes" in line
+
+
+def test_a_locus_file_is_parsed_inside_the_time_limit(tmp_path, monkeypatch, capsys):
+    """A locus file that takes long to parse ends at --timeout (exit 1), not after it."""
+    import time
+
+    from rankloci.cli import commands
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "l.json").write_text(_locus_file())
+
+    def slow(*args):
+        time.sleep(30)
+
+    monkeypatch.setattr(commands, "_parsed_locus", slow)
+    t0 = time.monotonic()
+    code = main(["check", "planar2r", "--locus", "l.json", "--quiet", "--samples", "2",
+                 "--timeout", "1"])
+    err = capsys.readouterr().err
+    assert code == 1 and "within 1 s" in err, err
+    assert time.monotonic() - t0 < 10
+
+
+@pytest.mark.parametrize("pattern", ["../*.toml", "/etc/*", "sub/../../*.toml", "**a"])
+def test_sweep_pattern_outside_the_directory_is_refused(tmp_path, monkeypatch, capsys, pattern):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "d").mkdir()
+    (tmp_path / "s.toml").write_text(f'[[model]]\npath = "d"\npattern = "{pattern}"\n')
+    line = _one_error_line(capsys, main(["sweep", "s.toml", "-o", "out", "--serial",
+                                         "--quiet"]))
+    assert "pattern" in line and "s.toml" in line
+    assert not (tmp_path / "out").exists()
+
+
+def test_sweep_cleanup_removes_only_its_own_temporary_files(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "s.toml").write_text('models = ["planar2r"]\n')
+    cases = tmp_path / "out" / "cases"
+    cases.mkdir(parents=True)
+    mine = cases / ".planar2r.json.abc123_z.rankloci-tmp"
+    users = [cases / ".notes.json.bak", cases / ".x.json.1"]
+    for p in [mine, *users]:
+        p.write_text("x")
+    assert main(["sweep", "s.toml", "-o", "out", "--serial", "--quiet"]) == 0
+    assert not mine.exists()
+    assert all(p.read_text() == "x" for p in users)
+
+
+# --- sweeps: the scheduler named is used; case files edited by hand are recomputed --------------
+
+def test_scheduler_named_for_one_case_is_not_ignored(tmp_path, monkeypatch, capsys):
+    from rankloci.sweep import execute
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(execute, "WORKER_WAIT_SECONDS", 1.0)
+    (tmp_path / "s.toml").write_text('models = ["planar2r"]\n')
+    line = _one_error_line(capsys, main(["sweep", "s.toml", "-o", "out", "--scheduler",
+                                         "tcp://127.0.0.1:1", "--quiet"]))
+    assert "cannot reach the Dask scheduler at tcp://127.0.0.1:1" in line
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("field, value", [("components", "many"), ("seconds", None),
+                                          ("limits", [1, 2]), ("note", 7), ("hash", {})])
+def test_case_file_edited_by_hand_is_computed_again(tmp_path, monkeypatch, capsys, field, value):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "s.toml").write_text('models = ["planar2r"]\n')
+    argv = ["sweep", "s.toml", "-o", "out", "--serial", "--quiet"]
+    assert main(argv) == 0
+    [case] = (tmp_path / "out" / "cases").glob("*.json")
+    data = json.loads(case.read_text())
+    first = dict(data["sweep"])
+    data["sweep"][field] = value
+    case.write_text(json.dumps(data))
+    capsys.readouterr()
+    assert main(argv) == 0, capsys.readouterr().err
+    again = json.loads(case.read_text())["sweep"]
+    assert again[field] != value and type(again[field]) is type(first[field])
+    assert {k: v for k, v in again.items() if k != "seconds"} == {
+        k: v for k, v in first.items() if k != "seconds"}
+    assert "| planar2r |" in (tmp_path / "out" / "summary.md").read_text()

@@ -1,0 +1,173 @@
+"""Hostile input through the Python API: strings are data, never code.
+
+Every string the API accepts (parameter values, matrix entries, variables, ``augment``, the
+equations of a locus) is parsed by :func:`rankloci.expr.parse_expression`, the parser of model
+files.  Each payload below would create a file named ``PWNED`` if it were evaluated as Python.
+The last test reads the package's source: no call may hand a string to ``sympify``, ``eval``,
+``exec`` or sympy's ``parse_expr``.
+"""
+
+from __future__ import annotations
+
+import ast
+import pathlib
+
+import pytest
+import sympy as sp
+
+import rankloci
+from rankloci.errors import RanklociError
+
+PAYLOAD = "__import__('pathlib').Path('PWNED').touch() or 2"
+
+
+@pytest.fixture
+def cwd(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    yield tmp_path
+    assert not (tmp_path / "PWNED").exists(), "a string was evaluated as Python"
+
+
+def test_parameter_string_is_parsed_not_evaluated(cwd):
+    x, k = sp.symbols("x k")
+    with pytest.raises(RanklociError, match="not allowed"):
+        rankloci.locus(sp.Matrix([[sp.cos(x), k], [sp.sin(x), 1]]), parameters={k: PAYLOAD})
+
+
+def test_parameter_string_of_a_number_is_read_as_a_model_file_would(cwd):
+    x, k = sp.symbols("x k")
+    J = rankloci.jacobian(sp.Matrix([[sp.cos(x), k]]), parameters={k: "2"})
+    assert J.parameters == {sp.Symbol("k", real=True): 2}
+    J = rankloci.jacobian(sp.Matrix([[sp.cos(x), k]]), parameters={k: "0.25"})
+    assert J.parameters == {sp.Symbol("k", real=True): sp.Rational(1, 4)}
+
+
+def test_parameter_object_whose_str_is_code_is_refused(cwd):
+    """sympify falls back to ``str(value)`` for unknown objects, and evaluates that."""
+    class Sneaky:
+        def __str__(self):
+            return PAYLOAD
+
+    x, k = sp.symbols("x k")
+    with pytest.raises(RanklociError, match="Sneaky is not a number"):
+        rankloci.jacobian(sp.Matrix([[sp.cos(x), k]]), parameters={k: Sneaky()})
+
+
+def test_matrix_of_strings_is_parsed_over_the_given_names(cwd):
+    from rankloci.api.models import matrix_model
+
+    m = matrix_model([["cos(x)", "k"], ["sin(x)", "1"]], variables=["x"], parameters={"k": 2})
+    assert [str(e) for e in m.matrix] == ["cos(x)", "k", "sin(x)", "1"]
+    with pytest.raises(RanklociError, match="not allowed"):
+        matrix_model([[PAYLOAD]], variables=["x"])
+    with pytest.raises(TypeError, match="not a string"):
+        matrix_model(PAYLOAD)
+
+
+def test_augment_string_is_parsed_not_evaluated(cwd):
+    with pytest.raises(RanklociError, match="not allowed"):
+        rankloci.jacobian("planar2r", augment=[PAYLOAD])
+
+
+def test_locus_document_strings_are_parsed_not_evaluated(cwd):
+    doc = {"schema": "rankloci.locus/2", "model": "m", "variables": ["q1", "q2"],
+           "components": [{"equations": [PAYLOAD]}]}
+    with pytest.raises(RanklociError, match="not allowed"):
+        rankloci.Locus.from_dict(doc)
+
+
+def test_hand_built_locus_with_string_equations_is_not_evaluated(cwd):
+    q1, q2 = sp.symbols("q1 q2", real=True)
+    L = rankloci.Locus("m", (q1, q2), {}, (2, 2), "determinant",
+                       (rankloci.Component((PAYLOAD,)),))
+    with pytest.raises(RanklociError, match="not allowed"):
+        L.contains([0.1, 0.2])
+    with pytest.raises(RanklociError, match="not allowed"):
+        L.components[0].lambdify([q1, q2])
+
+
+def test_hand_built_locus_with_a_string_parameter_is_not_evaluated(cwd):
+    q1, q2, k = sp.symbols("q1 q2 k", real=True)
+    L = rankloci.Locus("m", (q1, q2), {k: PAYLOAD}, (2, 2), "determinant",
+                       (rankloci.Component((k * sp.sin(q2),)),))
+    with pytest.raises(RanklociError, match="not allowed"):
+        L.contains([0.1, 0.0])
+
+
+def test_hand_built_model_with_a_string_parameter_is_refused(cwd):
+    import dataclasses
+
+    m = rankloci.load_model("planar2r")
+    bad = dataclasses.replace(m, parameters={p: PAYLOAD for p in m.parameters})
+    with pytest.raises(ValueError, match="sympy numbers"):
+        rankloci.jacobian(bad, numeric=True)
+
+
+# --- the package's source ------------------------------------------------------------------------
+
+_PACKAGE = pathlib.Path(rankloci.__file__).parent
+
+#: Callables that evaluate a string as Python (or, for sympify, may do so).
+_EVALUATING = {"eval", "exec", "compile", "__import__", "parse_expr", "sympify", "S",
+               "eval_expr", "runpy", "literal_eval"}
+
+
+def _evaluating_calls(tree):
+    """``(line, name)`` of every call of an evaluating callable, except
+    ``sympify(..., strict=True)`` (which refuses strings)."""
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.Import, ast.ImportFrom)):
+            module = getattr(node, "module", None) or ""
+            names = [a.name for a in node.names]
+            if module.startswith("sympy.parsing") or any(n.startswith("sympy.parsing")
+                                                         for n in names):
+                found.append((node.lineno, "import of sympy.parsing"))
+            if any(n in _EVALUATING for n in names):
+                found.append((node.lineno, f"import of {names}"))
+        if not isinstance(node, ast.Call):
+            continue
+        f = node.func
+        if isinstance(f, ast.Name):
+            name = f.id
+        elif isinstance(f, ast.Attribute) and isinstance(f.value, ast.Name) \
+                and f.value.id in ("sp", "sympy", "builtins"):
+            name = f.attr
+        else:
+            continue        # ring.compile(...) and the like are methods of rankloci's own objects
+        if name not in _EVALUATING:
+            continue
+        strict = any(k.arg == "strict" and isinstance(k.value, ast.Constant)
+                     and k.value.value is True for k in node.keywords)
+        if name == "sympify" and strict:
+            continue
+        found.append((node.lineno, name))
+    return found
+
+
+def test_no_call_in_the_package_evaluates_a_string():
+    offenders = []
+    for path in sorted(_PACKAGE.rglob("*.py")):
+        tree = ast.parse(path.read_text(encoding="utf-8"), str(path))
+        offenders += [f"{path.relative_to(_PACKAGE)}:{line}: {name}"
+                      for line, name in _evaluating_calls(tree)]
+    assert offenders == []
+
+
+def test_the_source_check_finds_what_it_looks_for():
+    code = ("import sympy as sp\nfrom sympy.parsing.sympy_parser import parse_expr\n"
+            "sp.sympify(x)\neval(y)\nsp.sympify(z, strict=True)\nring.compile(p)\n"
+            "sp.S('1')\n")
+    assert [name for _, name in _evaluating_calls(ast.parse(code))] == [
+        "import of sympy.parsing", "import of ['parse_expr']", "sympify", "eval", "S"]
+
+
+# --- time limits ---------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("timeout", [float("nan"), float("inf"), -1.0, "5", True])
+def test_timeout_that_is_no_number_of_seconds_is_refused(timeout):
+    """nan compared with the clock is never reached: it silently meant no limit."""
+    with pytest.raises(ValueError, match="timeout must be a finite number"):
+        rankloci.locus("planar2r", timeout=timeout)
+    with pytest.raises(ValueError, match="timeout must be a finite number"):
+        rankloci.check("planar2r", timeout=timeout, samples=1)
