@@ -16,6 +16,7 @@ import dataclasses
 import sympy as sp
 
 from .exact.witness import Certificate, certify_components
+from .expr import as_expression
 
 __all__ = ["certify_locus", "Certificate"]
 
@@ -23,7 +24,7 @@ __all__ = ["certify_locus", "Certificate"]
 def _values(parameters) -> dict:
     out = {}
     for k, v in dict(parameters or {}).items():
-        v = sp.sympify(v)
+        v = as_expression(v)
         if isinstance(v, sp.Float):
             # a float read back from JSON: its shortest decimal is the value the model wrote
             v = sp.Rational(repr(float(v)))
@@ -32,7 +33,7 @@ def _values(parameters) -> dict:
 
 
 def _substituted(expr, values):
-    expr = sp.sympify(expr)
+    expr = as_expression(expr)
     by_name = {s.name: s for s in expr.free_symbols}
     subs = {by_name[k.name]: v for k, v in values.items()
             if k.name in by_name and by_name[k.name] is not v}

@@ -18,6 +18,8 @@ when the limits are now larger).
 
 from __future__ import annotations
 
+import math
+
 import argparse
 import json
 import re
@@ -152,8 +154,8 @@ class _Progress:
 def _number(value, *, integer=False) -> bool:
     """Is ``value`` a finite number 0 or above (an integer when asked) in a case file?"""
     kinds = (int,) if integer else (int, float)
-    return (isinstance(value, kinds) and not isinstance(value, bool) and value == value
-            and 0 <= value < float("inf"))
+    return (isinstance(value, kinds) and not isinstance(value, bool)
+            and (isinstance(value, int) or math.isfinite(value)) and value >= 0)
 
 
 #: The fields of a case file's ``sweep`` record that a resumed sweep takes from the file,

@@ -236,7 +236,7 @@ class _Forms:
 
     def form(self, expr):
         """``expr`` as a polynomial in the generators (not yet homogeneous)."""
-        expr = sp.sympify(expr)
+        expr = sp.sympify(expr, strict=True)
         allowed = set(self.angles) | set(self.others)
         unknown = expr.free_symbols - allowed
         if unknown:
@@ -262,7 +262,7 @@ class _Forms:
                     raise NotCertifiable(f"the constant {sp.sstr(a)} is not a square root of an "
                                          "integer")
                 n, sign = root
-                value, image = sp.Integer(1), self.ctx.constant(1)
+                value = sp.Integer(1)
                 for prime, mult in sp.factorint(n).items():
                     if prime not in self.surds:
                         raise NotCertifiable(f"sqrt({prime}) is not among the surds")
@@ -291,7 +291,7 @@ class _Forms:
 
     def number(self, x):
         """An exact number (rationals and square roots of integers) as a constant form."""
-        p = self.form(sp.sympify(x))
+        p = self.form(sp.sympify(x, strict=True))
         if any(sum(m[:2 * len(self.angles) + len(self.others)]) for m in p.monoms()):
             raise NotCertifiable(f"{sp.sstr(x)} is not a number")
         return p
@@ -677,7 +677,7 @@ class _ComponentData:
 
 def _half_tangent(value):
     """tan(value / 2) as an exact number, or None for value = pi (mod 2 pi)."""
-    value = sp.sympify(value)
+    value = sp.sympify(value, strict=True)
     if isinstance(value, sp.Mul) and len(value.args) == 2 and value.args[0] == 2 \
             and isinstance(value.args[1], sp.atan):
         return value.args[1].args[0]
@@ -704,7 +704,7 @@ def _pieces(c, variables, angles):
                     t = _half_tangent(x)
                     vals.append(("angle", t))
                 else:
-                    vals.append(("value", sp.sympify(x)))
+                    vals.append(("value", sp.sympify(x, strict=True)))
             out.append(vals)
         elif v.name in free:
             out.append(None)
@@ -758,16 +758,22 @@ def certify_components(matrix, variables, angles, components, *, seed: int = 0,
     N = len(variables)
     angles = tuple(a for a in variables if a in set(angles))
     others = tuple(v for v in variables if v not in set(angles))
-    exprs = list(M) + [e for c in components for e in (*c.equations, *c.excluding)]
-    exprs += [sp.sympify(x) for c in components for vals in (c.solved or {}).values()
-              for x in vals]
-    surds = sorted({p for e in exprs for a in sp.sympify(e).atoms(sp.Pow)
-                    if a.is_number and _integer_root(a) for p in sp.factorint(_integer_root(a)[0])})
     codims = tuple(range(1, min(m - n + 1, N) + 1))
 
     def result(verdict, findings, **kw):
         return Certificate(verdict, seed=seed, codimensions=codims, findings=tuple(findings),
                            seconds=time.perf_counter() - t0, **kw)
+
+    try:
+        exprs = list(M) + [sp.sympify(e, strict=True) for c in components
+                           for e in (*c.equations, *c.excluding)]
+        exprs += [sp.sympify(x, strict=True) for c in components
+                  for vals in (c.solved or {}).values() for x in vals]
+    except sp.SympifyError as exc:
+        return result("undecided", [f"not certifiable: an equation is no sympy expression "
+                                    f"({exc})"])
+    surds = sorted({p for e in exprs for a in e.atoms(sp.Pow)
+                    if a.is_number and _integer_root(a) for p in sp.factorint(_integer_root(a)[0])})
 
     if n == 0:
         return result("passed" if not components else "failed",
@@ -781,12 +787,12 @@ def certify_components(matrix, variables, angles, components, *, seed: int = 0,
             eqs = [forms.homogeneous_form(e) for e in c.equations]
             exc = [forms.homogeneous_form(e) for e in c.excluding]
             pieces = None
-            if N - c.dimension > MAX_CODIMENSION:
+            if N - c.dimension > 2:
                 try:
                     pieces = _pieces(c, variables, set(angles))
                     if pieces is not None:
                         for vals in pieces:
-                            for kind, x in vals or ():
+                            for _, x in vals or ():
                                 if x is not None:
                                     forms.number(x)
                 except NotCertifiable:
@@ -797,7 +803,7 @@ def certify_components(matrix, variables, angles, components, *, seed: int = 0,
         return result("undecided", [f"not certifiable: {exc}"])
 
     last = None
-    for attempt in range(RETRIES):
+    for _ in range(RETRIES):
         P, roots = _random_prime(rng, surds)
         try:
             return _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed,
@@ -839,6 +845,7 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
                            codimensions=(0,), witness_points={0: 1}, findings=tuple(findings_),
                            error_bound=_bound(degree_sum, P), seconds=time.perf_counter() - t0)
     planes = {1: (line, Ml, H)}
+    uncertain = []
     redundant = [k.index for k in comps
                  if k.codim > 0 and k.codim > k.rank_drop * (m - n + k.rank_drop)]
     # below the Eagon-Northcott bound of its rank drop, a component lies inside a larger one if
@@ -863,8 +870,14 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
         if c not in codims:
             locus_points = []        # no component of the locus has this codimension
         else:
-            locus_points, _ = _isolated_points(Hp, plane, rng)
-        if c in codims:
+            try:
+                locus_points, _ = _isolated_points(Hp, plane, rng)
+            except _TooLarge as exc:
+                findings.append(f"codimension {c} components are not certified: the "
+                                f"elimination is too large ({exc})")
+                uncertain.append(c)
+                locus_points = None
+        if c in codims and locus_points is not None:
             counts[c] = sum(p.degree for p in locus_points)
         check_time()
         # every reported component of this codimension: its witness points, their rank
@@ -875,7 +888,17 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
             exc = [plane.restrict(e) for e in k.excluding]
             comp_eqs[k.index] = (eqs, exc)
             degree_sum += sum(max(0, int(e.total_degree())) for e in eqs + exc)
-            pts = _component_points(eqs, exc, plane, rng, k, findings)
+            try:
+                pts = _component_points(eqs, exc, plane, rng, k, findings)
+            except _TooLarge:
+                if k.pieces is not None:
+                    findings.extend(_check_pieces(k, rows, forms, P, roots, rng, n))
+                else:
+                    findings.append(f"component {k.index} (dimension {k.dimension}) is not "
+                                    "certified: its witness points need too large an "
+                                    "elimination, and it is not given in solved form")
+                    uncertain.append(c)
+                continue
             if pts is None:
                 continue
             if not pts:
@@ -893,7 +916,7 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
             check_time()
         # completeness: every witness point of the locus on a component of this codimension
         uncovered = 0
-        for pt in locus_points:
+        for pt in locus_points or ():
             covered = False
             for k in mine:
                 eqs, exc = comp_eqs[k.index]
@@ -907,7 +930,7 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
             findings.append(f"{uncovered} of the {counts[c]} witness points of codimension {c} "
                             f"lie on no reported component: a component of dimension {N - c} "
                             f"is missing")
-    uncertified = [c for c in codims if c > MAX_CODIMENSION]
+    uncertified = [c for c in codims if c > MAX_CODIMENSION] + uncertain
     for k in comps:
         if k.codim <= MAX_CODIMENSION or k.codim == 0:
             continue

@@ -52,7 +52,7 @@ def numpy_function(variables, exprs, *, modules="numpy", cse=False):
             return sp.lambdify(variables, exprs if single else items, modules=modules, cse=cse)
     except RecursionError:
         pass
-    parts = [_pieces(variables, sp.sympify(e), modules, cse) for e in items]
+    parts = [_pieces(variables, sp.sympify(e, strict=True), modules, cse) for e in items]
     if single:
         return parts[0]
 
@@ -63,7 +63,7 @@ def numpy_function(variables, exprs, *, modules="numpy", cse=False):
 
 
 def _size(e) -> int:
-    e = sp.sympify(e)
+    e = sp.sympify(e, strict=True)
     return max([len(e.args)] + [len(a.args) for a in e.args]) if e.args else 0
 
 

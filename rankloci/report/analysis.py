@@ -15,7 +15,6 @@ from collections import Counter
 from dataclasses import dataclass
 
 import numpy as np
-import sympy as sp
 
 from ..expr import as_expression
 from ..numeric.equations import Equations, NumericMatrix, points_on
