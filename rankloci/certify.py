@@ -18,7 +18,7 @@ import sympy as sp
 from .exact.witness import Certificate, certify_components
 from .expr import as_expression
 
-__all__ = ["certify_locus", "Certificate"]
+__all__ = ["certify_locus", "completed_component", "Certificate"]
 
 
 def _values(parameters) -> dict:
@@ -41,7 +41,7 @@ def _substituted(expr, values):
 
 
 def certify_locus(locus, reference, *, seed: int = 0, should_stop=None,
-                  progress=None) -> Certificate:
+                  progress=None, complex_only=()) -> Certificate:
     """The certificate of ``locus`` (its model's own components) for the matrix ``reference``.
 
     Parameters
@@ -55,6 +55,9 @@ def certify_locus(locus, reference, *, seed: int = 0, should_stop=None,
     should_stop : callable, optional
         Polled; when it returns True the certificate stops, ``"undecided"``.
     progress : callable, optional
+    complex_only : sequence of Component
+        Components without real points that the certificate may count as covering complex
+        witness points (see :func:`~rankloci.exact.witness.certify_components`).
 
     Returns
     -------
@@ -80,4 +83,35 @@ def certify_locus(locus, reference, *, seed: int = 0, should_stop=None,
         excluding=tuple(_substituted(e, values) for e in c.excluding))
         for c in locus.components]
     return certify_components(matrix, reference.variables, reference.angles, components,
-                              seed=seed, deadline=should_stop, progress=progress)
+                              seed=seed, deadline=should_stop, progress=progress,
+                              complex_only=complex_only)
+
+
+def completed_component(component, reference, *, seed: int = 0):
+    """A component found by the certificate, with a real sample point, the rank drop there and
+    the lost directions at it (numerically, from ``reference`` at its parameter values)."""
+    import numpy as np
+
+    from .numeric.equations import NumericMatrix
+    from .tolerances import RANK_RTOL
+
+    rng = np.random.default_rng(seed)
+    values = _values(reference.parameters)
+    matrix = sp.Matrix(reference.matrix).applyfunc(lambda e: _substituted(e, values))
+    nm = NumericMatrix(matrix, reference.variables, reference.angles)
+    solved = {str(k): v for k, v in component.solved.items()}
+    sample = {}
+    for v in reference.variables:
+        if v.name in solved and solved[v.name]:
+            sample[v.name] = float(solved[v.name][0])
+        else:
+            sample[v.name] = float(rng.uniform(-np.pi, np.pi))
+    A = np.asarray(nm([sample[v.name] for v in reference.variables]), dtype=float)
+    if A.shape[0] > A.shape[1]:
+        A = A.T
+    U, sv, _ = np.linalg.svd(A)
+    rank = int(np.sum(sv > RANK_RTOL * (sv[0] if sv.size and sv[0] > 0 else 1.0)))
+    drop = max(1, min(A.shape) - rank)
+    dirs = tuple(tuple(float(x) for x in U[:, min(A.shape) - drop + i]) for i in range(drop))
+    return dataclasses.replace(component, sample=sample, rank_drop=drop,
+                               direction_at_sample=dirs)

@@ -31,6 +31,7 @@ import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
+import sympy as sp
 
 from .errors import LocusTimeout
 
@@ -138,6 +139,26 @@ def _certified(locus, reference, seed, should_stop, progress):
             f"{'their' if len(gone) > 1 else 'its'} rank drop left out (inside larger ones)",))
         cert = certify_locus(locus, reference, seed=seed, should_stop=should_stop,
                              progress=progress)
+    if cert.verdict == "failed" and (cert.discovered or cert.discovered_complex):
+        # witness points on no component that fix a few variables at values of small height:
+        # the components through them, added and certified again
+        from .certify import completed_component
+
+        added = tuple(completed_component(c, reference, seed=seed) for c in cert.discovered)
+        trial = dataclasses.replace(locus, components=locus.components + added)
+        again = certify_locus(trial, reference, seed=seed, should_stop=should_stop,
+                              progress=progress, complex_only=cert.discovered_complex)
+        if again.verdict != "failed" or len(again.findings) < len(cert.findings):
+            note = (f"{len(added)} component{'s' * (len(added) != 1)} found from the witness "
+                    "points of the certificate that lay on no component of the branch tree")
+            if cert.discovered_complex:
+                note += (f"; {len(cert.discovered_complex)} component"
+                         f"{'s' * (len(cert.discovered_complex) != 1)} without real points "
+                         "(complex only): "
+                         + "; ".join(", ".join(f"{sp.sstr(e)} = 0" for e in c.equations)
+                                     for c in cert.discovered_complex))
+            locus = dataclasses.replace(trial, notes=trial.notes + (note,))
+            cert = again
     if locus.base is not None and reference.n_constraint_rows:
         base_ref = dataclasses.replace(
             reference, matrix=reference.matrix[:reference.shape[0] - reference.n_constraint_rows, :],

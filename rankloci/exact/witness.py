@@ -136,6 +136,8 @@ class Certificate:
     error_bound: float = 0.0
     seconds: float = 0.0
     redundant: tuple = ()
+    discovered: tuple = field(default=(), compare=False, repr=False)
+    discovered_complex: tuple = field(default=(), compare=False, repr=False)
 
     @property
     def passed(self) -> bool:
@@ -673,6 +675,11 @@ class _ComponentData:
     equations: list      # homogeneous forms over Q
     excluding: list
     pieces: list | None = None   # per variable: None (free) or the list of its exact values
+    real: bool = True            # False: a component without real points, reported apart
+
+    @property
+    def label(self) -> str:
+        return f"component {self.index}" if self.real else f"complex component {self.index}"
 
 
 def _half_tangent(value):
@@ -714,7 +721,7 @@ def _pieces(c, variables, angles):
 
 
 def certify_components(matrix, variables, angles, components, *, seed: int = 0,
-                       deadline=None, progress=None) -> Certificate:
+                       deadline=None, progress=None, complex_only=()) -> Certificate:
     """Certify that ``components`` are the rank-deficiency locus of ``matrix``.
 
     Parameters
@@ -731,10 +738,16 @@ def certify_components(matrix, variables, angles, components, *, seed: int = 0,
         Returns True when the time is up: the result is then ``"undecided"``.
     progress : callable, optional
         Called with one-line progress messages.
+    complex_only : sequence of Component
+        Components without real points (proved so where they were found), which cover
+        witness points of the complex locus but are not part of the real one.
 
     Returns
     -------
     Certificate
+        When witness points lie on no component and every one of them fixes the same few
+        variables at values of small height, ``discovered`` holds the components they lie on
+        (with real points) and ``discovered_complex`` those without real points.
 
     Examples
     --------
@@ -765,9 +778,9 @@ def certify_components(matrix, variables, angles, components, *, seed: int = 0,
                            seconds=time.perf_counter() - t0, **kw)
 
     try:
-        exprs = list(M) + [sp.sympify(e, strict=True) for c in components
+        exprs = list(M) + [sp.sympify(e, strict=True) for c in (*components, *complex_only)
                            for e in (*c.equations, *c.excluding)]
-        exprs += [sp.sympify(x, strict=True) for c in components
+        exprs += [sp.sympify(x, strict=True) for c in (*components, *complex_only)
                   for vals in (c.solved or {}).values() for x in vals]
     except sp.SympifyError as exc:
         return result("undecided", [f"not certifiable: an equation is no sympy expression "
@@ -783,7 +796,7 @@ def certify_components(matrix, variables, angles, components, *, seed: int = 0,
         forms.variables = tuple(variables)
         rows = forms.homogeneous_rows(M)
         comps = []
-        for k, c in enumerate(components, start=1):
+        for k, c in enumerate(list(components) + list(complex_only), start=1):
             eqs = [forms.homogeneous_form(e) for e in c.equations]
             exc = [forms.homogeneous_form(e) for e in c.excluding]
             pieces = None
@@ -797,8 +810,9 @@ def certify_components(matrix, variables, angles, components, *, seed: int = 0,
                                     forms.number(x)
                 except NotCertifiable:
                     pieces = None
-            comps.append(_ComponentData(k, N - c.dimension, c.dimension, c.rank_drop, eqs,
-                                        exc, pieces))
+            real = k <= len(components)
+            comps.append(_ComponentData(k if real else k - len(components), N - c.dimension,
+                                        c.dimension, c.rank_drop, eqs, exc, pieces, real))
     except NotCertifiable as exc:
         return result("undecided", [f"not certifiable: {exc}"])
 
@@ -846,11 +860,12 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
                            error_bound=_bound(degree_sum, P), seconds=time.perf_counter() - t0)
     planes = {1: (line, Ml, H)}
     uncertain = []
+    missing = []
     redundant = [k.index for k in comps
-                 if k.codim > 0 and k.codim > k.rank_drop * (m - n + k.rank_drop)]
+                 if k.real and k.codim > 0 and k.codim > k.rank_drop * (m - n + k.rank_drop)]
     # below the Eagon-Northcott bound of its rank drop, a component lies inside a larger one if
     # it is singular at all: the caller leaves it out (the certificate is of the rest)
-    comps = [k for k in comps if k.index not in redundant]
+    comps = [k for k in comps if not (k.real and k.index in redundant)]
     extra = sorted({k.codim for k in comps if 0 < k.codim <= MAX_CODIMENSION} - set(codims))
     for c in sorted(set(codims) | set(extra)):
         check_time()
@@ -886,7 +901,7 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
         for k in mine:
             eqs = [plane.restrict(e) for e in k.equations]
             exc = [plane.restrict(e) for e in k.excluding]
-            comp_eqs[k.index] = (eqs, exc)
+            comp_eqs[k.label] = (eqs, exc)
             degree_sum += sum(max(0, int(e.total_degree())) for e in eqs + exc)
             try:
                 pts = _component_points(eqs, exc, plane, rng, k, findings)
@@ -894,7 +909,7 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
                 if k.pieces is not None:
                     findings.extend(_check_pieces(k, rows, forms, P, roots, rng, n))
                 else:
-                    findings.append(f"component {k.index} (dimension {k.dimension}) is not "
+                    findings.append(f"{k.label} (dimension {k.dimension}) is not "
                                     "certified: its witness points need too large an "
                                     "elimination, and it is not given in solved form")
                     uncertain.append(c)
@@ -902,7 +917,7 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
             if pts is None:
                 continue
             if not pts:
-                findings.append(f"component {k.index}: no point of dimension {N - c} (its "
+                findings.append(f"{k.label}: no point of dimension {N - c} (its "
                                 f"equations off its exclusions have a smaller dimension, or "
                                 f"no point)")
                 continue
@@ -910,7 +925,7 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
                 r = pt.rank(Mp)
                 if r != n - k.rank_drop:
                     what = ("is regular" if r == n else f"has rank {r}, not {n - k.rank_drop}")
-                    findings.append(f"component {k.index}: the matrix {what} at a witness "
+                    findings.append(f"{k.label}: the matrix {what} at a witness "
                                     f"point of the component")
                     break
             check_time()
@@ -919,13 +934,14 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
         for pt in locus_points or ():
             covered = False
             for k in mine:
-                eqs, exc = comp_eqs[k.index]
+                eqs, exc = comp_eqs[k.label]
                 if all(pt.value(e).is_zero() for e in eqs) and not any(
                         pt.value(x).is_zero() for x in exc):
                     covered = True
                     break
             if not covered:
                 uncovered += pt.degree
+                missing.append((c, plane, pt))
         if uncovered:
             findings.append(f"{uncovered} of the {counts[c]} witness points of codimension {c} "
                             f"lie on no reported component: a component of dimension {N - c} "
@@ -936,7 +952,7 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
             continue
         check_time()
         if k.pieces is None:
-            findings.append(f"component {k.index} (dimension {k.dimension}) is not certified: "
+            findings.append(f"{k.label} (dimension {k.dimension}) is not certified: "
                             f"its codimension {k.codim} is above {MAX_CODIMENSION} and it is "
                             "not given in solved form")
             uncertified.append(k.codim)
@@ -946,7 +962,7 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
     failed = [f for f in findings if "are not certified" not in f and "is not certified" not in f]
     for k in comps:
         if k.codim == 0:
-            failed.append(f"component {k.index} claims the whole space, but the matrix has "
+            failed.append(f"{k.label} claims the whole space, but the matrix has "
                           "full rank at a random configuration")
     if redundant:
         failed.append(f"component{'s' * (len(redundant) > 1)} "
@@ -954,10 +970,17 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
                       f" a dimension below the bound for {'their' if len(redundant) > 1 else 'its'}"
                       " rank drop: inside a larger component, or not singular")
     verdict = "failed" if failed else ("undecided" if uncertified else "passed")
+    found, found_complex = (), ()
+    if missing:
+        try:
+            found, found_complex = _discover(missing, forms, rows, n, N, P, rng)
+        except NotCertifiable:
+            pass
     return Certificate(verdict, prime=P, seed=seed, codimensions=codims, witness_points=counts,
                        findings=tuple(failed + [f for f in findings if f not in failed]),
                        error_bound=_bound(degree_sum, P), seconds=time.perf_counter() - t0,
-                       redundant=tuple(redundant))
+                       redundant=tuple(redundant), discovered=found,
+                       discovered_complex=found_complex)
 
 
 def _check_pieces(k, rows, forms, P, roots, rng, n):
@@ -1000,7 +1023,7 @@ def _check_pieces(k, rows, forms, P, roots, rng, n):
             X[j] = int(rng.integers(0, P)) if ch is None else number(ch[1])
         point = C + S + X + list(roots)
         if any(value(e, point) for e in k.equations):
-            found.append(f"component {k.index}: its solved values do not satisfy its equations")
+            found.append(f"{k.label}: its solved values do not satisfy its equations")
             return found
         if any(value(x, point) == 0 for x in k.excluding):
             continue
@@ -1009,14 +1032,14 @@ def _check_pieces(k, rows, forms, P, roots, rng, n):
         r = mat.rank()
         if r != n - k.rank_drop:
             what = "is regular" if r == n else f"has rank {r}, not {n - k.rank_drop}"
-            found.append(f"component {k.index}: the matrix {what} at a random point of one "
+            found.append(f"{k.label}: the matrix {what} at a random point of one "
                          "of its pieces")
             return found
     if not admitted:
-        found.append(f"component {k.index}: every piece of its solved form is excluded")
+        found.append(f"{k.label}: every piece of its solved form is excluded")
     dims = {sum(1 for c in combo if c is None) for combo in combos}
     if dims != {k.dimension}:
-        found.append(f"component {k.index}: its solved form has dimension "
+        found.append(f"{k.label}: its solved form has dimension "
                      f"{sorted(dims)}, not the stated {k.dimension}")
     return found
 
@@ -1025,7 +1048,7 @@ def _component_points(eqs, exc, plane, rng, k, findings):
     """Witness points of a component on ``plane`` (None when a finding was recorded)."""
     nonzero = [e for e in eqs if not e.is_zero()]
     if not nonzero:
-        findings.append(f"component {k.index}: its equations hold on the whole space, not on "
+        findings.append(f"{k.label}: its equations hold on the whole space, not on "
                         f"a set of codimension {k.codim}")
         return None
     pts, curve = _isolated_points(nonzero, plane, rng, avoid=exc)
@@ -1041,10 +1064,152 @@ def _component_points(eqs, exc, plane, rng, k, findings):
                     break
                 rest = rest / g
         if not rest.is_constant():
-            findings.append(f"component {k.index}: its equations, off its exclusions, have a "
+            findings.append(f"{k.label}: its equations, off its exclusions, have a "
                             f"part of larger dimension than the stated {k.dimension}")
             return None
     return pts
+
+
+#: A variable is taken as fixed on the missing components when the values it takes at their
+#: witness points are the roots of one polynomial of at most this degree whose coefficients
+#: are rationals of small height (MAX_HEIGHT): random values (a free variable) give such a
+#: polynomial with probability below 1e-12.
+MAX_FIXED_DEGREE = 6
+MAX_HEIGHT = 2 ** 24
+
+
+def _rational(a: int, P: int):
+    """The rational r/s = a mod P with |r|, s <= MAX_HEIGHT, or None (rational reconstruction)."""
+    r0, r1, s0, s1 = P, a % P, 0, 1
+    while r1 > MAX_HEIGHT:
+        q = r0 // r1
+        r0, r1, s0, s1 = r1, r0 - q * r1, s1, s0 - q * s1
+    if s1 == 0 or abs(s1) > MAX_HEIGHT:
+        return None
+    f = sp.Rational(r1, s1)
+    return f if (f.p - a * f.q) % P == 0 else None
+
+
+def _minimal_polynomial(value, P):
+    """Coefficients (low to high, ints mod P) of the minimal polynomial of a field element."""
+    conj = [value]
+    while True:
+        nxt = conj[-1] ** P
+        if nxt == conj[0]:
+            break
+        conj.append(nxt)
+    coeffs = [value * 0 + 1]
+    for r in conj:
+        # multiply by (z - r)
+        new = [value * 0] * (len(coeffs) + 1)
+        for i, cf in enumerate(coeffs):
+            new[i + 1] += cf
+            new[i] -= cf * r
+        coeffs = new
+    out = []
+    for cf in coeffs:
+        rep = cf.to_list()
+        if any(int(x) for x in rep[1:]):
+            raise NotCertifiable("a minimal polynomial outside the prime field")
+        out.append(int(rep[0]) if rep else 0)
+    return tuple(out)
+
+
+def _discover(missing, forms, rows, n, N, P, rng):
+    """Components through witness points that lie on no reported component, when every such
+    point fixes the same variables at a few values of small height (the values a robot's
+    offsets give: tan q2 = 1/1600, say).  Returns (components with real points, components
+    without)."""
+    import itertools
+
+    from ..locus import Component
+
+    na = len(forms.angles)
+    by_codim: dict = {}
+    for c, plane, pt in missing:
+        by_codim.setdefault(c, []).append((plane, pt))
+    found, found_complex = [], []
+    for c, items in by_codim.items():
+        values: dict = {}
+        for plane, pt in items:
+            for i, q in enumerate(forms.angles):
+                C, S = pt.value(plane.images[i]), pt.value(plane.images[na + i])
+                key = "pi" if C.is_zero() else _minimal_polynomial(S / C, P)
+                values.setdefault(q, set()).add(key)
+            for j, xv in enumerate(forms.others):
+                values.setdefault(xv, set()).add(
+                    _minimal_polynomial(pt.value(plane.images[2 * na + j]), P))
+        fixed = {}
+        for var, keys in values.items():
+            polys = [k for k in keys if k != "pi"]
+            if sum(len(k) - 1 for k in polys) > MAX_FIXED_DEGREE:
+                continue
+            Tsym = sp.Dummy("T")
+            factors, ok = [], True
+            for k in polys:
+                coeffs = [_rational(a, P) for a in k]
+                if any(v is None for v in coeffs):
+                    ok = False
+                    break
+                f = sp.Poly(list(reversed(coeffs)), Tsym)
+                factors += [g for g, _ in f.factor_list()[1]]
+            if not ok:
+                continue
+            factors = list({sp.Poly(g.monic(), Tsym): None for g in factors})
+            fixed[var] = (Tsym, factors, "pi" in keys)
+        if len(fixed) != c:
+            continue
+        variables = list(forms.variables)
+        choices = []
+        for var in variables:
+            if var in fixed:
+                Tsym, factors, has_pi = fixed[var]
+                choices.append([(var, f) for f in factors] + ([(var, "pi")] if has_pi else []))
+        for combo in itertools.product(*choices):
+            eqs, solved, real = [], {}, True
+            for var, f in combo:
+                expr, vals = _fixed_equation(var, f, var in set(forms.angles))
+                eqs.append(expr)
+                if not vals:
+                    real = False
+                solved[var] = tuple(vals)
+            free = tuple(v for v in variables if v not in fixed)
+            comp = Component(tuple(eqs), solved=solved if real else {}, free=free,
+                             dimension=N - c, rank_drop=1)
+            (found if real else found_complex).append(comp)
+    return tuple(found), tuple(found_complex)
+
+
+def _fixed_equation(var, f, is_angle):
+    """The equation and real values of a variable fixed at the roots of ``f`` (a monic Poly in
+    T = tan(q/2) for an angle, in the variable itself otherwise; "pi" for q = pi)."""
+    if f == "pi":
+        return sp.cos(var / 2), [sp.pi]
+    coeffs = f.all_coeffs()                       # high to low, monic, rational
+    den = sp.ilcm(*[sp.Rational(a).q for a in coeffs])
+    ints = [sp.Integer(a * den) for a in coeffs]
+    d = len(ints) - 1
+    roots = [r for r in sp.Poly(ints, f.gen).real_roots()]
+    if not is_angle:
+        return sp.Add(*[a * var ** (d - k) for k, a in enumerate(ints)]), roots
+    C, S = sp.cos(var / 2), sp.sin(var / 2)
+    form = sp.Add(*[a * S ** (d - k) * C ** k for k, a in enumerate(ints)])
+    if d % 2 == 0:
+        # an even form is a polynomial in cos q and sin q: C**2 = (1 + c)/2, S**2 = (1 - c)/2,
+        # C*S = s/2
+        c, s = sp.cos(var), sp.sin(var)
+        terms = []
+        for k, a in enumerate(ints):
+            ks, kc = d - k, k
+            if ks % 2 == 0:
+                t = ((1 - c) / 2) ** (ks // 2) * ((1 + c) / 2) ** (kc // 2)
+            else:
+                t = (s / 2) * ((1 - c) / 2) ** ((ks - 1) // 2) * ((1 + c) / 2) ** ((kc - 1) // 2)
+            terms.append(a * t)
+        poly = sp.Poly(sp.expand(sp.Add(*terms)), c, s, domain="QQ")
+        form = poly.clear_denoms()[1].primitive()[1].as_expr()
+    values = [2 * sp.atan(r) for r in roots]
+    return form, values
 
 
 def _bound(degree_sum, P):

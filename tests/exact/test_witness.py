@@ -1,0 +1,228 @@
+"""The certificate: witness points modulo a prime prove a locus complete and sound, or refuse it.
+
+Each wrong locus below is wrong in one way that the numeric probes of earlier versions let
+through (a missing half, an exclusion that hides part of the set, a wrong rank drop, a wrong
+solved value); each must be refused, and the right one must pass.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+
+import pytest
+import sympy as sp
+
+import rankloci
+from rankloci.certify import certify_locus
+from rankloci.cli import main
+from rankloci.exact.witness import Certificate, certify_components
+from rankloci.jacobian import task_matrix
+from rankloci.locus import Component
+
+q1, q2, q3, q4 = sp.symbols("q1 q2 q3 q4", real=True)
+x, y, t = sp.symbols("x y t", real=True)
+
+#: planar2r with unit links: det J = sin(q2).
+PLANAR2R = sp.Matrix([[-sp.sin(q1) - sp.sin(q1 + q2), -sp.sin(q1 + q2)],
+                      [sp.cos(q1) + sp.cos(q1 + q2), sp.cos(q1 + q2)]])
+
+
+def _certify(components, matrix=PLANAR2R, variables=(q1, q2), angles=(q1, q2)):
+    return certify_components(matrix, variables, angles, components, seed=3)
+
+
+def test_the_right_locus_passes_with_its_witness_points_and_bound():
+    cert = _certify([Component((sp.sin(q2),), dimension=1)])
+    assert cert.verdict == "passed"
+    assert cert.witness_points == {1: 2}           # q2 = 0 and q2 = pi on a random line
+    assert 0 < cert.error_bound < 1e-12
+    assert 2 ** 61 <= cert.prime < 2 ** 62
+
+
+def test_a_missing_half_is_found():
+    cert = _certify([Component((sp.cos(q2 / 2),), dimension=1)])      # only q2 = pi
+    assert cert.verdict == "failed"
+    assert any("1 of the 2 witness points" in f and "missing" in f for f in cert.findings)
+
+
+def test_an_exclusion_that_hides_half_the_set_is_refused():
+    hidden = Component((sp.sin(q2),), dimension=1, excluding=(sp.cos(q2) - 1,))
+    cert = _certify([hidden])
+    assert cert.verdict == "failed"
+    assert any("lie on no reported component" in f for f in cert.findings)
+
+
+def test_a_component_with_regular_points_is_refused():
+    cert = _certify([Component((sp.sin(q2),), dimension=1),
+                     Component((sp.cos(q1),), dimension=1)])
+    assert cert.verdict == "failed"
+    assert any(f.startswith("component 2:") and "regular" in f for f in cert.findings)
+
+
+def test_a_wrong_rank_drop_is_refused():
+    cert = _certify([Component((sp.sin(q2),), dimension=1, rank_drop=2)])
+    assert cert.verdict == "failed"
+    assert any("has rank 1, not 0" in f for f in cert.findings)
+
+
+def test_a_wrong_dimension_is_refused():
+    cert = _certify([Component((sp.sin(q2),), dimension=0)])
+    assert cert.verdict == "failed"
+
+
+def test_a_wrong_solved_value_is_refused():
+    """planar4r's locus is q2, q3, q4 in {0, pi}: a component of codimension 3, checked at a
+    random point of each of its pieces."""
+    tm = task_matrix(rankloci.load_model("planar4r"), numeric=True)
+    q = tm.variables
+    good = Component((sp.sin(q[1]), sp.sin(q[2]), sp.sin(q[3])), dimension=1, free=(q[0],),
+                     solved={q[1]: (0, sp.pi), q[2]: (0, sp.pi), q[3]: (0, sp.pi)})
+    assert certify_components(tm.matrix, q, tm.angles, [good]).verdict == "passed"
+    bad = dataclasses.replace(good, solved={q[1]: (0, sp.pi / 2), q[2]: (0, sp.pi),
+                                            q[3]: (0, sp.pi)})
+    cert = certify_components(tm.matrix, q, tm.angles, [good, bad])
+    assert cert.verdict == "failed"
+    assert any("solved values do not satisfy" in f for f in cert.findings)
+
+
+def test_a_certificate_reads_back_from_its_json():
+    cert = _certify([Component((sp.sin(q2),), dimension=1)])
+    assert Certificate.from_dict(json.loads(json.dumps(cert.to_dict()))).to_dict() == \
+        cert.to_dict()
+    with pytest.raises(ValueError, match="verdict"):
+        Certificate.from_dict({**cert.to_dict(), "verdict": "maybe"})
+
+
+@pytest.mark.parametrize("name", ["planar2r", "planar3r", "planar3r_orient", "planar4r",
+                                  "puma560", "ur5", "pa10", "ssrms_lock3"])
+def test_built_in_models_carry_a_passing_certificate(name):
+    locus = rankloci.locus(name)
+    assert locus.complete is True, locus.notes
+    assert locus.certificate.verdict == "passed"
+    assert locus.to_dict()["certificate"]["verdict"] == "passed"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["ssrms", "kinematics_models/extra/jaco2.toml",
+                                  "kinematics_models/extra/baxter_dh.toml"])
+def test_larger_models_carry_a_passing_certificate(name):
+    locus = rankloci.locus(name)
+    assert locus.complete is True, locus.notes
+
+
+@pytest.mark.parametrize("matrix, variables", [
+    (sp.Matrix([[sp.cos(x), y]]), (x, y)),
+    (sp.Matrix([[sp.sin(t) - sp.Rational(1, 2)]]), (t,)),
+])
+def test_one_row_matrices_are_certified(matrix, variables):
+    locus = rankloci.locus(matrix, variables=variables)
+    assert locus.complete is True, locus.notes
+    assert locus.contains([sp.pi / 2 if len(variables) == 2 else sp.pi / 6, 0][:len(variables)])
+
+
+def test_a_five_bar_linkage_gets_a_certified_locus():
+    """The singular vector method's locus of this constraint Jacobian has a component that is
+    regular at most of its points; the certificate refuses it and the subdeterminant method's
+    locus is certified instead."""
+    th1, th2 = sp.symbols("th1 th2", real=True)
+    M = sp.Matrix([[2 * x - sp.cos(th1) / 2 + sp.Rational(1, 5), 2 * y - sp.sin(th1) / 2,
+                    x * sp.sin(th1) / 2 - y * sp.cos(th1) / 2 + sp.sin(th1) / 20, 0],
+                   [2 * x - sp.cos(th2) / 2 - sp.Rational(1, 5), 2 * y - sp.sin(th2) / 2, 0,
+                    x * sp.sin(th2) / 2 - y * sp.cos(th2) / 2 - sp.sin(th2) / 20]])
+    locus = rankloci.locus(M, variables=(x, y, th1, th2))
+    assert locus.complete is True, locus.notes
+    assert not locus.contains([0.5, 0, 0, 1])          # sigma_min / sigma_max = 0.37 there
+
+
+def test_a_complex_component_with_one_real_point_is_not_called_complete():
+    """[[x, -y], [y, x]] is singular only at the origin, the one real point of x**2 + y**2 = 0:
+    a locus without it must not pass."""
+    locus = rankloci.locus(sp.Matrix([[x, -y], [y, x]]), variables=(x, y))
+    assert locus.complete is not True
+    assert locus.certificate.verdict == "failed"
+
+
+def test_irrational_twists_are_made_exact_and_certified(tmp_path):
+    path = tmp_path / "twist.toml"
+    path.write_text('''name = "twist"
+title = "three joints with irrational twists"
+convention = "dh"
+task = "position"
+
+[[joint]]
+kind = "revolute"
+a = 1
+alpha = "0.3"
+d = 0
+theta = "0"
+
+[[joint]]
+kind = "revolute"
+a = 1
+alpha = "2*pi/7"
+d = "0.2"
+theta = "0"
+
+[[joint]]
+kind = "revolute"
+a = "0.5"
+alpha = "0"
+d = 0
+theta = "0"
+''', encoding="utf-8")
+    locus = rankloci.locus(str(path))
+    assert locus.complete is True, locus.notes
+    rotations = [n for n in locus.notes if "constant angle" in n]
+    assert len(rotations) == 2 and all("rad from it" in n for n in rotations)
+
+
+def test_check_refuses_a_locus_file_whose_exclusion_hides_half_the_set(tmp_path, capsys):
+    assert main(["locus", "planar2r", "--quiet", "--format", "json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["complete"] is True and doc["certificate"]["verdict"] == "passed"
+    doc["components"][0]["excluding"] = ["cos(q2) - 1"]
+    path = tmp_path / "hidden.json"
+    path.write_text(json.dumps(doc), encoding="utf-8")
+    assert main(["check", "planar2r", "--locus", str(path), "--quiet", "--format",
+                 "json"]) == 1
+    report = json.loads(capsys.readouterr().out)
+    assert report["certificate"]["verdict"] == "failed" and report["ok"] is False
+
+
+def test_check_refuses_a_wrong_rank_drop_in_a_locus_file(tmp_path, capsys):
+    assert main(["locus", "planar2r", "--quiet", "--format", "json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    doc["components"][0]["rank_drop"] = 2
+    path = tmp_path / "drop.json"
+    path.write_text(json.dumps(doc), encoding="utf-8")
+    assert main(["check", "planar2r", "--locus", str(path), "--quiet"]) == 1
+
+
+def test_certify_locus_substitutes_the_models_parameter_values():
+    """puma560's locus keeps a2, a3, d4 symbolic; the certificate is for the model's values."""
+    model = rankloci.load_model("puma560")
+    locus = rankloci.locus(model, verify=False)
+    assert locus.complete is None
+    cert = certify_locus(locus, task_matrix(model))
+    assert cert.verdict == "passed" and cert.witness_points == {1: 8}
+
+
+def test_every_command_shows_the_locus_rankloci_locus_certified():
+    from rankloci.api.calls import certified_locus, check
+    from rankloci.near.api import nearest_component
+
+    model = rankloci.load_model("planar2r")
+    shown = rankloci.locus(model)
+    assert certified_locus(model)[0] is shown
+    assert check(model, samples=2).certificate is shown.certificate
+    assert nearest_component(model, [0.3, 0.5]).component == 0
+
+
+@pytest.mark.slow
+def test_iiwa_with_offsets_is_not_called_complete_while_a_component_is_missing():
+    """tan q2 = 1/1600 and tan q4 = 1/800 give a 5-dimensional component that the engine does
+    not find; the certificate sees its witness points, so the locus is not called complete."""
+    locus = rankloci.locus("kinematics_models/extra/iiwa_offsets.urdf", tip="link_7")
+    assert locus.complete is not True
+    assert any("missing" in f for f in locus.certificate.findings)
