@@ -122,7 +122,76 @@ def _regular_points(report, variables) -> list[dict]:
             for c in report.components for p in c.failures if p.regular]
 
 
-def _certified(locus, reference, seed, should_stop, progress):
+def _slice_recovery(locus, cert, reference, seed, should_stop, progress, slice_compute):
+    """Components missing from ``locus`` that fix a variable at a known value: the locus of
+    the matrix with that variable at each value (the same engine, one variable fewer), lifted,
+    keeping the components the certificate needs."""
+    from .certify import certify_locus
+
+    added = []
+    for var, values in cert.slices:
+        for value in values:
+            if should_stop():
+                break
+            progress(f"certificate: computing the locus on the slice {var} = {sp.sstr(value)}, "
+                     "where witness points lie on no component")
+            try:
+                part = slice_compute(var, value)
+            except LocusTimeout:
+                break
+            for c in part.components:
+                solved = {var: (value,), **{k: v for k, v in c.solved.items()}}
+                added.append(dataclasses.replace(
+                    c, equations=(_value_equation(var, value, var in set(reference.angles)),)
+                    + tuple(c.equations),
+                    solved=solved, sample={**c.sample, var.name: float(value)}))
+    if not added:
+        return locus, cert
+    trial = dataclasses.replace(locus, components=locus.components + tuple(added))
+    again = certify_locus(trial, reference, seed=seed, should_stop=should_stop)
+    if again.verdict == "failed" and len(again.findings) >= len(cert.findings):
+        return locus, cert
+    # the lifted components the certificate does not need (inside others) are left out
+    kept = list(added)
+    for c in list(added):
+        fewer = [k for k in kept if k is not c]
+        test = dataclasses.replace(locus, components=locus.components + tuple(fewer))
+        if certify_locus(test, reference, seed=seed, should_stop=should_stop).verdict == \
+                again.verdict:
+            kept = fewer
+    trial = dataclasses.replace(locus, components=locus.components + tuple(kept), notes=(
+        locus.notes + (f"{len(kept)} component{'s' * (len(kept) != 1)} found on slices where "
+                       "a variable is fixed at a value the certificate's witness points gave",)))
+    return trial, certify_locus(trial, reference, seed=seed, should_stop=should_stop)
+
+
+def _value_equation(var, value, is_angle=True):
+    """An equation in ``var`` that vanishes at ``value`` (of an angle: in its half angle)."""
+    if not is_angle:
+        return var - value
+    if value == sp.pi:
+        return sp.cos(var / 2)
+    t = sp.tan(value / 2)
+    return sp.sin(var / 2) - t * sp.cos(var / 2)
+
+
+def _sliced(tm, var, value):
+    """``tm`` (parameters substituted) with the variable ``var`` fixed at the exact ``value``."""
+    t = tm.numeric_parameters()
+    if var in set(t.angles):
+        half = sp.tan(value / 2) if value != sp.pi else None
+        c = sp.Integer(-1) if half is None else (1 - half ** 2) / (1 + half ** 2)
+        s_ = sp.Integer(0) if half is None else 2 * half / (1 + half ** 2)
+        M = t.matrix.applyfunc(lambda e: sp.expand(sp.expand_trig(e).xreplace(
+            {sp.cos(var): sp.radsimp(c), sp.sin(var): sp.radsimp(s_)})))
+    else:
+        M = t.matrix.subs(var, value)
+    return dataclasses.replace(t, matrix=sp.ImmutableMatrix(M),
+                               variables=tuple(v for v in t.variables if v != var),
+                               angles=tuple(v for v in t.angles if v != var))
+
+
+def _certified(locus, reference, seed, should_stop, progress, slice_compute=None):
     """``locus`` with its certificate (and that of its base locus, for an augmented matrix)."""
     from .certify import certify_locus
 
@@ -159,6 +228,9 @@ def _certified(locus, reference, seed, should_stop, progress):
                                      for c in cert.discovered_complex))
             locus = dataclasses.replace(trial, notes=trial.notes + (note,))
             cert = again
+    if cert.verdict == "failed" and cert.slices and slice_compute is not None:
+        locus, cert = _slice_recovery(locus, cert, reference, seed, should_stop, progress,
+                                      slice_compute)
     if locus.base is not None and reference.n_constraint_rows:
         base_ref = dataclasses.replace(
             reference, matrix=reference.matrix[:reference.shape[0] - reference.n_constraint_rows, :],
@@ -228,6 +300,14 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
 
     progress = progress or (lambda msg: None)
     stop = should_stop or (lambda: False)
+
+    def slice_compute(var, value):
+        from .methods import compute_locus, method_for
+
+        part = _sliced(tm, var, value)
+        return compute_locus(part, method_for(part.shape, method, strict=False),
+                             rng=np.random.default_rng(seed), should_stop=stop)
+
     plan = [(tm, seed, "as computed", None)]
     if tm.parameters:
         numeric = tm.numeric_parameters()
@@ -265,7 +345,7 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
                              progress=lambda msg: progress(f"self-{msg}"),
                              earlier=report if how is None else None)
         numeric_problems = _check_problems(report)
-        locus, cert = _certified(locus, reference, seed, stop, progress)
+        locus, cert = _certified(locus, reference, seed, stop, progress, slice_compute)
         complete = _complete(cert, not numeric_problems)
         problems = ([f"certificate: {f}" for f in cert.findings] if cert.verdict != "passed"
                     else []) + numeric_problems

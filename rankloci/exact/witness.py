@@ -58,6 +58,7 @@ angles included), the other variables and square roots of integers.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 
@@ -80,6 +81,9 @@ MAX_CODIMENSION = 4
 #: eliminates from); beyond it the codimension is left undecided.  A resultant of two
 #: polynomials of degree 60 in few variables takes flint about a second.
 MAX_ELIMINATION_DEGREE = 3600
+#: ... and the most terms it may have (a resultant in two or more remaining variables): beyond,
+#: one resultant takes minutes.
+MAX_ELIMINATION_TERMS = 20000
 #: Primes are drawn from [2**PRIME_BITS, 2**(PRIME_BITS + 1)): word-sized for flint's nmod
 #: arithmetic, and large enough that the Schwartz-Zippel bound of a wrong verdict (degrees of a
 #: few thousand) is below 1e-12.
@@ -138,6 +142,7 @@ class Certificate:
     redundant: tuple = ()
     discovered: tuple = field(default=(), compare=False, repr=False)
     discovered_complex: tuple = field(default=(), compare=False, repr=False)
+    slices: tuple = field(default=(), compare=False, repr=False)
 
     @property
     def passed(self) -> bool:
@@ -594,8 +599,11 @@ def _isolated(polys, k, P, rng):
     var = f"u{k - 1}"
     combos = _combinations(reduced, k + 1, P, rng)
     deg = max(int(c.total_degree()) for c in combos)
-    if deg * deg > MAX_ELIMINATION_DEGREE:
-        raise _TooLarge(f"eliminating {k - 1} variables from polynomials of degree {deg}")
+    # the resultant has degree up to deg**2 in the k - 1 variables left: about
+    # (deg**2)**(k - 1) / (k - 1)! terms
+    if deg * deg > MAX_ELIMINATION_DEGREE or \
+            (deg * deg) ** (k - 1) / math.factorial(k - 1) > MAX_ELIMINATION_TERMS:
+        raise _TooLarge(f"eliminating a variable from {k} with polynomials of degree {deg}")
     res = [combos[0].resultant(c, var) for c in combos[1:]]
     if all(r.is_zero() for r in res):
         raise _Degenerate("the combinations share a factor")
@@ -619,6 +627,18 @@ def _isolated(polys, k, P, rng):
             continue        # on the hypersurface part: not isolated
         out.append((F, point, d))
     return out
+
+
+def _feasible(degree, k):
+    """Can the witness points of polynomials of ``degree`` in ``k`` variables be eliminated
+    within MAX_ELIMINATION_DEGREE and MAX_ELIMINATION_TERMS?  (Each elimination squares the
+    degree; a resultant in j variables has about degree**j / j! terms.)"""
+    while k > 1:
+        if degree * degree > MAX_ELIMINATION_DEGREE or \
+                (degree * degree) ** (k - 1) / math.factorial(k - 1) > MAX_ELIMINATION_TERMS:
+            return False
+        degree, k = degree * degree, k - 1
+    return True
 
 
 def _value(p, coords, F):
@@ -877,6 +897,22 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
         if c not in planes:
             plane = _Plane(forms, P, roots, c, rng)
             Mp = [[plane.restrict(x) for x in row] for row in rows]
+            # the determinants' degree, and whether the eliminations could stay in budget
+            D = sum(max(int(x.total_degree()) for x in row) for row in Mp)
+            if c > 2 and not _feasible(D, c):
+                findings.append(f"codimension {c} components are not certified: the "
+                                f"elimination is too large (determinants of degree up to {D} "
+                                f"in {c} variables)")
+                uncertain.append(c)
+                for k in comps:
+                    if k.codim == c:
+                        if k.pieces is not None:
+                            findings.extend(_check_pieces(k, rows, forms, P, roots, rng, n))
+                        else:
+                            findings.append(f"{k.label} (dimension {k.dimension}) is not "
+                                            "certified: its witness points need too large an "
+                                            "elimination, and it is not given in solved form")
+                continue
             Hp = _compressions(Mp, n, m, c + 1, P, rng)
             degree_sum += sum(max(0, int(h.total_degree())) for h in Hp)
             planes[c] = (plane, Mp, Hp)
@@ -970,17 +1006,17 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
                       f" a dimension below the bound for {'their' if len(redundant) > 1 else 'its'}"
                       " rank drop: inside a larger component, or not singular")
     verdict = "failed" if failed else ("undecided" if uncertified else "passed")
-    found, found_complex = (), ()
+    found, found_complex, slices = (), (), ()
     if missing:
         try:
-            found, found_complex = _discover(missing, forms, rows, n, N, P, rng)
+            found, found_complex, slices = _discover(missing, forms, rows, n, N, P, rng)
         except NotCertifiable:
             pass
     return Certificate(verdict, prime=P, seed=seed, codimensions=codims, witness_points=counts,
                        findings=tuple(failed + [f for f in findings if f not in failed]),
                        error_bound=_bound(degree_sum, P), seconds=time.perf_counter() - t0,
                        redundant=tuple(redundant), discovered=found,
-                       discovered_complex=found_complex)
+                       discovered_complex=found_complex, slices=slices)
 
 
 def _check_pieces(k, rows, forms, P, roots, rng, n):
@@ -1076,6 +1112,10 @@ def _component_points(eqs, exc, plane, rng, k, findings):
 #: polynomial with probability below 1e-12.
 MAX_FIXED_DEGREE = 6
 MAX_HEIGHT = 2 ** 24
+#: The height of an integer relation of degree 2 found by lattice reduction for a value in
+#: GF(P) alone (its conjugate not among the witness points): random values have shortest
+#: relations near P**(1/3), about 2**20.
+MAX_RELATION_HEIGHT = 2 ** 14
 
 
 def _rational(a: int, P: int):
@@ -1115,11 +1155,108 @@ def _minimal_polynomial(value, P):
     return tuple(out)
 
 
+def _small_polynomials(polys, P, T):
+    """Irreducible polynomials over Q of small height whose roots mod P are the roots of the
+    ``polys`` (minimal polynomials over GF(P), coefficients low to high), or None.
+
+    The product of the polynomials is tried first (its coefficients rational of small height:
+    every conjugate of the values is among the roots); otherwise each root in GF(P) alone, by
+    the shortest vector of the lattice of integer relations a_0 + a_1 r + ... = 0 mod P."""
+    product = [1]
+    for k in polys:
+        new = [0] * (len(product) + len(k) - 1)
+        for i, a in enumerate(product):
+            for j, b in enumerate(k):
+                new[i + j] = (new[i + j] + a * b) % P
+        product = new
+    coeffs = [_rational(a, P) for a in product]
+    if all(c is not None for c in coeffs):
+        f = sp.Poly(list(reversed(coeffs)), T)
+        return list({sp.Poly(g.monic(), T): None for g, _ in f.factor_list()[1]})
+    out = []
+    for k in polys:
+        if len(k) != 2:
+            return None
+        r = (-k[0]) * pow(k[1], -1, P) % P
+        relation = _integer_relation(r, P)
+        if relation is None:
+            return None
+        f = sp.Poly(list(reversed(relation)), T)
+        for g, _ in f.factor_list()[1]:
+            ints = g.clear_denoms()[1].all_coeffs()
+            if sum(int(a) * pow(r, len(ints) - 1 - i, P) for i, a in enumerate(ints)) % P == 0:
+                out.append(sp.Poly(g.monic(), T))
+                break
+        else:
+            return None
+    return list(dict.fromkeys(out))
+
+
+def _integer_relation(r, P, degree=2):
+    """Small integers (a_0 .. a_d), a_d nonzero, with a_0 + a_1 r + ... + a_d r**d = 0 mod P and
+    every |a_k| <= MAX_RELATION_HEIGHT, for the smallest degree d <= ``degree``, or None.
+
+    Every vector of the lattice spanned by (P, 0, ..), (-r**k mod P, e_k) is such a relation;
+    LLL finds a short one.  A random r has none this short except with probability about
+    (MAX_RELATION_HEIGHT**(d + 1) / P), below 1e-5 at d = 2; a wrong one costs only time, since
+    the components built from it are certified like any other."""
+    for d in range(1, degree + 1):
+        basis = [[P] + [0] * d]
+        for k in range(1, d + 1):
+            row = [(-pow(r, k, P)) % P] + [0] * d
+            row[k] = 1
+            basis.append(row)
+        for v in _lll(basis):
+            if v[-1] and max(abs(x) for x in v) <= MAX_RELATION_HEIGHT \
+                    and sum(a * pow(r, k, P) for k, a in enumerate(v)) % P == 0:
+                return v
+    return None
+
+
+def _lll(basis):
+    """LLL-reduced basis of an integer lattice (rows), exact arithmetic; small dimensions."""
+    from fractions import Fraction
+
+    b = [list(map(int, row)) for row in basis]
+    n = len(b)
+
+    def dot(u, v):
+        return sum(x * y for x, y in zip(u, v))
+
+    def gram_schmidt():
+        bs, mu = [], [[Fraction(0)] * n for _ in range(n)]
+        for i in range(n):
+            v = [Fraction(x) for x in b[i]]
+            for j in range(i):
+                mu[i][j] = Fraction(dot(b[i], bs[j])) / dot(bs[j], bs[j]) if any(bs[j]) else 0
+                v = [x - mu[i][j] * y for x, y in zip(v, bs[j])]
+            bs.append(v)
+        return bs, mu
+
+    bs, mu = gram_schmidt()
+    k = 1
+    delta = Fraction(3, 4)
+    while k < n:
+        for j in range(k - 1, -1, -1):
+            q = round(mu[k][j])
+            if q:
+                b[k] = [x - q * y for x, y in zip(b[k], b[j])]
+                bs, mu = gram_schmidt()
+        if dot(bs[k], bs[k]) >= (delta - mu[k][k - 1] ** 2) * dot(bs[k - 1], bs[k - 1]):
+            k += 1
+        else:
+            b[k], b[k - 1] = b[k - 1], b[k]
+            bs, mu = gram_schmidt()
+            k = max(k - 1, 1)
+    return sorted(b, key=lambda v: dot(v, v))
+
+
 def _discover(missing, forms, rows, n, N, P, rng):
     """Components through witness points that lie on no reported component, when every such
     point fixes the same variables at a few values of small height (the values a robot's
     offsets give: tan q2 = 1/1600, say).  Returns (components with real points, components
-    without)."""
+    without, and (variable, real values) for variables fixed on components that more
+    equations cut out)."""
     import itertools
 
     from ..locus import Component
@@ -1128,7 +1265,7 @@ def _discover(missing, forms, rows, n, N, P, rng):
     by_codim: dict = {}
     for c, plane, pt in missing:
         by_codim.setdefault(c, []).append((plane, pt))
-    found, found_complex = [], []
+    found, found_complex, slices = [], [], []
     for c, items in by_codim.items():
         values: dict = {}
         for plane, pt in items:
@@ -1145,18 +1282,22 @@ def _discover(missing, forms, rows, n, N, P, rng):
             if sum(len(k) - 1 for k in polys) > MAX_FIXED_DEGREE:
                 continue
             Tsym = sp.Dummy("T")
-            factors, ok = [], True
-            for k in polys:
-                coeffs = [_rational(a, P) for a in k]
-                if any(v is None for v in coeffs):
-                    ok = False
-                    break
-                f = sp.Poly(list(reversed(coeffs)), Tsym)
-                factors += [g for g, _ in f.factor_list()[1]]
-            if not ok:
+            factors = _small_polynomials(polys, P, Tsym)
+            if factors is None:
                 continue
             factors = list({sp.Poly(g.monic(), Tsym): None for g in factors})
             fixed[var] = (Tsym, factors, "pi" in keys)
+        if 0 < len(fixed) < c:
+            # the missing components fix these variables but are cut out by more equations:
+            # the caller computes the locus on each slice where they take a real value
+            for var, (_, factors, has_pi) in fixed.items():
+                vals = []
+                for f in factors:
+                    vals += _fixed_equation(var, f, var in set(forms.angles))[1]
+                if has_pi:
+                    vals.append(sp.pi)
+                slices.append((var, tuple(vals)))
+            continue
         if len(fixed) != c:
             continue
         variables = list(forms.variables)
@@ -1177,7 +1318,7 @@ def _discover(missing, forms, rows, n, N, P, rng):
             comp = Component(tuple(eqs), solved=solved if real else {}, free=free,
                              dimension=N - c, rank_drop=1)
             (found if real else found_complex).append(comp)
-    return tuple(found), tuple(found_complex)
+    return tuple(found), tuple(found_complex), tuple(slices)
 
 
 def _fixed_equation(var, f, is_angle):
