@@ -44,6 +44,10 @@ __all__ = ["Verification", "dimension_bound", "dimension_findings", "verified_lo
 #: possible for small components (reported by that command).
 SELF_CHECK_SAMPLES = 6
 
+#: Rounds of slices computed from the witness points that lie on no component (each round's
+#: certificate may fix other variables at the points still uncovered).
+SLICE_ROUNDS = 3
+
 #: Rounds of recomputation with the configurations where the check found a component regular
 #: (each adds the new ones): a split leaf's pieces are checked in the next round.
 HINT_ROUNDS = 2
@@ -122,7 +126,8 @@ def _regular_points(report, variables) -> list[dict]:
             for c in report.components for p in c.failures if p.regular]
 
 
-def _slice_recovery(locus, cert, reference, seed, should_stop, progress, slice_compute):
+def _slice_recovery(locus, cert, reference, seed, should_stop, progress, slice_compute,
+                    computed=None):
     """Components missing from ``locus`` that fix a variable at a known value: the locus of
     the matrix with that variable at each value (the same engine, one variable fewer), lifted,
     keeping the components the certificate needs."""
@@ -133,31 +138,41 @@ def _slice_recovery(locus, cert, reference, seed, should_stop, progress, slice_c
         for value in values:
             if should_stop():
                 break
+            if computed is not None and (var, value) in computed:
+                continue        # its pieces were offered in an earlier round
             progress(f"certificate: computing the locus on the slice {var} = {sp.sstr(value)}, "
                      "where witness points lie on no component")
             try:
                 part = slice_compute(var, value)
             except LocusTimeout:
                 break
+            if computed is not None:
+                computed[(var, value)] = part
             for c in part.components:
                 solved = {var: (value,), **{k: v for k, v in c.solved.items()}}
                 added.append(dataclasses.replace(
                     c, equations=(_value_equation(var, value, var in set(reference.angles)),)
                     + tuple(c.equations),
                     solved=solved, sample={**c.sample, var.name: float(value)}))
+    # a lifted piece below the determinantal bound lies inside a larger component
+    n, m = sorted(reference.shape)
+    N = len(reference.variables)
+    added = [c for c in added if N - c.dimension <= c.rank_drop * (m - n + c.rank_drop)]
     if not added:
         return locus, cert
     trial = dataclasses.replace(locus, components=locus.components + tuple(added))
     again = certify_locus(trial, reference, seed=seed, should_stop=should_stop)
-    if again.verdict == "failed" and len(again.findings) >= len(cert.findings):
+    if again.verdict == "failed" and again.uncovered >= cert.uncovered:
         return locus, cert
     # the lifted components the certificate does not need (inside others) are left out
     kept = list(added)
     for c in list(added):
         fewer = [k for k in kept if k is not c]
-        test = dataclasses.replace(locus, components=locus.components + tuple(fewer))
-        if certify_locus(test, reference, seed=seed, should_stop=should_stop).verdict == \
-                again.verdict:
+        test = certify_locus(dataclasses.replace(
+            locus, components=locus.components + tuple(fewer)), reference, seed=seed,
+            should_stop=should_stop)
+        if test.verdict == again.verdict and test.uncovered <= again.uncovered \
+                and len(test.findings) <= len(again.findings):
             kept = fewer
     trial = dataclasses.replace(locus, components=locus.components + tuple(kept), notes=(
         locus.notes + (f"{len(kept)} component{'s' * (len(kept) != 1)} found on slices where "
@@ -217,7 +232,7 @@ def _certified(locus, reference, seed, should_stop, progress, slice_compute=None
         trial = dataclasses.replace(locus, components=locus.components + added)
         again = certify_locus(trial, reference, seed=seed, should_stop=should_stop,
                               progress=progress, complex_only=cert.discovered_complex)
-        if again.verdict != "failed" or len(again.findings) < len(cert.findings):
+        if again.verdict != "failed" or again.uncovered < cert.uncovered:
             note = (f"{len(added)} component{'s' * (len(added) != 1)} found from the witness "
                     "points of the certificate that lay on no component of the branch tree")
             if cert.discovered_complex:
@@ -228,9 +243,15 @@ def _certified(locus, reference, seed, should_stop, progress, slice_compute=None
                                      for c in cert.discovered_complex))
             locus = dataclasses.replace(trial, notes=trial.notes + (note,))
             cert = again
-    if cert.verdict == "failed" and cert.slices and slice_compute is not None:
+    computed = {}
+    for _ in range(SLICE_ROUNDS):
+        if cert.verdict != "failed" or not cert.slices or slice_compute is None:
+            break
+        before = cert.uncovered
         locus, cert = _slice_recovery(locus, cert, reference, seed, should_stop, progress,
-                                      slice_compute)
+                                      slice_compute, computed)
+        if cert.uncovered >= before:
+            break
     if locus.base is not None and reference.n_constraint_rows:
         base_ref = dataclasses.replace(
             reference, matrix=reference.matrix[:reference.shape[0] - reference.n_constraint_rows, :],
@@ -305,8 +326,10 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
         from .methods import compute_locus, method_for
 
         part = _sliced(tm, var, value)
-        return compute_locus(part, method_for(part.shape, method, strict=False),
-                             rng=np.random.default_rng(seed), should_stop=stop)
+        found = compute_locus(part, method_for(part.shape, method, strict=False),
+                              rng=np.random.default_rng(seed), should_stop=stop)
+        # the slice's own certificate completes its locus where witness points fix a value
+        return _certified(found, part, seed, stop, lambda msg: None)[0]
 
     plan = [(tm, seed, "as computed", None)]
     if tm.parameters:

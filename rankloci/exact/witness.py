@@ -143,6 +143,7 @@ class Certificate:
     discovered: tuple = field(default=(), compare=False, repr=False)
     discovered_complex: tuple = field(default=(), compare=False, repr=False)
     slices: tuple = field(default=(), compare=False, repr=False)
+    uncovered: int = field(default=0, compare=False)
 
     @property
     def passed(self) -> bool:
@@ -881,6 +882,7 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
     planes = {1: (line, Ml, H)}
     uncertain = []
     missing = []
+    total_uncovered = 0
     redundant = [k.index for k in comps
                  if k.real and k.codim > 0 and k.codim > k.rank_drop * (m - n + k.rank_drop)]
     # below the Eagon-Northcott bound of its rank drop, a component lies inside a larger one if
@@ -978,6 +980,7 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
             if not covered:
                 uncovered += pt.degree
                 missing.append((c, plane, pt))
+        total_uncovered += uncovered
         if uncovered:
             findings.append(f"{uncovered} of the {counts[c]} witness points of codimension {c} "
                             f"lie on no reported component: a component of dimension {N - c} "
@@ -1016,7 +1019,8 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
                        findings=tuple(failed + [f for f in findings if f not in failed]),
                        error_bound=_bound(degree_sum, P), seconds=time.perf_counter() - t0,
                        redundant=tuple(redundant), discovered=found,
-                       discovered_complex=found_complex, slices=slices)
+                       discovered_complex=found_complex, slices=slices,
+                       uncovered=total_uncovered)
 
 
 def _check_pieces(k, rows, forms, P, roots, rng, n):
@@ -1251,6 +1255,14 @@ def _lll(basis):
     return sorted(b, key=lambda v: dot(v, v))
 
 
+def _small_height(key, P) -> bool:
+    """Is a value (its minimal polynomial over GF(P)) a root of a polynomial of small height?"""
+    if len(key) == 2:
+        r = (-key[0]) * pow(key[1], -1, P) % P
+        return _integer_relation(r, P) is not None
+    return all(_rational(a, P) is not None for a in key)
+
+
 def _discover(missing, forms, rows, n, N, P, rng):
     """Components through witness points that lie on no reported component, when every such
     point fixes the same variables at a few values of small height (the values a robot's
@@ -1262,20 +1274,23 @@ def _discover(missing, forms, rows, n, N, P, rng):
     from ..locus import Component
 
     na = len(forms.angles)
-    by_codim: dict = {}
+    groups: dict = {}
     for c, plane, pt in missing:
-        by_codim.setdefault(c, []).append((plane, pt))
+        # the variables this point has at a value of small height, and those values
+        keys = {}
+        for i, q in enumerate(forms.angles):
+            C, S = pt.value(plane.images[i]), pt.value(plane.images[na + i])
+            keys[q] = "pi" if C.is_zero() else _minimal_polynomial(S / C, P)
+        for j, xv in enumerate(forms.others):
+            keys[xv] = _minimal_polynomial(pt.value(plane.images[2 * na + j]), P)
+        small = {v: k for v, k in keys.items() if k == "pi" or _small_height(k, P)}
+        groups.setdefault((c, frozenset(small)), []).append(small)
     found, found_complex, slices = [], [], []
-    for c, items in by_codim.items():
+    for (c, _), points in groups.items():
         values: dict = {}
-        for plane, pt in items:
-            for i, q in enumerate(forms.angles):
-                C, S = pt.value(plane.images[i]), pt.value(plane.images[na + i])
-                key = "pi" if C.is_zero() else _minimal_polynomial(S / C, P)
-                values.setdefault(q, set()).add(key)
-            for j, xv in enumerate(forms.others):
-                values.setdefault(xv, set()).add(
-                    _minimal_polynomial(pt.value(plane.images[2 * na + j]), P))
+        for small in points:
+            for var, key in small.items():
+                values.setdefault(var, set()).add(key)
         fixed = {}
         for var, keys in values.items():
             polys = [k for k in keys if k != "pi"]
