@@ -78,6 +78,16 @@ class Report:
     model_notes: str = ""     # the free-text notes of the model file
     stamp: str = ""           # a date and time to print, only when asked for
     near: object = None       # near_section.NearData: manipulability and rates near the locus
+    limits: tuple = ()        # rankloci.limits.LimitCheck per component of the model's locus
+
+    def limit_check(self, index: int):
+        """The :class:`~rankloci.limits.LimitCheck` of component ``index`` (1-based), or None."""
+        return next((c for c in self.limits if c.component == index), None)
+
+    @property
+    def has_limits(self) -> bool:
+        """Does any joint of the model have limits?"""
+        return any(getattr(j, "limits", None) for j in getattr(self.model, "joints", ()))
 
     @property
     def name(self) -> str:
@@ -230,6 +240,13 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
             exact_result = timed("Singular cross-check", lambda: singular_cross_check(
                 task_matrix(model, frame="auto", numeric=True), locus, rng=rng(seed)))
 
+    # which components the joint limits let the robot reach
+    limits = ()
+    if locus is not None:
+        from ..limits import within_limits
+
+        limits = timed("joint limits", lambda: within_limits(locus, model, rng=rng(seed)))
+
     # components, readings, folded equations
     views, notation = (), jac.abbreviations
     if locus is not None:
@@ -266,7 +283,7 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
                   exact=exact_result, tree=tree, figures=figures, timings=tuple(timings),
                   seed=seed, samples=samples, timeout=timeout, numeric=numeric,
                   augmented=augmented, notes=notes, model_notes=model_notes, stamp=stamp,
-                  near=near)
+                  near=near, limits=limits)
 
 
 def component_views(model, locus, *, seed: int = 0) -> tuple:

@@ -125,6 +125,9 @@ def _component_blocks(report, view):
         items.append("Lost direction: $(" + ", ".join(latex(x) for x in c.direction[0]) + ")$.")
     sample = ", ".join(f"{k} = {v:+.4f}" for k, v in c.sample.items())
     items.append(f"Sample point: {sample}.")
+    check = report.limit_check(view.index) if report.has_limits else None
+    if check is not None:
+        items.append(_limits_item(check))
     figs = component_figures(report, view.index)
     if figs:
         items.append(f"{plural('Figure', len(figs))}: "
@@ -143,6 +146,22 @@ def _component_blocks(report, view):
         if f.through == view.index:
             out.append(Figure(f.name, f.caption, labels[f.name], alt=f.title))
     return out
+
+
+def _limits_item(check) -> str:
+    """Whether the component meets the joint-limit box, as a bullet."""
+    if check.meets is True:
+        where = ", ".join(f"{k} = {_signed(v)}" for k, v in check.sample.items())
+        return f"Within the joint limits: yes, for example at {where} ({check.how})."
+    if check.meets is False:
+        return f"Within the joint limits: no; {literal(check.reason)} (decided exactly)."
+    return f"Within the joint limits: not decided; {literal(check.reason)}."
+
+
+def _signed(x: float, digits: int = 4) -> str:
+    """``x`` with a sign and ``digits`` decimals; a value that rounds to zero is ``0``."""
+    text = f"{float(x):+.{digits}f}"
+    return "0" if float(text) == 0 else text
 
 
 def figure_labels(report) -> dict:

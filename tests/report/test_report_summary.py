@@ -16,7 +16,7 @@ from rankloci.report.latex import render_latex
 from rankloci.report.markdown import render_markdown
 
 SEED = 4
-HEADER = "| no. | equations | reading | lost motion | figures |"
+HEADER = "| no. | equations | reading | lost motion | figures | within limits |"
 
 
 @pytest.fixture(scope="module")
@@ -94,3 +94,27 @@ def test_each_component_has_one_display_in_the_notation_of_j(puma):
         if v.folded:
             link = "[the Jacobian section](#appendix-a-the-symbolic-jacobian)"
             assert f"notation of {link}" in section
+
+
+def test_summary_says_which_components_the_joint_limits_let_the_arm_reach(puma):
+    md = render_markdown(puma)
+    rows = _summary_rows(md)
+    assert [r[5] for r in rows] == [c.word for c in puma.limits] == ["yes"] * len(rows)
+    head = md.split("\n## ", 1)[0]
+    assert "**Joint limits.** Components 1, 2 and 3 meet the joint-limit box" in head
+    names = [str(v) for v in puma.locus.variables]
+    limits = [j.limits for j in puma.model.joints]
+    for check in puma.limits:
+        assert all(lo <= check.sample[n] <= hi for n, (lo, hi) in zip(names, limits))
+        assert puma.locus.contains(check.sample)
+        section = md.split(f"### Component {check.component}", 1)[1].split("\n#", 1)[0]
+        assert "Within the joint limits: yes, for example at q1 = " in section
+    # the DH table gives the limits in degrees
+    assert "| 2 | revolute | $q_{2}$ | $0$ | $a_{2}$ | $0$ | [-45, 225] deg |" in md
+
+
+def test_a_model_without_limits_says_so():
+    report = build_report(load_model("planar2r"), seed=SEED, samples=2, exact=False)
+    md = render_markdown(report)
+    assert "| within limits |" not in md
+    assert "**Joint limits.** The model gives no joint limits" in md
