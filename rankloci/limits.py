@@ -201,7 +201,7 @@ def _exact_outside(comp, names, kinds, limits):
 
 
 def within_limits(locus, model, *, rng=None, starts: int = LIMIT_SEARCH_STARTS,
-                  rtol: float = LOCUS_CONTAINS_RTOL) -> tuple[LimitCheck, ...]:
+                  rtol: float = LOCUS_CONTAINS_RTOL, box=None) -> tuple[LimitCheck, ...]:
     """Which components of ``locus`` meet the joint-limit box of ``model``.
 
     Parameters
@@ -217,6 +217,9 @@ def within_limits(locus, model, *, rng=None, starts: int = LIMIT_SEARCH_STARTS,
         Random starts per component (:data:`LIMIT_SEARCH_STARTS`).
     rtol : float
         Accepted residual of the scaled equations, as in :meth:`Locus.contains`.
+    box : sequence of (float, float) or None, optional
+        Bounds per variable instead of the model's limits (None: unbounded);
+        ``joint_strokes(model)`` asks for points where a report samples and plots.
 
     Returns
     -------
@@ -242,8 +245,8 @@ def within_limits(locus, model, *, rng=None, starts: int = LIMIT_SEARCH_STARTS,
     rng = rng if rng is not None else np.random.default_rng(0)
     names = [str(v) for v in locus.variables]
     kinds = list(joint_kinds(model))
-    limits = list(joint_limits(model))
-    if len(kinds) != len(names):
+    limits = list(joint_limits(model) if box is None else box)
+    if len(kinds) != len(names) or len(limits) != len(names):
         raise ValueError(f"the locus has {len(names)} variables and the model "
                          f"{model.name!r} {len(kinds)}: not a locus of this model")
     strokes = joint_strokes(model)

@@ -312,6 +312,7 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot, views=()) -> t
         plain_tm = task_matrix(model, use_model_augment=False)
         nm_plain = NumericMatrix(sp.Matrix(plain_tm.matrix).subs(params), plain_tm.variables,
                                  plain_tm.angles)
+        nm_plain.strokes = getattr(nm, "strokes", {})
         data = slices[0]
         left = A.slice_grid(nm_plain, A.model_components(base), params, data.axes, data.point,
                             through=data.through)

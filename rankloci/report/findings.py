@@ -29,7 +29,7 @@ TALL_TREE_BOXES = 12
 TURNED_TREE_PIXELS = 1300
 
 __all__ = ["findings_blocks", "appendix_findings", "plain_equations", "disagreement_verdict",
-           "figure_labels", "component_figures"]
+           "figure_labels", "component_figures", "point_text", "signed"]
 
 
 def findings_blocks(report) -> list:
@@ -123,11 +123,10 @@ def _component_blocks(report, view):
                      f"over ({literal(', '.join(over))}).")
     if not c.direction_at_sample and c.direction:
         items.append("Lost direction: $(" + ", ".join(latex(x) for x in c.direction[0]) + ")$.")
-    sample = ", ".join(f"{k} = {v:+.4f}" for k, v in c.sample.items())
-    items.append(f"Sample point: {sample}.")
+    items.append(f"Sample point: {point_text(report.model, c.sample)}.")
     check = report.limit_check(view.index) if report.has_limits else None
     if check is not None:
-        items.append(_limits_item(check))
+        items.append(_limits_item(check, report.model))
     figs = component_figures(report, view.index)
     if figs:
         items.append(f"{plural('Figure', len(figs))}: "
@@ -148,20 +147,37 @@ def _component_blocks(report, view):
     return out
 
 
-def _limits_item(check) -> str:
+def _limits_item(check, model) -> str:
     """Whether the component meets the joint-limit box, as a bullet."""
     if check.meets is True:
-        where = ", ".join(f"{k} = {_signed(v)}" for k, v in check.sample.items())
+        where = point_text(model, check.sample)
         return f"Within the joint limits: yes, for example at {where} ({check.how})."
     if check.meets is False:
         return f"Within the joint limits: no; {literal(check.reason)} (decided exactly)."
     return f"Within the joint limits: not decided; {literal(check.reason)}."
 
 
-def _signed(x: float, digits: int = 4) -> str:
-    """``x`` with a sign and ``digits`` decimals; a value that rounds to zero is ``0``."""
+def signed(x: float, digits: int = 4) -> str:
+    """``x`` with a sign and ``digits`` decimals; a value that rounds to zero is ``0``.
+
+    Examples
+    --------
+    >>> signed(-1e-9), signed(0.25), signed(-2.0, 2)
+    ('0', '+0.2500', '-2.00')
+    """
     text = f"{float(x):+.{digits}f}"
     return "0" if float(text) == 0 else text
+
+
+def point_text(model, point: dict) -> str:
+    """``q1 = +0.8606 rad, q2 = 0 m``: a configuration, with units for a robot's joints."""
+    from ..limits import joint_kinds
+
+    units = {}
+    if hasattr(model, "joints"):
+        units = {str(v): (" rad" if k == "revolute" else " m")
+                 for v, k in zip(model.variables, joint_kinds(model))}
+    return ", ".join(f"{k} = {signed(v)}{units.get(k, '')}" for k, v in point.items())
 
 
 def figure_labels(report) -> dict:
