@@ -16,7 +16,7 @@ import sympy as sp
 from ..methods import method_for
 from ..tolerances import RANK_RTOL
 from .blocks import (SIGMA, Bullets, Code, Figure, Heading, Math, Para, Table, block_label,
-                     counted, plural, variables_text)
+                     counted, plural, signed, variables_text)
 from .escape import literal, ref
 from .mathfmt import LINE_WIDTH, broken_lines, latex, value_latex
 from .near_section import near_blocks
@@ -29,7 +29,7 @@ TALL_TREE_BOXES = 12
 TURNED_TREE_PIXELS = 1300
 
 __all__ = ["findings_blocks", "appendix_findings", "plain_equations", "disagreement_verdict",
-           "figure_labels", "component_figures", "point_text", "signed"]
+           "figure_labels", "component_figures", "point_text"]
 
 
 def findings_blocks(report) -> list:
@@ -119,7 +119,7 @@ def _component_blocks(report, view):
     over = [str(v) for v in report.tm.variables] if tall else labels
     for vec in c.direction_at_sample:
         what = "Lost joint direction (right null vector)" if tall else "Lost direction"
-        items.append(f"{what} at the sample point: ({', '.join(f'{x:+.3f}' for x in vec)}) "
+        items.append(f"{what} at the sample point: ({', '.join(signed(x, 3) for x in vec)}) "
                      f"over ({literal(', '.join(over))}).")
     if not c.direction_at_sample and c.direction:
         items.append("Lost direction: $(" + ", ".join(latex(x) for x in c.direction[0]) + ")$.")
@@ -155,18 +155,6 @@ def _limits_item(check, model) -> str:
     if check.meets is False:
         return f"Within the joint limits: no; {literal(check.reason)} (decided exactly)."
     return f"Within the joint limits: not decided; {literal(check.reason)}."
-
-
-def signed(x: float, digits: int = 4) -> str:
-    """``x`` with a sign and ``digits`` decimals; a value that rounds to zero is ``0``.
-
-    Examples
-    --------
-    >>> signed(-1e-9), signed(0.25), signed(-2.0, 2)
-    ('0', '+0.2500', '-2.00')
-    """
-    text = f"{float(x):+.{digits}f}"
-    return "0" if float(text) == 0 else text
 
 
 def point_text(model, point: dict) -> str:
@@ -353,7 +341,7 @@ def _check_section(report):
         out.append(Bullets(tuple(items)))
         out.append(Para(_findings_explained(chk.findings)))
     for p in chk.uncovered[:5]:
-        out.append(Para("Uncovered singular point: (" + ", ".join(f"{x:+.6f}" for x in p.q)
+        out.append(Para("Uncovered singular point: (" + ", ".join(signed(x, 6) for x in p.q)
                         + f"), sigma ratio {p.sigma_ratio:.1e}."))
     return out
 
@@ -425,7 +413,7 @@ def _comparison_section(report):
 
 
 def _point_text(q) -> str:
-    return "(" + ", ".join(f"{x:+.3f}" for x in q) + ")"
+    return "(" + ", ".join(signed(x, 3) for x in q) + ")"
 
 
 def disagreement_verdict(d) -> str:
