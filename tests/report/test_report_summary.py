@@ -118,3 +118,19 @@ def test_a_model_without_limits_says_so():
     md = render_markdown(report)
     assert "| within limits |" not in md
     assert "**Joint limits.** The model gives no joint limits" in md
+
+
+def test_every_displayed_equation_is_numbered(puma):
+    md = render_markdown(puma)
+    displays = md.split("$$")[1::2]
+    tags = [re.search(r"\\tag\{(\d+)\}\s*$", d) for d in displays]
+    assert all(tags), [d for d, t in zip(displays, tags) if not t][:2]
+    assert [int(t.group(1)) for t in tags] == list(range(1, len(displays) + 1))
+    tex = render_latex(puma)
+    assert "align*" not in tex and "\\[\n" not in tex
+    numbered = tex.count("\\begin{equation}") + tex.count("\\begin{align}")
+    assert numbered == len(displays)
+    # an aligned display carries one number: every line but the last is \notag
+    for body in re.findall(r"\\begin\{align\}\n(.*?)\n\\end\{align\}", tex, flags=re.S):
+        lines = body.split(" \\\\\n")
+        assert all(ln.endswith("\\notag") for ln in lines[:-1]) and "\\notag" not in lines[-1]
