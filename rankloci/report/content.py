@@ -46,9 +46,9 @@ def report_blocks(report, *, timings: bool = True) -> list:
     out += _reproduce_section(report)
     out.append(Appendix())
     out += _jacobian_section(report)
-    out += appendix_findings(report)
-    if timings and report.timings:
+    if timings and report.timings:   # before the tree and the notes: never a last page alone
         out += _timings_section(report)
+    out += appendix_findings(report)
     return out
 
 

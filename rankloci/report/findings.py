@@ -83,9 +83,10 @@ def _solved(comp) -> str:
     return "; ".join(parts)
 
 
-def _component_blocks(report, view):
+def _component_blocks(report, view, level: int = 3):
     c = view.component
-    out = [Heading(3, f"Component {view.index}", block_label(report, "component", view.index))]
+    out = [Heading(level, f"Component {view.index}",
+                   block_label(report, "component", view.index))]
     eqs = [e for e in c.equations if e not in c.parameter_conditions] or list(c.equations)
     if view.folded and list(view.folded) != eqs:
         # one display, in the notation of J; the plain text at the end spells it out
@@ -246,8 +247,8 @@ def _locus_section(report):
         out.append(Heading(3, "Components for special parameter values"))
         out.append(Para("These exist only for parameter values other than the model's; they "
                         "are listed for designers who may change the geometry."))
-        for v in special:
-            out += _component_blocks(report, v)
+        for v in special:   # one level down: they belong to this subsection
+            out += _component_blocks(report, v, level=4)
     if list(loc.notes) + list(report.notes):
         out.append(Para("The notes of the analysis (special parameter values it did not pursue, "
                         "the frame it worked in) are in "

@@ -134,3 +134,11 @@ def test_every_displayed_equation_is_numbered(puma):
     for body in re.findall(r"\\begin\{align\}\n(.*?)\n\\end\{align\}", tex, flags=re.S):
         lines = body.split(" \\\\\n")
         assert all(ln.endswith("\\notag") for ln in lines[:-1]) and "\\notag" not in lines[-1]
+
+
+def test_special_components_are_headed_below_their_subsection(puma):
+    headings = [h for h in render_markdown(puma).splitlines() if h.startswith("#")]
+    at = next(i for i, h in enumerate(headings) if "special parameter values" in h)
+    assert headings[at].startswith("### ")
+    below = headings[at + 1]
+    assert below.startswith("#### Component ")
