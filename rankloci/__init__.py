@@ -9,6 +9,7 @@ starts fast.
   functions (:mod:`rankloci.api`);
 - :func:`min_inf_norm`, :func:`manipulability`, :func:`joint_rates`,
   :func:`nearest_component`: what a robot does near its locus (:mod:`rankloci.near`);
+- :func:`within_limits`: which components meet the joint-limit box (:mod:`rankloci.limits`);
 - :func:`from_rtb`, :func:`from_pinocchio`: models from Robotics Toolbox for
   Python and Pinocchio (:mod:`rankloci.adapters`);
 - :class:`Locus`, :class:`Component`, :class:`Outcome`: the result types;
@@ -46,11 +47,12 @@ _EXPORTS = {
     "LocusError": "rankloci.errors", "LocusTimeout": "rankloci.errors",
     "min_inf_norm": "rankloci.near.min_inf_norm", "manipulability": "rankloci.near.api",
     "joint_rates": "rankloci.near.api", "nearest_component": "rankloci.near.api",
+    "within_limits": "rankloci.limits",
 }
 
 #: Submodules reachable as attributes without importing them first.
 _SUBMODULES = ("adapters", "algebra", "api", "augmented", "cli", "directions", "errors", "exact",
-               "expr", "io", "jacobian", "kinematics", "locus", "methods", "model", "near",
+               "expr", "io", "jacobian", "kinematics", "limits", "locus", "methods", "model", "near",
                "numeric", "render_text", "report", "tolerances", "tree", "verify")
 
 __all__ = ["__version__", *_EXPORTS]

@@ -7,7 +7,7 @@ import json
 import sympy as sp
 
 __all__ = ["locus_text", "locus_json", "locus_latex", "tree_text", "tree_dot", "tree_json",
-           "solved_text"]
+           "solved_text", "limits_text"]
 
 
 def _value_text(v) -> str:
@@ -29,8 +29,22 @@ def _vector(vec, digits=3) -> str:
     return "[" + ", ".join(f"{x:+.{digits}f}" for x in vec) + "]"
 
 
-def locus_text(locus, *, row_labels=()) -> str:
-    """A human-readable summary of a locus."""
+def limits_text(check) -> str:
+    """One line on whether a component meets the joint-limit box (a :class:`LimitCheck`)."""
+    if check.meets is True:
+        where = ", ".join(f"{k}={v:+.4f}" for k, v in check.sample.items())
+        return f"within the joint limits: yes ({check.how}), e.g. at {where}"
+    if check.meets is False:
+        return f"within the joint limits: no ({check.how}: {check.reason})"
+    return f"within the joint limits: not decided ({check.reason})"
+
+
+def locus_text(locus, *, row_labels=(), within_limits=()) -> str:
+    """A human-readable summary of a locus.
+
+    ``within_limits`` holds a :class:`~rankloci.limits.LimitCheck` per component
+    (:func:`rankloci.limits.within_limits`); each adds a line to its component.
+    """
     rows, cols = locus.shape
     lines = [f"{locus.model}: {rows}x{cols} matrix, method {locus.method}, "
              f"{locus.seconds:.2f} s"]
@@ -40,8 +54,11 @@ def locus_text(locus, *, row_labels=()) -> str:
     special = list(locus.special)
     lines.append(f"{len(main)} component{'' if len(main) == 1 else 's'} of the "
                  "rank-deficiency locus:")
+    checks = dict((ch.component, ch) for ch in within_limits)
     for i, c in enumerate(main, 1):
         lines.extend(_component_lines(i, c, row_labels))
+        if i in checks:
+            lines.append("     " + limits_text(checks[i]))
         if c.kind:
             lines.append(f"     kind: {_kind_text(c)}")
     if special:
@@ -107,8 +124,16 @@ def _component_lines(i, c, row_labels):
     return out
 
 
-def locus_json(locus, **extra) -> str:
+def locus_json(locus, *, within_limits=(), **extra) -> str:
+    """The locus as JSON (:meth:`Locus.to_dict`), with ``extra`` top-level entries.
+
+    Each :class:`~rankloci.limits.LimitCheck` of ``within_limits`` becomes the
+    ``"within_limits"`` entry of its component (``meets``, ``sample``, ``how``,
+    ``reason``).
+    """
     data = locus.to_dict()
+    for check in within_limits:
+        data["components"][check.component - 1]["within_limits"] = check.to_dict()
     data.update(extra)
     return json.dumps(data, indent=2)
 

@@ -215,12 +215,17 @@ def cmd_locus(args) -> int:
     if args.tree:
         text = {".dot": tree_dot, ".json": tree_json, ".txt": tree_text}[Path(args.tree).suffix](locus.tree)
         write_atomic(args.tree, text + "\n", "--tree")
+    import numpy as np
+
+    from ..limits import within_limits
+
+    checks = within_limits(locus, model, rng=np.random.default_rng(args.seed))
     if args.format == "json":
-        print(locus_json(locus, rows=list(row_labels), seed=args.seed))
+        print(locus_json(locus, within_limits=checks, rows=list(row_labels), seed=args.seed))
     elif args.format == "latex":
         print(locus_latex(locus))
     else:
-        print(locus_text(locus, row_labels=row_labels))
+        print(locus_text(locus, row_labels=row_labels, within_limits=checks))
         if args.show_tree:
             print()
             print(tree_text(locus.tree))

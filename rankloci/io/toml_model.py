@@ -110,6 +110,30 @@ def _augment(data, names):
     return tuple(out)
 
 
+def _limits(limits, index):
+    """``(lower, upper)`` in rad or m from ``[lower, upper]``: numbers or constant expressions
+    (``"-8*pi/9"``); None when absent."""
+    if limits is None:
+        return None
+    if not isinstance(limits, list) or len(limits) != 2:
+        raise _err("must be [lower, upper] with lower < upper", index, "limits")
+    bounds = []
+    for x in limits:
+        if isinstance(x, bool) or not isinstance(x, (int, float, str)):
+            raise _err("must be [lower, upper] with lower < upper", index, "limits")
+        try:
+            value = parse_expression(x, {})
+        except ExpressionError as e:
+            raise _err(f"{e} (a limit is a number or a constant such as '-8*pi/9')",
+                       index, "limits") from None
+        if value.free_symbols or not value.is_real or not value.is_finite:
+            raise _err(f"{x!r} is not a finite real constant", index, "limits")
+        bounds.append(float(value))
+    if not bounds[0] < bounds[1]:
+        raise _err("must be [lower, upper] with lower < upper", index, "limits")
+    return (bounds[0], bounds[1])
+
+
 def _joint(entry, index, convention, names):
     if not isinstance(entry, dict):
         raise _err("must be a table", index)
@@ -123,13 +147,7 @@ def _joint(entry, index, convention, names):
     alpha = _expr(entry.get("alpha", 0), names, field="alpha", joint=index, angle=True)
     d = _expr(entry.get("d", 0), names, field="d", joint=index)
     theta = _expr(entry.get("theta", 0), names, field="theta", joint=index, angle=True)
-    limits = entry.get("limits")
-    if limits is not None:
-        if (not isinstance(limits, list) or len(limits) != 2
-                or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in limits)
-                or not limits[0] < limits[1]):
-            raise _err("must be [lower, upper] with lower < upper", index, "limits")
-        limits = (float(limits[0]), float(limits[1]))
+    limits = _limits(entry.get("limits"), index)
     name = entry.get("name", f"joint{index}")
     if not isinstance(name, str):
         raise _err("must be a string", index, "name")

@@ -128,9 +128,14 @@ class SliceData:
 
 def _axis_range(nm: NumericMatrix, k: int, center: float):
     """A full turn centred on ``center`` for an angle (the locus through it stays off the
-    frame's edges), twice ``|center|`` (at least 1) either side for a length."""
+    frame's edges); for a length its stroke (``nm.strokes``, set by the report: the joint's
+    limits or :data:`~rankloci.limits.DEFAULT_STROKE`), widened to hold ``center``, else twice
+    ``|center|`` (at least 1) either side."""
     if nm.variables[k] in nm.angles:
         return center - np.pi, center + np.pi
+    stroke = getattr(nm, "strokes", {}).get(nm.variables[k])
+    if stroke is not None:
+        return min(stroke[0], center), max(stroke[1], center)
     half = max(1.0, 2.0 * abs(center))
     return center - half, center + half
 
@@ -354,8 +359,13 @@ def equation_weights(comps, variables) -> dict:
 
 
 def regular_point(nm: NumericMatrix, rng, tries: int = 50) -> np.ndarray:
-    """The best conditioned of ``tries`` random configurations."""
+    """The best conditioned of ``tries`` random configurations (lengths within their
+    strokes, where ``nm.strokes`` gives them)."""
     Q = nm.random_q(rng, tries)
+    for k, v in enumerate(nm.variables):
+        stroke = getattr(nm, "strokes", {}).get(v)
+        if stroke is not None:
+            Q[:, k] = rng.uniform(stroke[0], stroke[1], tries)
     return Q[int(np.argmax(sigma_ratios(nm.batch(Q))))]
 
 

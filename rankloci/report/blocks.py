@@ -150,3 +150,16 @@ def numbered(word: str, numbers) -> str:
     items = [str(n) for n in numbers]
     listed = items[0] if len(items) == 1 else ", ".join(items[:-1]) + " and " + items[-1]
     return f"{plural(word, len(items))} {listed}"
+
+
+def signed(x: float, digits: int = 4) -> str:
+    """``x`` with a sign and ``digits`` decimals; a value that rounds to zero is ``0``
+    (never a signed zero such as ``-0.00``).
+
+    Examples
+    --------
+    >>> signed(-1e-9), signed(0.25), signed(-2.0, 2)
+    ('0', '+0.2500', '-2.00')
+    """
+    text = f"{float(x):+.{digits}f}"
+    return "0" if float(text) == 0 else text

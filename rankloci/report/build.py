@@ -78,6 +78,16 @@ class Report:
     model_notes: str = ""     # the free-text notes of the model file
     stamp: str = ""           # a date and time to print, only when asked for
     near: object = None       # near_section.NearData: manipulability and rates near the locus
+    limits: tuple = ()        # rankloci.limits.LimitCheck per component of the model's locus
+
+    def limit_check(self, index: int):
+        """The :class:`~rankloci.limits.LimitCheck` of component ``index`` (1-based), or None."""
+        return next((c for c in self.limits if c.component == index), None)
+
+    @property
+    def has_limits(self) -> bool:
+        """Does any joint of the model have limits?"""
+        return any(getattr(j, "limits", None) for j in getattr(self.model, "joints", ()))
 
     @property
     def name(self) -> str:
@@ -185,6 +195,7 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
     params = dict(model_tm.parameters)
     nm = NumericMatrix(sp.Matrix(model_tm.matrix).subs(params), model_tm.variables,
                        model_tm.angles)
+    nm.strokes = _strokes(model, nm)
     method = method_for(tm.shape)
     rng = np.random.default_rng
 
@@ -230,6 +241,19 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
             exact_result = timed("Singular cross-check", lambda: singular_cross_check(
                 task_matrix(model, frame="auto", numeric=True), locus, rng=rng(seed)))
 
+    # which components the joint limits let the robot reach
+    limits = ()
+    if locus is not None:
+        from ..limits import within_limits
+
+        limits = timed("joint limits", lambda: within_limits(locus, model, rng=rng(seed)))
+
+    # sample points where the figures can show them: within the limits, lengths within
+    # their stroke
+    stroke_note = ""
+    if locus is not None:
+        locus, stroke_note = _samples_within_strokes(model, locus, nm, rng(seed))
+
     # components, readings, folded equations
     views, notation = (), jac.abbreviations
     if locus is not None:
@@ -260,13 +284,79 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
         notes = (f"The locus was computed from J in {where}{about}, where its entries are "
                  "smallest; the rank, and so the locus, is the same in every frame. The lost "
                  "directions at the sample points are given in the model's frame.",)
+    if stroke_note:
+        notes += (stroke_note,)
     return Report(model=model, tm=tm, jacobian=jac, notation=notation, locus=locus,
                   locus_status=status, components=views, second=second,
                   second_status=second_status, comparison=comparison, check=check,
                   exact=exact_result, tree=tree, figures=figures, timings=tuple(timings),
                   seed=seed, samples=samples, timeout=timeout, numeric=numeric,
                   augmented=augmented, notes=notes, model_notes=model_notes, stamp=stamp,
-                  near=near)
+                  near=near, limits=limits)
+
+
+def _strokes(model, nm) -> dict:
+    """Variable -> the interval a length is plotted over (:func:`~rankloci.limits.joint_strokes`)."""
+    from ..limits import joint_strokes
+    from ..model import RobotModel
+
+    if not isinstance(model, RobotModel):
+        return {}
+    return {v: s for v, s in zip(nm.variables, joint_strokes(model)) if v not in nm.angles}
+
+
+def _samples_within_strokes(model, locus, nm, rng):
+    """``locus`` with each sample point moved within the joints' strokes, and a note saying so.
+
+    A sample point of the locus computation can lie outside a joint's limits, or, for a
+    prismatic joint without limits, far outside :data:`~rankloci.limits.DEFAULT_STROKE`.
+    Where :func:`~rankloci.limits.within_limits` finds a point of the component within the
+    strokes (:func:`~rankloci.limits.joint_strokes`), that point becomes the sample the
+    report shows, and the lost directions there are recomputed from the SVD of $J$.
+    """
+    import dataclasses
+
+    from ..limits import DEFAULT_STROKE, joint_strokes, within_limits
+    from ..model import RobotModel
+
+    if not isinstance(model, RobotModel):
+        return locus, ""
+    if not any(j.kind == "prismatic" or j.limits for j in model.joints):
+        return locus, ""
+    checks = within_limits(locus, model, rng=rng, box=joint_strokes(model))
+    names = [v.name for v in nm.variables]
+    tall = nm.shape[0] > nm.shape[1]
+    comps, moved = [], []
+    for comp, check in zip(locus.components, checks):
+        if check.meets and check.sample is not None and check.sample != dict(comp.sample):
+            q = np.array([check.sample[n] for n in names], dtype=float)
+            changes = dict(sample=dict(check.sample))
+            if check.how != "sample point":   # whole turns of an angle leave J as it was
+                changes["direction_at_sample"] = _null_directions(nm(q), comp.rank_drop, tall)
+                moved.append(check.component)
+            comp = dataclasses.replace(comp, **changes)
+        comps.append(comp)
+    prismatic = any(j.kind == "prismatic" and not j.limits for j in model.joints)
+    note = ("Sample points are taken within the joint limits"
+            + (f", and prismatic joints without limits within [{DEFAULT_STROKE[0]:g}, "
+               f"{DEFAULT_STROKE[1]:g}] m" if prismatic else "")
+            + (f"; for {_numbered('component', moved)} the locus computation's sample lay "
+               "outside, and a point found by bounded least squares replaces it (lost "
+               "directions there from the SVD of J)" if moved else "") + ".")
+    return dataclasses.replace(locus, components=tuple(comps)), note
+
+
+def _numbered(word, numbers):
+    from .blocks import numbered
+
+    return numbered(word, numbers)
+
+
+def _null_directions(J, drop: int, tall: bool) -> tuple:
+    """The ``drop`` unit null vectors of J: left ones, or right ones for a tall J."""
+    U, _, Vt = np.linalg.svd(J)
+    vecs = Vt[-drop:] if tall else U[:, -drop:].T
+    return tuple(tuple(float(x) for x in v) for v in vecs)
 
 
 def component_views(model, locus, *, seed: int = 0) -> tuple:

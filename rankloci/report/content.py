@@ -15,13 +15,13 @@ import sympy as sp
 
 from ..expr import as_expression
 from .blocks import (Appendix, Bullets, Code, Heading, Marker, Math, Para, Table, block_label,
-                     counted, plural, variables_text)
+                     counted, numbered, plural, variables_text)
 from .escape import literal, ref
 from .findings import appendix_findings, findings_blocks
 from .mathfmt import LINE_WIDTH, broken_lines, latex, math_width, trig_latex
 
 __all__ = ["report_blocks", "matrix_blocks", "comparison_headline", "summary_table",
-           "SUMMARY_EQUATION_WIDTH"]
+           "limits_sentence", "limits_text", "SUMMARY_EQUATION_WIDTH"]
 
 
 def _m(expr) -> str:
@@ -46,9 +46,9 @@ def report_blocks(report, *, timings: bool = True) -> list:
     out += _reproduce_section(report)
     out.append(Appendix())
     out += _jacobian_section(report)
-    out += appendix_findings(report)
-    if timings and report.timings:
+    if timings and report.timings:   # before the tree and the notes: never a last page alone
         out += _timings_section(report)
+    out += appendix_findings(report)
     return out
 
 
@@ -83,6 +83,8 @@ def _summary(report):
     blocks.append(Para("".join(bits)))
     if comps:
         blocks.append(summary_table(report, comps))
+        if hasattr(report.model, "joints"):
+            blocks.append(Para(limits_sentence(report), lead="Joint limits."))
     return blocks
 
 
@@ -116,11 +118,45 @@ def summary_table(report, views) -> Table:
                 where = ref(label, f"component {v.index}")
                 parts.append(f"an {what} of {terms} terms (see {where})")
         figs = component_figures(report, v.index)
-        rows.append((ref(label, str(v.index)), ", ".join(parts),
-                     "; ".join(v.geometry) or "-", "; ".join(v.motions) or "-",
-                     ", ".join(ref(lab, "Fig.", figure=True) for lab, _ in figs) or "-"))
+        row = (ref(label, str(v.index)), ", ".join(parts),
+               "; ".join(v.geometry) or "-", "; ".join(v.motions) or "-",
+               ", ".join(ref(lab, "Fig.", figure=True) for lab, _ in figs) or "-")
+        if report.has_limits:
+            check = report.limit_check(v.index)
+            row += (check.word if check is not None else "-",)
+        rows.append(row)
+    if report.has_limits:
+        return Table(("no.", "equations", "reading", "lost motion", "figures", "within limits"),
+                     tuple(rows), "rlllll", widths=(0, 0.27, 0.22, 0.19, 0.07, 0.07), small=True)
     return Table(("no.", "equations", "reading", "lost motion", "figures"), tuple(rows),
                  "rllll", widths=(0, 0.30, 0.24, 0.21, 0.08), small=True)
+
+
+def limits_sentence(report) -> str:
+    """What the joint limits leave of the locus, in one or two sentences."""
+    if not report.has_limits:
+        return ("The model gives no joint limits, so every component is reachable; with "
+                "limits (`limits = [lo, hi]` per joint) the report says which components the "
+                "robot can reach.")
+    checks = [c for c in report.limits]
+    outside = [c.component for c in checks if c.meets is False]
+    open_ = [c.component for c in checks if c.meets is None]
+    inside = [c.component for c in checks if c.meets is True]
+    bits = []
+    if inside:
+        bits.append(f"{numbered('component', inside).capitalize()} "
+                    f"{'meets' if len(inside) == 1 else 'meet'} the joint-limit box (a point "
+                    "inside the limits is given in each component's subsection)")
+    if outside:
+        bits.append(f"{numbered('component', outside)} {'lies' if len(outside) == 1 else 'lie'} "
+                    "outside it (decided exactly: a joint is fixed at values outside its "
+                    "limits), so the robot never reaches "
+                    f"{'it' if len(outside) == 1 else 'them'}")
+    if open_:
+        bits.append(f"for {numbered('component', open_)} no point inside the limits was found "
+                    "by a numeric search (not a proof that there is none)")
+    text = "; ".join(bits)
+    return text[0].upper() + text[1:] + "." if text else ""
 
 
 def comparison_headline(cmp) -> str:
@@ -198,12 +234,15 @@ def _joint_table(report, m):
         out.append(Heading(3, "Denavit-Hartenberg table"))
         out.append(Para(f"{name.capitalize()} DH convention, {formula}."))
         rows = []
+        limited = any(j.limits for j in m.joints)
         for i, (j, q) in enumerate(zip(m.joints, m.variables), start=1):
             theta = j.dh.theta + q if j.kind == "revolute" else j.dh.theta
             d = j.dh.d + q if j.kind == "prismatic" else j.dh.d
-            rows.append((str(i), j.kind, _m(theta), _m(d), _m(j.dh.a), _m(j.dh.alpha)))
-        out.append(Table(("joint", "type", "$\\theta$", "$d$", "$a$", "$\\alpha$"),
-                         tuple(rows), "llcccc"))
+            rows.append((str(i), j.kind, _m(theta), _m(d), _m(j.dh.a), _m(j.dh.alpha))
+                        + ((limits_text(j),) if limited else ()))
+        out.append(Table(("joint", "type", "$\\theta$", "$d$", "$a$", "$\\alpha$")
+                         + (("limits",) if limited else ()), tuple(rows),
+                         "llcccc" + ("c" if limited else "")))
     else:
         out.append(Heading(3, "Joints"))
         rows = []
@@ -211,7 +250,7 @@ def _joint_table(report, m):
             pre = sp.Matrix(j.pre)
             xyz = ", ".join(_num(float(pre[k, 3].subs(m.parameters)), 4) for k in range(3))
             axis = ", ".join(_num(float(as_expression(a).subs(m.parameters)), 4) for a in j.axis)
-            lim = (f"[{j.limits[0]:.4g}, {j.limits[1]:.4g}]" if j.limits else "none")
+            lim = limits_text(j)
             rows.append((str(i), literal(j.name, code=True) if j.name else "-", j.kind, _m(q),
                          f"({xyz})", f"({axis})", lim))
         out.append(Table(("joint", "name", "type", "variable", "origin xyz", "axis", "limits"),
@@ -219,6 +258,36 @@ def _joint_table(report, m):
         out.append(Para("Origins are the translations of the fixed transform before each "
                         "joint's motion; axes are in the joint's frame."))
     return out
+
+
+def limits_text(joint) -> str:
+    """A joint's limits with their unit: degrees for an angle, metres for a length.
+
+    Examples
+    --------
+    >>> import math
+    >>> from types import SimpleNamespace
+    >>> limits_text(SimpleNamespace(kind="revolute", limits=(-math.pi / 2, 3 * math.pi / 4)))
+    '[-90, 135] deg'
+    >>> limits_text(SimpleNamespace(kind="prismatic", limits=(0.0, 0.5)))
+    '[0, 0.5] m'
+    >>> limits_text(SimpleNamespace(kind="prismatic", limits=None))
+    'none'
+    """
+    import math
+
+    if not joint.limits:
+        return "none"
+    lo, hi = joint.limits
+    if joint.kind == "revolute":
+        return f"[{_nozero(math.degrees(lo), 4)}, {_nozero(math.degrees(hi), 4)}] deg"
+    return f"[{_nozero(lo, 4)}, {_nozero(hi, 4)}] m"
+
+
+def _nozero(x: float, digits: int) -> str:
+    """``x`` to ``digits`` significant digits, never a signed zero."""
+    text = f"{float(x):.{digits}g}"
+    return "0" if float(text) == 0 else text
 
 
 def _task_section(report, m):

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from .blocks import SIGMA, numbered, plural
+from .blocks import SIGMA, numbered, plural, signed
 
 __all__ = ["FigureFile", "report_figures", "MAX_SLICES", "MAX_PATHS"]
 
@@ -231,7 +231,7 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot, views=()) -> t
             slices.append((data, where))
     for k, (data, where) in enumerate(slices, start=1):
         i, j = data.axes
-        fixed = ", ".join(f"{names[m]} = {data.point[m]:+.3f}" for m in range(len(names))
+        fixed = ", ".join(f"{names[m]} = {signed(data.point[m], 3)}" for m in range(len(names))
                           if m not in (i, j))
         short = (f"a point of component {data.through}" if data.through
                  else "a singular point" if where.startswith("a singular") else "a regular point")
@@ -312,6 +312,7 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot, views=()) -> t
         plain_tm = task_matrix(model, use_model_augment=False)
         nm_plain = NumericMatrix(sp.Matrix(plain_tm.matrix).subs(params), plain_tm.variables,
                                  plain_tm.angles)
+        nm_plain.strokes = getattr(nm, "strokes", {})
         data = slices[0]
         left = A.slice_grid(nm_plain, A.model_components(base), params, data.axes, data.point,
                             through=data.through)

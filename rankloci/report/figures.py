@@ -33,6 +33,9 @@ _CURVE_COLOURS = ("#ff2d55", "#ffffff", "#00e5ff", "#ffb000", "#ff66ff", "#7CFC0
                   "#ff8c00", "#c0c0c0", "#1e90ff", "#ffd700")
 _LINESTYLES = ("-", "--", "-.", ":")
 
+#: Width (points) of a locus line on a heat map; its dark edge is half a point wider.
+CURVE_WIDTH = 0.6
+
 
 def _new_axes(ax, size, projection=None):
     if ax is not None:
@@ -96,14 +99,15 @@ def _draw_slice(ax, data, names, prismatic, norm, cmap, *, legend=True, prefix="
     mesh = ax.imshow(np.maximum(data.ratio, norm.vmin), origin="lower", aspect="auto",
                      extent=(data.xs[0] - hx, data.xs[-1] + hx, data.ys[0] - hy, data.ys[-1] + hy),
                      norm=norm, cmap=cmap, interpolation="nearest")
-    # thin lines with a thin dark edge: narrower than the valley of the ratio they mark
-    outline = [pe.Stroke(linewidth=1.5, foreground="black"), pe.Normal()]
+    # thin lines with a hairline dark edge, narrower than the valley of the ratio they mark;
+    # each component differs from the others in colour and in dash pattern (told apart in grey)
+    outline = [pe.Stroke(linewidth=CURVE_WIDTH + 0.5, foreground="black"), pe.Normal()]
     for idx, lines, pts in data.curves:
         colour = _CURVE_COLOURS[(idx - 1) % len(_CURVE_COLOURS)]
-        style = _LINESTYLES[((idx - 1) // len(_CURVE_COLOURS)) % len(_LINESTYLES)]
+        style = _LINESTYLES[(idx - 1) % len(_LINESTYLES)]
         label = f"{prefix} {idx}"
         for k, seg in enumerate(lines):
-            ax.plot(seg[:, 0], seg[:, 1], color=colour, linestyle=style, linewidth=0.7,
+            ax.plot(seg[:, 0], seg[:, 1], color=colour, linestyle=style, linewidth=CURVE_WIDTH,
                     path_effects=outline, label=label if k == 0 else None)
         if len(pts):
             ax.plot(pts[:, 0], pts[:, 1], linestyle="none", marker="o", markersize=3.5,

@@ -16,7 +16,7 @@ import sympy as sp
 from ..methods import method_for
 from ..tolerances import RANK_RTOL
 from .blocks import (SIGMA, Bullets, Code, Figure, Heading, Math, Para, Table, block_label,
-                     counted, plural, variables_text)
+                     counted, plural, signed, variables_text)
 from .escape import literal, ref
 from .mathfmt import LINE_WIDTH, broken_lines, latex, value_latex
 from .near_section import near_blocks
@@ -29,7 +29,7 @@ TALL_TREE_BOXES = 12
 TURNED_TREE_PIXELS = 1300
 
 __all__ = ["findings_blocks", "appendix_findings", "plain_equations", "disagreement_verdict",
-           "figure_labels", "component_figures"]
+           "figure_labels", "component_figures", "point_text"]
 
 
 def findings_blocks(report) -> list:
@@ -83,9 +83,10 @@ def _solved(comp) -> str:
     return "; ".join(parts)
 
 
-def _component_blocks(report, view):
+def _component_blocks(report, view, level: int = 3):
     c = view.component
-    out = [Heading(3, f"Component {view.index}", block_label(report, "component", view.index))]
+    out = [Heading(level, f"Component {view.index}",
+                   block_label(report, "component", view.index))]
     eqs = [e for e in c.equations if e not in c.parameter_conditions] or list(c.equations)
     if view.folded and list(view.folded) != eqs:
         # one display, in the notation of J; the plain text at the end spells it out
@@ -119,12 +120,14 @@ def _component_blocks(report, view):
     over = [str(v) for v in report.tm.variables] if tall else labels
     for vec in c.direction_at_sample:
         what = "Lost joint direction (right null vector)" if tall else "Lost direction"
-        items.append(f"{what} at the sample point: ({', '.join(f'{x:+.3f}' for x in vec)}) "
+        items.append(f"{what} at the sample point: ({', '.join(signed(x, 3) for x in vec)}) "
                      f"over ({literal(', '.join(over))}).")
     if not c.direction_at_sample and c.direction:
         items.append("Lost direction: $(" + ", ".join(latex(x) for x in c.direction[0]) + ")$.")
-    sample = ", ".join(f"{k} = {v:+.4f}" for k, v in c.sample.items())
-    items.append(f"Sample point: {sample}.")
+    items.append(f"Sample point: {point_text(report.model, c.sample)}.")
+    check = report.limit_check(view.index) if report.has_limits else None
+    if check is not None:
+        items.append(_limits_item(check, report.model))
     figs = component_figures(report, view.index)
     if figs:
         items.append(f"{plural('Figure', len(figs))}: "
@@ -143,6 +146,27 @@ def _component_blocks(report, view):
         if f.through == view.index:
             out.append(Figure(f.name, f.caption, labels[f.name], alt=f.title))
     return out
+
+
+def _limits_item(check, model) -> str:
+    """Whether the component meets the joint-limit box, as a bullet."""
+    if check.meets is True:
+        where = point_text(model, check.sample)
+        return f"Within the joint limits: yes, for example at {where} ({check.how})."
+    if check.meets is False:
+        return f"Within the joint limits: no; {literal(check.reason)} (decided exactly)."
+    return f"Within the joint limits: not decided; {literal(check.reason)}."
+
+
+def point_text(model, point: dict) -> str:
+    """``q1 = +0.8606 rad, q2 = 0 m``: a configuration, with units for a robot's joints."""
+    from ..limits import joint_kinds
+
+    units = {}
+    if hasattr(model, "joints"):
+        units = {str(v): (" rad" if k == "revolute" else " m")
+                 for v, k in zip(model.variables, joint_kinds(model))}
+    return ", ".join(f"{k} = {signed(v)}{units.get(k, '')}" for k, v in point.items())
 
 
 def figure_labels(report) -> dict:
@@ -223,8 +247,8 @@ def _locus_section(report):
         out.append(Heading(3, "Components for special parameter values"))
         out.append(Para("These exist only for parameter values other than the model's; they "
                         "are listed for designers who may change the geometry."))
-        for v in special:
-            out += _component_blocks(report, v)
+        for v in special:   # one level down: they belong to this subsection
+            out += _component_blocks(report, v, level=4)
     if list(loc.notes) + list(report.notes):
         out.append(Para("The notes of the analysis (special parameter values it did not pursue, "
                         "the frame it worked in) are in "
@@ -318,7 +342,7 @@ def _check_section(report):
         out.append(Bullets(tuple(items)))
         out.append(Para(_findings_explained(chk.findings)))
     for p in chk.uncovered[:5]:
-        out.append(Para("Uncovered singular point: (" + ", ".join(f"{x:+.6f}" for x in p.q)
+        out.append(Para("Uncovered singular point: (" + ", ".join(signed(x, 6) for x in p.q)
                         + f"), sigma ratio {p.sigma_ratio:.1e}."))
     return out
 
@@ -390,7 +414,7 @@ def _comparison_section(report):
 
 
 def _point_text(q) -> str:
-    return "(" + ", ".join(f"{x:+.3f}" for x in q) + ")"
+    return "(" + ", ".join(signed(x, 3) for x in q) + ")"
 
 
 def disagreement_verdict(d) -> str:

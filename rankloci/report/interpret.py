@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model import RobotModel
-from .blocks import plural
+from .blocks import plural, signed
 from .geometry import (RANDOM_POINTS, dependent_joints, design_points, distance_to_line,
                        facts_at, meeting_point, random_configuration)
 from .reading import GEOMETRY_RTOL, axis_lines
@@ -97,11 +97,51 @@ def _groups(pairs):
     return sorted((sorted(g) for g in groups), key=lambda g: g[0])
 
 
-def _sentences(facts, meets, context=None) -> list:
+def _always_parallel(design, a, b) -> bool:
+    """Are axes ``a`` and ``b`` parallel at every pose (a design fact)?"""
+    a, b = sorted((a, b))
+    return ("parallel", a, b) in design or ("collinear", a, b) in design
+
+
+def _new_parallel_axes(group, design) -> list:
+    """The axes of a parallel ``group`` that say what is new here.
+
+    Axes parallel to each other at every pose form a class; each class with
+    more than one axis is named by its member nearest (in joint number) to the
+    other classes.  UR5: 2, 3 and 4 are always parallel, so the group 2, 3, 4, 6
+    reads as axes 4 and 6.
+
+    Examples
+    --------
+    >>> _new_parallel_axes([2, 3, 4, 6], {("parallel", 2, 3), ("parallel", 2, 4),
+    ...                                   ("parallel", 3, 4)})
+    [4, 6]
+    >>> _new_parallel_axes([2, 5], set())
+    [2, 5]
+    """
+    classes: list[list[int]] = []
+    for a in group:
+        home = next((c for c in classes if _always_parallel(design, a, c[0])), None)
+        if home is None:
+            classes.append([a])
+        else:
+            home.append(a)
+    if len(classes) < 2:
+        return list(group)
+    out = []
+    for c in classes:
+        others = [x for d in classes if d is not c for x in d]
+        out.append(min(c, key=lambda x: (min(abs(x - y) for y in others), -x)))
+    return sorted(out)
+
+
+def _sentences(facts, meets, context=None, design=frozenset()) -> list:
     """The most telling facts in words, most telling first (each with its kind).
 
     ``context`` (default ``facts``) is the whole set the facts come from: a plane of
     axes is not read where those axes are parallel only here (the parallelism is).
+    ``design`` holds the facts true at every pose: a parallelism among them is not
+    stated as if it were a property of the component.
     """
     context = facts if context is None else context
     out = []
@@ -116,11 +156,16 @@ def _sentences(facts, meets, context=None) -> list:
     biggest = [f for f in planes if not any(f[2] < g[2] and f[1] == g[1] for g in planes)]
     for f in sorted(biggest, key=lambda f: (f[1] is None, str(f))):
         axes = sorted(f[2])
+        always = all(_always_parallel(design, a, b) for a, b in itertools.combinations(axes, 2))
         if f[1] is None:
             if any(g[1] is not None and g[2] >= f[2] for g in biggest):
                 continue
             out.append(("coplanar", (None, tuple(axes)),
-                        f"axes {_and(axes)} are parallel and lie in one plane"))
+                        f"axes {_and(axes)} " + ("lie in one plane" if always
+                                                 else "are parallel and lie in one plane")))
+        elif always:
+            out.append(("coplanar", (f[1], tuple(axes)),
+                        f"{_point_name(f[1], meets)} lies in the plane of axes {_and(axes)}"))
         else:
             out.append(("coplanar", (f[1], tuple(axes)),
                         f"axes {_and(axes)} are parallel and {_point_name(f[1], meets)} lies in "
@@ -129,7 +174,8 @@ def _sentences(facts, meets, context=None) -> list:
         return out
     pairs = sorted(f[1:] for f in facts if f[0] == "parallel")
     for g in _groups(pairs):
-        out.append(("parallel", tuple(g), f"axes {_and(g)} are parallel"))
+        named = _new_parallel_axes(g, design)
+        out.append(("parallel", tuple(named), f"axes {_and(named)} are parallel"))
     through: dict = {}
     for f in sorted((f for f in facts if f[0] == "in-plane"), key=str):
         through.setdefault((f[1], f[2]), []).append(f[3])
@@ -211,7 +257,7 @@ def _lost_rotation(model, q, params, group) -> str:
     n = vt[-1] * (1 if vt[-1][np.argmax(np.abs(vt[-1]))] > 0 else -1)
     joints = f"joints {group[0]} to {group[-1]}"
     return (f"{joints} together cannot rotate the end-effector about the common normal "
-            f"[{', '.join(f'{x:+.3f}' for x in n)}] (base frame) of their axes at the sample "
+            f"[{', '.join(signed(x, 3) for x in n)}] (base frame) of their axes at the sample "
             "point; the other joints give that rotation only together with a translation",
             tuple(float(x) for x in n))
 
@@ -305,13 +351,14 @@ def component_reading(model, equations, labels, points, factor_points, rng, para
                for k, qs in enumerate(factor_points)]
     said = set()
     for _, f in per:
-        said |= {t for _, _, t in _sentences(f, meets)}
-    whole_s = _sentences(whole, meets)
-    together = [x for x in _sentences(whole - set().union(*(f for _, f in per)), meets, whole)
+        said |= {t for _, _, t in _sentences(f, meets, design=random_facts)}
+    whole_s = _sentences(whole, meets, design=random_facts)
+    together = [x for x in _sentences(whole - set().union(*(f for _, f in per)), meets, whole,
+                                    design=random_facts)
                 if x[2] not in said] if per else []
     factors, names, used, brief = [], [], [], []
     for k, f in per:
-        s = _sentences(f, meets)[:2]
+        s = _sentences(f, meets, design=random_facts)[:2]
         if s:
             factors.append((k, "; ".join(t for _, _, t in s)))
             brief.append(f"where {_holds(labels[k])}, {s[0][2]}")
@@ -324,7 +371,7 @@ def component_reading(model, equations, labels, points, factor_points, rng, para
         brief.append(("together, " if brief else "") + joint[0][2])
         # all links aligned says everything the factors say; other names add up
         names = [first] if first == "all links aligned" else names + [first]
-    unexplained = [k for k, f in per if not _sentences(f, meets)]
+    unexplained = [k for k, f in per if not _sentences(f, meets, design=random_facts)]
     if unexplained and not joint:
         names = []  # a factor nothing explains: the classical name of the others would mislead
     names = [n for n in names if n]
@@ -335,7 +382,7 @@ def component_reading(model, equations, labels, points, factor_points, rng, para
     joint_text = "; ".join(t for _, _, t in joint)
     if per:
         parts = [f"where {_holds(labels[k])}, {text}" for k, text in factors]
-        missing = [labels[k] for k, f in per if not _sentences(f, meets)]
+        missing = [labels[k] for k, f in per if not _sentences(f, meets, design=random_facts)]
         if joint_text:
             parts.append(("together, " if parts else "") + joint_text)
         if missing:
@@ -344,7 +391,7 @@ def component_reading(model, equations, labels, points, factor_points, rng, para
                 cols = [str(k + 1) for k in range(len(model.joints))]
                 keep = set(range(len(cols)))
                 for k, f in per:
-                    if _sentences(f, meets) and factor_points[k]:
+                    if _sentences(f, meets, design=random_facts) and factor_points[k]:
                         d = dependent_joints([matrix(q) for q in factor_points[k]], cols)
                         keep -= {int(d[-1]) - 1} if d else set()
                 rest = dependent_joints([matrix(q) for q in points], cols, sorted(keep))

@@ -81,9 +81,9 @@ def blocks_latex(blocks, *, wide_matrix: bool = False, top: int = 1,
     >>> print(blocks_latex([Heading(2, "Locus", "l"), Math(("x_1 = 0",))], top=1))
     \\subsection{Locus}\\label{l}
     <BLANKLINE>
-    \\[
+    \\begin{equation}
     x_1 = 0
-    \\]
+    \\end{equation}
     <BLANKLINE>
     """
     out = []
@@ -99,11 +99,13 @@ def blocks_latex(blocks, *, wide_matrix: bool = False, top: int = 1,
             lead = f"\\textbf{{{rich_tex(b.lead)}}} " if b.lead else ""
             out.append(lead + rich_tex(b.text))
         elif isinstance(b, Math):
+            # every display gets one number (on its last line), so that a paper can cite it
             if b.aligned or len(b.lines) > 1:
                 lines = b.lines if b.aligned else tuple("&" + ln for ln in b.lines)
-                out.append("\\begin{align*}\n" + " \\\\\n".join(lines) + "\n\\end{align*}")
+                out.append("\\begin{align}\n" + " \\notag \\\\\n".join(lines)
+                           + "\n\\end{align}")
             else:
-                out.append("\\[\n" + b.lines[0] + "\n\\]")
+                out.append("\\begin{equation}\n" + b.lines[0] + "\n\\end{equation}")
         elif isinstance(b, Table):
             out.append(_table(b))
         elif isinstance(b, Bullets):

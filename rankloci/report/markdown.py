@@ -31,12 +31,12 @@ def blocks_markdown(blocks) -> str:
     where $x_1 = 0$
     <BLANKLINE>
     $$
-    x_1 = 0
+    x_1 = 0 \\tag{1}
     $$
     <BLANKLINE>
     """
     out = []
-    section, lettered = 0, None
+    section, lettered, equations = 0, None, 0
     figures, headings = {}, {}
     for b in blocks:
         if isinstance(b, Appendix):
@@ -57,11 +57,13 @@ def blocks_markdown(blocks) -> str:
             lead = f"**{rich_md(b.lead)}** " if b.lead else ""
             out.append(lead + rich_md(b.text))
         elif isinstance(b, Math):
+            # numbered as the LaTeX report numbers its displays (MathJax and KaTeX know \tag)
+            equations += 1
             if b.aligned or len(b.lines) > 1:
                 body = "\\begin{aligned}\n" + " \\\\\n".join(b.lines) + "\n\\end{aligned}"
             else:
                 body = b.lines[0]
-            out.append("$$\n" + body + "\n$$")
+            out.append("$$\n" + body + f" \\tag{{{equations}}}\n$$")
         elif isinstance(b, Table):
             out.append(_table(b))
         elif isinstance(b, Bullets):

@@ -19,9 +19,11 @@ from .blocks import SIGMA, Figure, Heading, Para, Table, block_label, numbered
 __all__ = ["NearPose", "NearPath", "NearData", "near_data", "near_blocks", "NEAR_OFFSET",
            "PATH_OFFSET", "MAX_NEAR_COMPONENTS", "FULL_POLYTOPE_JOINTS"]
 
-#: Joint-space distance (rad) from a component's sample point to the pose "near" it.
+#: Joint-space distance (rad, or m along a prismatic joint) from a component's sample point to
+#: the pose "near" it.
 NEAR_OFFSET = 0.05
-#: Joint-space distance (rad) from a component's sample point to the start of the path.
+#: Joint-space distance (rad, or m along a prismatic joint) from a component's sample point to
+#: the start of the path.
 PATH_OFFSET = 0.4
 #: Poses near at most this many components (the first ones).
 MAX_NEAR_COMPONENTS = 4
@@ -144,7 +146,7 @@ def near_data(model, locus, nm, params, seed: int, stem: str) -> NearData | None
                          fontsize="small")
             _fixed_legend(ax, fontsize="x-small", loc="upper left")
         figs.append(FigureFile(f"{stem}-near-manipulability.png", figure_png(fig),
-                               _pose_caption(poses), "near-manipulability",
+                               _pose_caption(poses, distance_unit(model)), "near-manipulability",
                                f"{stem}: manipulability ellipsoids and polytopes",
                                tuple(p.component for p in poses[1:])))
 
@@ -179,11 +181,25 @@ def _fixed_legend(ax, **where):
         ax.legend(**where)
 
 
-def _pose_caption(poses) -> str:
+def distance_unit(model) -> str:
+    """The unit of a joint-space distance: rad, or mixed when some joint is prismatic.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> distance_unit(SimpleNamespace(joints=[SimpleNamespace(kind="prismatic")]))
+    'joint-space units (rad for revolute, m for prismatic joints)'
+    """
+    if any(j.kind == "prismatic" for j in getattr(model, "joints", ())):
+        return "joint-space units (rad for revolute, m for prismatic joints)"
+    return "rad"
+
+
+def _pose_caption(poses, unit: str = "rad") -> str:
     near = [p.component for p in poses[1:]]
     return ("Manipulability ellipsoid (blue) and polytope (orange, the image of the cube "
             "$|\\dot q_i| \\le 1$) of the position rows of $J$ at the regular pose"
-            + (f" and {NEAR_OFFSET:g} rad from the sample point of "
+            + (f" and {NEAR_OFFSET:g} {unit} from the sample point of "
                + numbered("component", near) if near else "")
             + "; $w$ and $w_p$ of the position rows in the legends.")
 
@@ -205,6 +221,7 @@ def near_blocks(report) -> list:
     if data is None:
         return []
     out = [Heading(2, "Motion near the locus", block_label(report, "near"))]
+    unit = distance_unit(report.model)
     rows = "the position rows of $J$" if data.polytope_rows == "position" else "$J$"
     reason = (f" (the arm has more than {FULL_POLYTOPE_JOINTS} joints: the polytope of all "
               "task rows has too many vertices to compute quickly)"
@@ -214,7 +231,7 @@ def near_blocks(report) -> list:
         "\\rbrace$ has semi-axes the singular values of $J$ and $w = \\sqrt{\\det(J J^T)}$; "
         f"the polytope $\\lbrace J \\dot q : \\lVert \\dot q \\rVert_\\infty \\le 1 \\rbrace$ of "
         f"{rows}{reason} is given by its volume. Both are evaluated at the best conditioned "
-        f"of 50 random configurations (seed {report.seed}) and {NEAR_OFFSET:g} rad from the "
+        f"of 50 random configurations (seed {report.seed}) and {NEAR_OFFSET:g} {unit} from the "
         "sample point of each component, across it; the distance is the joint-space distance "
         "to the component found numerically."
         + (" They are those of the task rows alone, without the constraint rows: the "
@@ -244,12 +261,12 @@ def near_blocks(report) -> list:
         stop = f" The path {p.stopped}." if p.stopped else ""
         out.append(Para(
             "Minimum infinity-norm motion: from the configuration "
-            f"{PATH_OFFSET:g} rad across component {p.component} from its sample point, the "
+            f"{PATH_OFFSET:g} {unit} across component {p.component} from its sample point, the "
             "tool point follows a straight line through the tool position at the sample point "
             f"and as far beyond, the orientation held, with the joint rates of least "
             f"$\\max_i |\\dot q_i|$ (Ha and Lee's algorithm, {PATH_STEPS} steps). At the "
             f"closest approach (the step where {SIGMA} is smallest, $t = {p.t:.3g}$, "
-            f"{SIGMA} = {_g(p.sigma_ratio, 3)}, {_g(p.distance, 3)} rad from the component) "
+            f"{SIGMA} = {_g(p.sigma_ratio, 3)}, {_g(p.distance, 3)} {unit} from the component) "
             f"the largest joint rate is {_g(p.rate_max)} (against {_g(p.rate_max_start)} at the "
             f"start) and Ha and Lee's discontinuity index is {_g(p.index, 3)}." + stop))
         for f in data.figures:

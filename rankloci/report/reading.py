@@ -22,6 +22,7 @@ import numpy as np
 
 from ..expr import as_expression
 from ..model import RobotModel
+from .blocks import signed
 
 __all__ = ["AxisLine", "axis_lines", "direction_readings", "lost_motion", "GEOMETRY_RTOL",
            "DIRECTION_RTOL"]
@@ -74,7 +75,7 @@ _LINEAR, _ANGULAR = ("vx", "vy", "vz"), ("wx", "wy", "wz")
 
 
 def _vec(values, digits=3) -> str:
-    return "[" + ", ".join(f"{x:+.{digits}f}" for x in values) + "]"
+    return "[" + ", ".join(signed(x, digits) for x in values) + "]"
 
 
 def direction_readings(J, u, row_labels, *, tall: bool = False, frame: str = "base",
@@ -100,7 +101,7 @@ def direction_readings(J, u, row_labels, *, tall: bool = False, frame: str = "ba
     >>> import numpy as np
     >>> J = np.array([[0.0, 0.0], [2.0, 1.0]])
     >>> direction_readings(J, [1.0, 0.0], ["vx", "vy"])
-    ['the task point cannot translate along [+1.000, +0.000] over (x, y) in the base frame']
+    ['the task point cannot translate along [+1.000, 0] over (x, y) in the base frame']
     """
     J = np.asarray(J, dtype=float)
     u = np.asarray(u, dtype=float)
@@ -144,7 +145,8 @@ def direction_readings(J, u, row_labels, *, tall: bool = False, frame: str = "ba
         def rate(lab):
             return lab if lab in _LINEAR + _ANGULAR else f"d({lab})/dt"
 
-        terms = " ".join(f"{x:+.3f} {rate(lab)}" for lab, x in zip(labels, u) if abs(x) > small)
+        terms = " ".join(f"{signed(x, 3)} {rate(lab)}" for lab, x in zip(labels, u)
+                         if abs(x) > small)
         out.append(f"the task velocity and the constraint rate are tied: {terms} = 0 for every "
                    "joint velocity")
     return out
@@ -162,20 +164,24 @@ def lost_motion(J, u, row_labels, *, tall: bool = False, variables=()) -> str:
 
     The same classification as :func:`direction_readings` (and the same
     check: ``""`` when ``u`` is not a null vector of ``J``), without the
-    explanation: a translation, a rotation, a translation combined with a
-    rotation, or a combination of task and constraint rates.  Numbers have two
-    decimals (the component's subsection gives the direction to three).
+    explanation: what the end-effector cannot do.  No translation along a
+    direction, no rotation about an axis, or, for a direction with both parts,
+    no velocity (v, w) with a.v + b.w != 0: that direction is a wrench (force a,
+    moment b), not a motion, and is labelled so.  Else a combination of task and
+    constraint rates.  Numbers have two decimals (the component's subsection
+    gives the direction to three); a value that rounds to zero is written 0.
 
     Examples
     --------
     >>> import numpy as np
     >>> J = np.array([[0.0, 0.0], [2.0, 1.0]])
     >>> lost_motion(J, [1.0, 0.0], ["vx", "vy"])
-    'translation along [+1.00, +0.00] (x, y)'
+    'no translation along [+1.00, 0] (x, y)'
     >>> J = np.array([[1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])
     >>> print(lost_motion(J, [1.0, 1.0, -1.0], ["vx", "vy", "wz"]))
     ... # doctest: +NORMALIZE_WHITESPACE
-    translation a with rotation b: a = [+0.58, +0.58, +0.00], b = [+0.00, +0.00, -0.58]
+    no motion with a.v + b.w != 0; as a wrench, force a = [+0.58, +0.58, 0] with moment
+    b = [0, 0, -0.58] needs no joint torque
     """
     J = np.asarray(J, dtype=float)
     u = np.asarray(u, dtype=float)
@@ -202,16 +208,17 @@ def lost_motion(J, u, row_labels, *, tall: bool = False, variables=()) -> str:
         return f"{_vec([x / norm for _, x in rows], 2)} ({axes})"
 
     if n_other <= small and n_ang <= small:
-        return f"translation along {along(lin, n_lin)}"
+        return f"no translation along {along(lin, n_lin)}"
     if n_other <= small and n_lin <= small:
-        return f"rotation about {along(ang, n_ang)}"
+        return f"no rotation about {along(ang, n_ang)}"
     if n_other <= small:
         a = np.array([u[labels.index(r)] if r in labels else 0.0 for r in _LINEAR])
         b = np.array([u[labels.index(r)] if r in labels else 0.0 for r in _ANGULAR])
-        return f"translation a with rotation b: a = {_vec(a, 2)}, b = {_vec(b, 2)}"
+        return (f"no motion with a.v + b.w != 0; as a wrench, force a = {_vec(a, 2)} with "
+                f"moment b = {_vec(b, 2)} needs no joint torque")
 
     def rate(lab):
         return lab if lab in _LINEAR + _ANGULAR else f"d({lab})/dt"
 
-    terms = " ".join(f"{x:+.2f} {rate(lab)}" for lab, x in zip(labels, u) if abs(x) > small)
+    terms = " ".join(f"{signed(x, 2)} {rate(lab)}" for lab, x in zip(labels, u) if abs(x) > small)
     return f"task and constraint rates together: {terms}"

@@ -253,3 +253,36 @@ def test_a_locus_its_self_check_rejects_is_printed_incomplete_with_exit_1(monkey
     assert "incomplete" in out.err
     assert main(["locus", "planar3r", "--format", "json", "--quiet", "--no-verify"]) == 0
     assert json.loads(capsys.readouterr().out)["complete"] is None
+
+
+# --- joint limits -------------------------------------------------------------------------
+
+def _planar2r_with_elbow_limits(tmp_path, lo, hi):
+    from pathlib import Path
+
+    text = (Path(__file__).parents[2] / "kinematics_models" / "planar2r.toml").read_text()
+    head, sep, tail = text.rpartition('a = "l2"')
+    path = tmp_path / "planar2r.toml"
+    path.write_text(head + sep + f"\nlimits = [{lo}, {hi}]" + tail)
+    return str(path)
+
+
+def test_json_says_per_component_whether_it_meets_the_joint_limits(capsys, tmp_path):
+    free = locus_json(capsys, "planar2r")["components"][0]["within_limits"]
+    assert free["meets"] is True and free["how"] == "no joint limits"
+    # sin(q2) = 0 fixes the elbow at 0 or pi: limits (0.5, 2.5) miss both
+    bent = locus_json(capsys, _planar2r_with_elbow_limits(tmp_path, 0.5, 2.5))
+    entry = bent["components"][0]["within_limits"]
+    assert (entry["meets"], entry["how"], entry["sample"]) == (False, "exact", None)
+    # limits (-0.5, 2.5) hold q2 = 0: a point inside them, on the component
+    wide = locus_json(capsys, _planar2r_with_elbow_limits(tmp_path, -0.5, 2.5))
+    entry = wide["components"][0]["within_limits"]
+    assert entry["meets"] is True
+    assert -0.5 <= entry["sample"]["q2"] <= 2.5 and abs(np.sin(entry["sample"]["q2"])) < 1e-9
+
+
+def test_text_output_has_a_joint_limits_line(capsys, tmp_path):
+    code, out, _ = run(capsys, "locus", _planar2r_with_elbow_limits(tmp_path, 0.5, 2.5), "--quiet")
+    assert code == 0
+    line = next(x.strip() for x in out.splitlines() if "joint limits" in x)
+    assert line.startswith("within the joint limits: no (exact: q2 is fixed at 0, pi")

@@ -288,6 +288,9 @@ BAD = [
      "arm.toml: field 'base.rpy': cannot parse '-inf': number is not finite"),
     ("bad-limits", "arm.toml", _edit(ARM, 'a = "l2"', 'a = "l2"\nlimits = [1, -1]'), (2, "limits"),
      "arm.toml: joint 2: field 'limits': must be [lower, upper] with lower < upper"),
+    ("symbolic-limits", "arm.toml", _edit(ARM, 'a = "l2"', 'a = "l2"\nlimits = ["l1", 1]'),
+     (2, "limits"), "arm.toml: joint 2: field 'limits': cannot parse 'l1': unknown name 'l1' "
+     "(a limit is a number or a constant such as '-8*pi/9')"),
     ("bad-base-rpy", "arm.toml", ARM + "[base]\nrpy = [0, 1]\n", (None, "base.rpy"),
      "arm.toml: field 'base.rpy': must be a list of three numbers or expressions"),
     ("bad-tool-expression", "arm.toml", ARM + '[tool]\nxyz = [0, 0, "l1 +"]\n', (None, "tool.xyz"),
@@ -394,3 +397,10 @@ def test_load_model_resolves_paths_and_names(tmp_path, write_file):
     other = write_file("arm.txt", ARM)
     with pytest.raises(ModelError, match=r"^arm\.txt: unknown file type"):
         load_model(str(other))
+
+
+def test_joint_limits_are_numbers_or_constant_expressions():
+    text = _edit(ARM, 'a = "l2"', 'a = "l2"\nlimits = ["-8*pi/9", 2.5]')
+    m = parse_model(text, file="arm.toml")
+    assert m.joints[1].limits == (pytest.approx(-8 * math.pi / 9, abs=1e-15), 2.5)
+    assert m.joints[0].limits is None and m.joints[2].limits is None

@@ -58,3 +58,21 @@ def test_robot_picture(tmp_path):
     assert RH.grey_std(out) > RH.BLANK_STD
     both = F.robot_figure(pose, robot_pose(arm, dict(q, q5=0.4)), highlight=(4, 6))
     assert len(both.axes) == 2
+
+
+def test_locus_lines_on_a_heat_map_are_thin_and_told_apart():
+    from matplotlib.colors import to_hex
+
+    from rankloci.report.analysis import SliceData
+
+    xs = ys = np.linspace(-1.0, 1.0, 5)
+    line = np.array([[-1.0, 0.0], [1.0, 0.0]])
+    curves = tuple((k, (line + [0.0, 0.2 * k],), np.zeros((0, 2))) for k in (1, 2, 3, 4))
+    data = SliceData((0, 1), xs, ys, np.full((5, 5), 0.5), np.zeros(2), None, curves)
+    fig = F.plot_sigma_slice(data, ["q1", "q2"], [False, True], title="t")
+    drawn = [ln for ln in fig.axes[0].lines if (ln.get_label() or "").startswith("component")]
+    assert len(drawn) == 4
+    looks = {(to_hex(ln.get_color()), ln.get_linestyle()) for ln in drawn}
+    assert len({c for c, _ in looks}) == 4 and len({s for _, s in looks}) == 4
+    assert all(ln.get_linewidth() <= 0.7 for ln in drawn)
+    assert fig.axes[0].get_ylabel() == "q2 [m]" and fig.axes[0].get_xlabel() == "q1 [rad]"

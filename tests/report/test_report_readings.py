@@ -120,3 +120,25 @@ def test_dependent_joints_finds_the_smallest_dependent_set():
     J = np.array([[1.0, 0.0, 2.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
     assert dependent_joints([J], ["1", "2", "3", "4"]) == ("1", "3")
     assert dependent_joints([np.eye(3)], ["a", "b", "c"]) == ()
+
+
+def test_facts_true_at_every_pose_are_not_stated_as_the_components(puma):
+    _, views = puma
+    # axes 2 and 3 of the PUMA are parallel at every pose: the elbow reading names the plane
+    elbow = views[1].readings[0]
+    assert elbow.endswith("the task point lies in the plane of axes 2 and 3")
+    assert "are parallel" not in elbow
+    # UR5: axes 2, 3 and 4 are always parallel; what the component adds is 4 || 6
+    _, ur5 = _views("ur5")
+    texts = [v.readings[0] for v in ur5]
+    assert any(t.startswith("Axes 4 and 6 are parallel") for t in texts), texts
+    assert not any("axes 2, 3, 4 and 6" in t for t in texts), texts
+
+
+def test_a_lost_direction_with_force_and_moment_is_labelled_a_wrench(puma):
+    _, views = puma
+    wrist = views[2].motions[0]
+    assert wrist.startswith("no motion with a.v + b.w != 0; as a wrench, force a = [")
+    assert "moment b = [" in wrist and "needs no joint torque" in wrist
+    assert views[1].motions[0].startswith("no translation along [")
+    assert not any(x in m for v in views for m in v.motions for x in ("+0.00", "-0.00"))

@@ -16,7 +16,7 @@ from rankloci.report.latex import render_latex
 from rankloci.report.markdown import render_markdown
 
 SEED = 4
-HEADER = "| no. | equations | reading | lost motion | figures |"
+HEADER = "| no. | equations | reading | lost motion | figures | within limits |"
 
 
 @pytest.fixture(scope="module")
@@ -39,7 +39,8 @@ def test_summary_table_has_a_row_per_component_up_front(puma):
     for row, v in zip(rows, main):
         assert row[1].count("= 0}$") >= 1, row
         assert row[2] == ("; ".join(v.geometry) or "-")
-        assert row[3] != "-" and ("translation" in row[3] or "rotation" in row[3]), row
+        assert row[3] != "-" and (row[3].startswith(("no translation", "no rotation"))
+                                  or "as a wrench" in row[3]), row
         assert row[4] != "-", f"component {v.index} has no figure"
 
 
@@ -94,3 +95,51 @@ def test_each_component_has_one_display_in_the_notation_of_j(puma):
         if v.folded:
             link = "[the Jacobian section](#appendix-a-the-symbolic-jacobian)"
             assert f"notation of {link}" in section
+
+
+def test_summary_says_which_components_the_joint_limits_let_the_arm_reach(puma):
+    md = render_markdown(puma)
+    rows = _summary_rows(md)
+    assert [r[5] for r in rows] == [c.word for c in puma.limits] == ["yes"] * len(rows)
+    head = md.split("\n## ", 1)[0]
+    assert "**Joint limits.** Components 1, 2 and 3 meet the joint-limit box" in head
+    names = [str(v) for v in puma.locus.variables]
+    limits = [j.limits for j in puma.model.joints]
+    for check in puma.limits:
+        assert all(lo <= check.sample[n] <= hi for n, (lo, hi) in zip(names, limits))
+        assert puma.locus.contains(check.sample)
+        section = md.split(f"### Component {check.component}", 1)[1].split("\n#", 1)[0]
+        assert "Within the joint limits: yes, for example at q1 = " in section
+    # the DH table gives the limits in degrees
+    assert "| 2 | revolute | $q_{2}$ | $0$ | $a_{2}$ | $0$ | [-45, 225] deg |" in md
+
+
+def test_a_model_without_limits_says_so():
+    report = build_report(load_model("planar2r"), seed=SEED, samples=2, exact=False)
+    md = render_markdown(report)
+    assert "| within limits |" not in md
+    assert "**Joint limits.** The model gives no joint limits" in md
+
+
+def test_every_displayed_equation_is_numbered(puma):
+    md = render_markdown(puma)
+    displays = md.split("$$")[1::2]
+    tags = [re.search(r"\\tag\{(\d+)\}\s*$", d) for d in displays]
+    assert all(tags), [d for d, t in zip(displays, tags) if not t][:2]
+    assert [int(t.group(1)) for t in tags] == list(range(1, len(displays) + 1))
+    tex = render_latex(puma)
+    assert "align*" not in tex and "\\[\n" not in tex
+    numbered = tex.count("\\begin{equation}") + tex.count("\\begin{align}")
+    assert numbered == len(displays)
+    # an aligned display carries one number: every line but the last is \notag
+    for body in re.findall(r"\\begin\{align\}\n(.*?)\n\\end\{align\}", tex, flags=re.S):
+        lines = body.split(" \\\\\n")
+        assert all(ln.endswith("\\notag") for ln in lines[:-1]) and "\\notag" not in lines[-1]
+
+
+def test_special_components_are_headed_below_their_subsection(puma):
+    headings = [h for h in render_markdown(puma).splitlines() if h.startswith("#")]
+    at = next(i for i, h in enumerate(headings) if "special parameter values" in h)
+    assert headings[at].startswith("### ")
+    below = headings[at + 1]
+    assert below.startswith("#### Component ")

@@ -81,3 +81,28 @@ def test_fsp_finding_is_explained(reports):
     section = _section(md, "Numeric cross-check")
     assert "1 finding where the FSP reducer" in section
     assert "Full Space Parameterization" in section and "it is not an error" in section
+
+
+def test_model_notes_state_the_model_not_how_the_file_was_written():
+    import tomllib
+
+    from rankloci.io import models_dir
+
+    for path in sorted(models_dir().glob("*.toml")):
+        notes = tomllib.loads(path.read_text()).get("notes", "")
+        for phrase in ("while writing", "could not be", "CHOICE", "project seeds",
+                       "should be re-checked"):
+            assert phrase not in notes, (path.name, phrase)
+
+
+def test_timings_come_before_the_tree():
+    from rankloci.io import load_model
+    from rankloci.report import build_report
+    from rankloci.report.markdown import render_markdown
+
+    md = render_markdown(build_report(load_model("planar2r"), samples=2, exact=False,
+                                      clock=iter(range(10**6)).__next__))
+    titles = [h.lstrip("# ") for h in md.splitlines() if h.startswith("#")]
+    timings = next(i for i, t in enumerate(titles) if t.endswith("Timings"))
+    assert titles[-1] != titles[timings]
+    assert any(t.endswith("Branch tree") for t in titles[timings + 1:]), titles
