@@ -233,16 +233,21 @@ def _certified(locus, reference, seed, should_stop, progress, slice_compute=None
         again = certify_locus(trial, reference, seed=seed, should_stop=should_stop,
                               progress=progress, complex_only=cert.discovered_complex)
         if again.verdict != "failed" or again.uncovered < cert.uncovered:
-            note = (f"{len(added)} component{'s' * (len(added) != 1)} found from the witness "
-                    "points of the certificate that lay on no component of the branch tree")
+            notes = []
+            if added:
+                notes.append(f"{len(added)} component{'s' * (len(added) != 1)} found from the "
+                             "witness points of the certificate that lay on no component of "
+                             "the branch tree")
             if cert.discovered_complex:
-                note += (f"; {len(cert.discovered_complex)} component"
-                         f"{'s' * (len(cert.discovered_complex) != 1)} without real points "
-                         "(complex only): "
-                         + "; ".join(", ".join(f"{sp.sstr(e)} = 0" for e in c.equations)
-                                     for c in cert.discovered_complex))
-            locus = dataclasses.replace(trial, notes=trial.notes + (note,))
-            cert = again
+                notes.append(f"{len(cert.discovered_complex)} component"
+                             f"{'s' * (len(cert.discovered_complex) != 1)} of the complex locus "
+                             "without real points (each fixes a variable at values none of "
+                             "which is real), not part of the robot's locus: "
+                             + "; ".join(", ".join(f"{sp.sstr(e)} = 0" for e in c.equations)
+                                         for c in cert.discovered_complex))
+            locus = dataclasses.replace(trial, notes=trial.notes + tuple(notes))
+            cert = dataclasses.replace(again, complex_components=tuple(
+                tuple(c.equations) for c in cert.discovered_complex))
     computed = {}
     for _ in range(SLICE_ROUNDS):
         if cert.verdict != "failed" or not cert.slices or slice_compute is None:

@@ -128,6 +128,10 @@ class Certificate:
         Components (1-based) whose dimension is below the determinantal bound of their rank
         drop: they lie inside larger ones, or are not singular; the locus without them is what
         a passing certificate is about.
+    complex_components : tuple of tuple of sympy.Expr
+        The equations of components of the complex locus that have no real point (proved:
+        they fix a variable at values none of which is real); they are no part of a robot's
+        locus, and the certificate counts their witness points as covered.
     """
 
     verdict: str
@@ -144,6 +148,7 @@ class Certificate:
     discovered_complex: tuple = field(default=(), compare=False, repr=False)
     slices: tuple = field(default=(), compare=False, repr=False)
     uncovered: int = field(default=0, compare=False)
+    complex_components: tuple = ()
 
     @property
     def passed(self) -> bool:
@@ -183,12 +188,21 @@ class Certificate:
         if not all(isinstance(v, (int, float)) and not isinstance(v, bool) and 0 <= v < 1e12
                    for v in numbers):
             raise ValueError("error_bound and seconds must be non-negative numbers")
+        complex_components = data.get("complex_components", [])
+        if not isinstance(complex_components, list) or not all(
+                isinstance(eqs, list) and all(isinstance(e, str) for e in eqs)
+                for eqs in complex_components):
+            raise ValueError("complex_components must be a list of lists of equations")
+        from ..expr import parse_expression
+
+        complex_components = tuple(tuple(parse_expression(e) for e in eqs)
+                                   for eqs in complex_components[:50])
         return cls(verdict, kind=str(data.get("kind", CERTIFICATE_KIND))[:80], prime=prime,
                    seed=data.get("seed", 0), codimensions=tuple(data.get("codimensions", [])),
                    witness_points={int(k): v for k, v in counts.items()},
                    findings=tuple(f[:2000] for f in findings[:200]),
                    error_bound=float(numbers[0]), seconds=float(numbers[1]),
-                   redundant=tuple(redundant))
+                   redundant=tuple(redundant), complex_components=complex_components)
 
     def to_dict(self) -> dict:
         return {"kind": self.kind, "verdict": self.verdict, "prime": self.prime,
@@ -196,6 +210,8 @@ class Certificate:
                 "witness_points": {str(k): v for k, v in self.witness_points.items()},
                 "error_bound": self.error_bound, "findings": list(self.findings),
                 "redundant": list(self.redundant),
+                "complex_components": [[sp.sstr(e) for e in eqs]
+                                       for eqs in self.complex_components],
                 "seconds": round(self.seconds, 4)}
 
 
