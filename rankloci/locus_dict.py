@@ -96,7 +96,7 @@ def _undefined_somewhere(e):
     return None
 
 
-def _component(c, where, symbols, schema_1, special):
+def _component(c, where, symbols, schema_1, special, n_variables=0):
     from .locus import Component
 
     if not isinstance(c, dict) or "equations" not in c:
@@ -154,11 +154,15 @@ def _component(c, where, symbols, schema_1, special):
             isinstance(m, dict) for m in meets):
         raise ModelError("must be a list of objects", field=f"{where}.meets")
     conditions = exprs(c.get("parameter_conditions", []), "parameter_conditions")
+    equations = exprs(c["equations"], "equations", everywhere=True)
+    # a component without a stated dimension is taken as cut out by its equations, one
+    # codimension each (the certificate checks it like a stated one)
+    default_dimension = max(0, n_variables - len([e for e in equations if e != 0]))
     return Component(
-        equations=exprs(c["equations"], "equations", everywhere=True),
+        equations=equations,
         solved=solved,
         free=tuple(symbols[n] for n in free),
-        dimension=integer("dimension", 0, 0, MAX_ITEMS),
+        dimension=integer("dimension", default_dimension, 0, MAX_ITEMS),
         rank_drop=integer("rank_drop", 1, 1, MAX_RANK_DROP),
         direction=tuple(exprs(v, "direction") for v in direction),
         direction_at_sample=tuple(tuple(_number(x, f"{where}.direction_at_sample") for x in v)
@@ -201,9 +205,9 @@ def parse_locus_dict(data, model=None):
         raise ModelError("'special_components' must be a list", field="special_components")
     if len(comps) + len(special) > MAX_LOCUS_COMPONENTS:
         raise ModelError(f"more than {MAX_LOCUS_COMPONENTS} components", field="components")
-    out = [_component(c, f"components[{k}]", symbols, schema_1, False)
+    out = [_component(c, f"components[{k}]", symbols, schema_1, False, len(variables))
            for k, c in enumerate(comps, 1)]
-    out += [_component(c, f"special_components[{k}]", symbols, schema_1, True)
+    out += [_component(c, f"special_components[{k}]", symbols, schema_1, True, len(variables))
             for k, c in enumerate(special, 1)]
     shape = data.get("matrix", {})
     if not isinstance(shape, dict):

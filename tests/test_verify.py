@@ -1,4 +1,4 @@
-"""The self-check that runs before a locus is shown (rankloci.verify)."""
+"""The certificate and the self-check that run before a locus is shown (rankloci.verify)."""
 
 from __future__ import annotations
 
@@ -14,8 +14,9 @@ from rankloci.methods import compute_locus, method_for
 from rankloci.verify import dimension_bound, dimension_findings, verified_locus
 
 
-def _compute(t, seed):
-    return compute_locus(t, method_for(t.shape), rng=np.random.default_rng(seed))
+def _compute(t, seed, hints=(), method=None):
+    return compute_locus(t, method or method_for(t.shape), rng=np.random.default_rng(seed),
+                         hints=hints)
 
 
 def _planar3r():
@@ -35,7 +36,8 @@ def test_a_correct_locus_passes_at_the_first_attempt():
     tm, ref = _planar3r()
     locus, v = verified_locus(_compute, tm, ref, seed=0)
     assert v.complete and locus.complete is True
-    assert v.attempts == ("as computed: passed",)
+    assert v.attempts == ("as computed: certificate passed, numeric check passed",)
+    assert locus.certificate.verdict == "passed"
     assert not dimension_findings(locus)
 
 
@@ -47,10 +49,13 @@ def test_the_self_check_reports_its_progress():
     locus, _ = verified_locus(_compute, tm, ref, seed=0, progress=said.append)
     n = len(locus.components)
     assert n >= 1
-    assert [m for m in said if "component" in m] == [
+    checks = [m for m in said if m.startswith("self-check")]
+    assert [m for m in checks if "component" in m] == [
         f"self-check: component {i} of {n}" for i in range(1, n + 1)]
-    assert said[-2:] == ["self-check: random configurations off the locus",
-                         "self-check: singular points found by minimising sigma_min/sigma_max"]
+    assert checks[-2:] == ["self-check: random configurations off the locus",
+                           "self-check: singular points found by minimising sigma_min/sigma_max"]
+    assert said.index(checks[-1]) < said.index(
+        "certificate: witness points of the locus, modulo a prime")
 
 
 def test_a_locus_missing_its_component_is_recomputed():
@@ -59,16 +64,18 @@ def test_a_locus_missing_its_component_is_recomputed():
     tm, ref = _planar3r()
     calls = []
 
-    def flaky(t, seed):
+    def flaky(t, seed, hints=(), method=None):
         calls.append(seed)
         locus = _compute(t, seed)
         return dataclasses.replace(locus, components=()) if len(calls) == 1 else locus
 
     locus, v = verified_locus(flaky, tm, ref, seed=0)
-    assert len(calls) == 2
-    assert v.complete and locus.components
-    assert v.attempts[0].endswith("failed") and v.attempts[1].endswith("passed")
-    assert any("failed its self-check" in n for n in locus.notes)
+    # q2, q3 in {0, pi}: the certificate's witness points give the component directly
+    assert len(calls) == 1
+    assert v.complete and locus.complete is True
+    (c,) = locus.components
+    assert set(c.solved) == set(tm.variables[1:]) and c.dimension == 1
+    assert any("found from the witness points" in n for n in locus.notes)
 
 
 def test_regular_points_found_by_the_check_go_back_as_hints():
@@ -79,7 +86,7 @@ def test_regular_points_found_by_the_check_go_back_as_hints():
     q2, q3 = tm.variables[1], tm.variables[2]
     got = []
 
-    def computed(t, seed, hints=()):
+    def computed(t, seed, hints=(), method=None):
         got.append(hints)
         locus = _compute(t, seed)
         if hints:
@@ -93,21 +100,26 @@ def test_regular_points_found_by_the_check_go_back_as_hints():
     for q in got[1]:
         assert set(q) == {"q1", "q2", "q3"}
         assert abs(np.sin(q["q3"])) < 1e-6 and abs(np.sin(q["q2"])) > 1e-3
-    assert v.complete and v.attempts[0] == "as computed: failed"
+    assert v.complete and v.attempts[0] == "as computed: certificate failed, numeric check failed"
     assert v.attempts[1].startswith(f"as computed, with the {len(got[1])} configuration")
-    assert v.attempts[1].endswith("passed")
+    assert v.attempts[1].endswith("certificate passed, numeric check passed")
 
 
 def test_a_locus_that_never_passes_is_marked_incomplete():
     tm, ref = _planar3r()
 
-    def broken(t, seed):
-        return dataclasses.replace(_compute(t, seed), components=())
+    q1 = tm.variables[0]
+
+    def broken(t, seed, hints=(), method=None):
+        # a component that is regular at its points, whatever the hints
+        c = dataclasses.replace(_compute(t, seed).components[0], equations=(sp.sin(q1),),
+                                solved={}, free=tm.variables[1:], dimension=2)
+        return dataclasses.replace(_compute(t, seed), components=(c,))
 
     locus, v = verified_locus(broken, tm, ref, seed=0)
     assert not v.complete and locus.complete is False
-    assert len(v.attempts) == 3 and all(a.endswith("failed") for a in v.attempts)
-    assert any("singular point on no component" in p for p in v.problems)
+    assert len(v.attempts) >= 3 and all("certificate failed" in a for a in v.attempts)
+    assert any("regular" in p for p in v.problems)
     assert any(n.startswith("INCOMPLETE") for n in locus.notes)
     assert locus.to_dict()["complete"] is False
 

@@ -147,6 +147,7 @@ class Certificate:
     discovered: tuple = field(default=(), compare=False, repr=False)
     discovered_complex: tuple = field(default=(), compare=False, repr=False)
     slices: tuple = field(default=(), compare=False, repr=False)
+    discovered_merged: tuple = field(default=(), compare=False, repr=False)
     uncovered: int = field(default=0, compare=False)
     complex_components: tuple = ()
 
@@ -646,18 +647,6 @@ def _isolated(polys, k, P, rng):
     return out
 
 
-def _feasible(degree, k):
-    """Can the witness points of polynomials of ``degree`` in ``k`` variables be eliminated
-    within MAX_ELIMINATION_DEGREE and MAX_ELIMINATION_TERMS?  (Each elimination squares the
-    degree; a resultant in j variables has about degree**j / j! terms.)"""
-    while k > 1:
-        if degree * degree > MAX_ELIMINATION_DEGREE or \
-                (degree * degree) ** (k - 1) / math.factorial(k - 1) > MAX_ELIMINATION_TERMS:
-            return False
-        degree, k = degree * degree, k - 1
-    return True
-
-
 def _value(p, coords, F):
     total = F(0)
     for mon, coeff in zip(p.monoms(), p.coeffs()):
@@ -837,7 +826,7 @@ def certify_components(matrix, variables, angles, components, *, seed: int = 0,
             eqs = [forms.homogeneous_form(e) for e in c.equations]
             exc = [forms.homogeneous_form(e) for e in c.excluding]
             pieces = None
-            if N - c.dimension > 2:
+            if c.solved:
                 try:
                     pieces = _pieces(c, variables, set(angles))
                     if pieces is not None:
@@ -917,10 +906,9 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
             Mp = [[plane.restrict(x) for x in row] for row in rows]
             # the determinants' degree, and whether the eliminations could stay in budget
             D = sum(max(int(x.total_degree()) for x in row) for row in Mp)
-            if c > 2 and not _feasible(D, c):
+            if c > 2 and D ** c / math.factorial(c) > MAX_ELIMINATION_TERMS:
                 findings.append(f"codimension {c} components are not certified: the "
-                                f"elimination is too large (determinants of degree up to {D} "
-                                f"in {c} variables)")
+                                f"determinants would have degree up to {D} in {c} variables")
                 uncertain.append(c)
                 for k in comps:
                     if k.codim == c:
@@ -968,6 +956,9 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
                                     "elimination, and it is not given in solved form")
                     uncertain.append(c)
                 continue
+            if k.pieces is not None:
+                # the solved values are a claim too: each piece is singular as stated
+                findings.extend(_check_pieces(k, rows, forms, P, roots, rng, n))
             if pts is None:
                 continue
             if not pts:
@@ -1025,10 +1016,10 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
                       f" a dimension below the bound for {'their' if len(redundant) > 1 else 'its'}"
                       " rank drop: inside a larger component, or not singular")
     verdict = "failed" if failed else ("undecided" if uncertified else "passed")
-    found, found_complex, slices = (), (), ()
+    found, found_complex, slices, merged = (), (), (), ()
     if missing:
         try:
-            found, found_complex, slices = _discover(missing, forms, rows, n, N, P, rng)
+            found, found_complex, slices, merged = _discover(missing, forms, rows, n, N, P, rng)
         except NotCertifiable:
             pass
     return Certificate(verdict, prime=P, seed=seed, codimensions=codims, witness_points=counts,
@@ -1036,6 +1027,7 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
                        error_bound=_bound(degree_sum, P), seconds=time.perf_counter() - t0,
                        redundant=tuple(redundant), discovered=found,
                        discovered_complex=found_complex, slices=slices,
+                       discovered_merged=merged,
                        uncovered=total_uncovered)
 
 
@@ -1301,7 +1293,7 @@ def _discover(missing, forms, rows, n, N, P, rng):
             keys[xv] = _minimal_polynomial(pt.value(plane.images[2 * na + j]), P)
         small = {v: k for v, k in keys.items() if k == "pi" or _small_height(k, P)}
         groups.setdefault((c, frozenset(small)), []).append(small)
-    found, found_complex, slices = [], [], []
+    found, found_complex, slices, merged = [], [], [], []
     for (c, _), points in groups.items():
         values: dict = {}
         for small in points:
@@ -1337,7 +1329,21 @@ def _discover(missing, forms, rows, n, N, P, rng):
             if var in fixed:
                 Tsym, factors, has_pi = fixed[var]
                 choices.append([(var, f) for f in factors] + ([(var, "pi")] if has_pi else []))
-        for combo in itertools.product(*choices):
+        combos = list(itertools.product(*choices))
+        if len(combos) > 1:
+            # every combination at once, as one component (tried first by the caller)
+            eqs, solved, real = [], {}, True
+            for options in choices:
+                var = options[0][0]
+                parts = [_fixed_equation(var, f, var in set(forms.angles)) for _, f in options]
+                vals = tuple(v for _, vs in parts for v in vs)
+                real = real and all(vs for _, vs in parts)
+                eqs.append(_product_equation(var, [e for e, _ in parts], vals))
+                solved[var] = vals
+            if real:
+                merged.append(Component(tuple(eqs), solved=solved, dimension=N - c, rank_drop=1,
+                                         free=tuple(v for v in variables if v not in fixed)))
+        for combo in combos:
             eqs, solved, real = [], {}, True
             for var, f in combo:
                 expr, vals = _fixed_equation(var, f, var in set(forms.angles))
@@ -1349,7 +1355,18 @@ def _discover(missing, forms, rows, n, N, P, rng):
             comp = Component(tuple(eqs), solved=solved if real else {}, free=free,
                              dimension=N - c, rank_drop=1)
             (found if real else found_complex).append(comp)
-    return tuple(found), tuple(found_complex), tuple(slices)
+    return tuple(found), tuple(found_complex), tuple(slices), tuple(merged)
+
+
+def _product_equation(var, exprs, values):
+    """One equation for a variable fixed at several values: sin q for {0, pi}, cos q for
+    {pi/2, -pi/2}, the product of the single equations otherwise."""
+    vals = set(values)
+    if vals == {sp.S.Zero, sp.pi}:
+        return sp.sin(var)
+    if vals == {sp.pi / 2, -sp.pi / 2}:
+        return sp.cos(var)
+    return sp.expand(sp.Mul(*exprs))
 
 
 def _fixed_equation(var, f, is_angle):

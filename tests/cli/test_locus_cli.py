@@ -85,7 +85,9 @@ def test_json_agrees_with_seed_and_is_reproducible(capsys):
     b = locus_json(capsys, "puma560", "--numeric-parameters", "--seed", "3")
     assert a["seed"] == 3
     a.pop("seconds"), b.pop("seconds")
+    a["certificate"].pop("seconds"), b["certificate"].pop("seconds")
     assert a == b
+    assert a["certificate"]["verdict"] == "passed" and a["certificate"]["seed"] == 3
     assert a["matrix"] == {"rows": 6, "cols": 6} and a["parameters"] == {}
     # shoulder, elbow and wrist singularities: at least three pieces, all of dimension 5
     assert len(a["components"]) >= 3, [c["equations"] for c in a["components"]]
@@ -241,7 +243,12 @@ def test_a_locus_its_self_check_rejects_is_printed_incomplete_with_exit_1(monkey
     real = augmented.augmented_locus
 
     def losing(*args, **kwargs):
-        return dataclasses.replace(real(*args, **kwargs), components=())
+        # sin q1 = 0 with q2, q3 free: regular at its points, whatever else is found
+        locus = real(*args, **kwargs)
+        q1, *rest = locus.variables
+        wrong = dataclasses.replace(locus.components[0], equations=(sp.sin(q1),), solved={},
+                                    free=tuple(rest), dimension=len(rest))
+        return dataclasses.replace(locus, components=(wrong,))
 
     monkeypatch.setattr(augmented, "augmented_locus", losing)
     code = main(["locus", "planar3r", "--format", "json", "--quiet"])
