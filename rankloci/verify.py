@@ -365,10 +365,10 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
         if attempts:
             progress(f"certificate not passed; computing the locus again {what}")
         try:
-            if hints:
-                locus = compute(t, s, hints=tuple(hints), method=how)
-            else:
-                locus = compute(t, s, method=how)
+            options = {"hints": tuple(hints)} if hints else {}
+            if how is not None:
+                options["method"] = how
+            locus = compute(t, s, **options)
         except LocusTimeout:
             if best is None:
                 raise

@@ -374,8 +374,8 @@ def component_views(model, locus, *, seed: int = 0) -> tuple:
     >>> arm = load_model("planar2r")
     >>> locus = compute_locus(task_matrix(arm), "determinant", rng=np.random.default_rng(0))
     >>> print(component_views(arm, locus)[0].summary)  # doctest: +NORMALIZE_WHITESPACE
-    All links aligned (the arm is stretched out or folded back): axes 1 and 2 are parallel
-    and the task point lies in their plane
+    All links aligned (the arm is stretched out or folded back): the task point lies in the
+    plane of axes 1 and 2
     """
     from ..jacobian import task_matrix
     from ..numeric.equations import NumericMatrix

@@ -426,7 +426,7 @@ def disagreement_verdict(d) -> str:
     >>> d = Disagreement("subdeterminant", "svm", 2, ("q1 = 0",), 5, ((0.0, 1.0),), (0.3,))
     >>> print(disagreement_verdict(d))  # doctest: +NORMALIZE_WHITESPACE
     The subdeterminant component 2 contains regular points: sigma ratio 3.0e-01 at
-    q = (+0.000, +1.000); the svm locus is the right one there.
+    q = (0, +1.000); the svm locus is the right one there.
     """
     name = f"{d.method} component {d.index}"
     out = []

@@ -217,12 +217,3 @@ def test_every_command_shows_the_locus_rankloci_locus_certified():
     assert certified_locus(model)[0] is shown
     assert check(model, samples=2).certificate is shown.certificate
     assert nearest_component(model, [0.3, 0.5]).component == 0
-
-
-@pytest.mark.slow
-def test_iiwa_with_offsets_is_not_called_complete_while_a_component_is_missing():
-    """tan q2 = 1/1600 and tan q4 = 1/800 give a 5-dimensional component that the engine does
-    not find; the certificate sees its witness points, so the locus is not called complete."""
-    locus = rankloci.locus("kinematics_models/extra/iiwa_offsets.urdf", tip="link_7")
-    assert locus.complete is not True
-    assert any("missing" in f for f in locus.certificate.findings)

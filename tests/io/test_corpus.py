@@ -193,7 +193,10 @@ def test_self_check_repairs_a_locus_with_regular_pieces(robots, chains, monkeypa
     first = corpus.run_case(chain, robots, time_limit=TIME_LIMIT_S, seed=SEED)
     assert first["status"] == "fail" and "unsound" in first["reason"], first["reason"]
     got = first["self_check"]     # corpus.self_checked: the locus `rankloci locus` shows
-    assert got["complete"] is True, got["attempts"]
+    # an 8-joint chain: codimensions 3 and more are beyond the certificate's elimination, so
+    # the locus is not certified (null), but nothing disproves it and the numeric check passes
+    assert got["complete"] is None, got["attempts"]
+    assert got["attempts"][-1].endswith("certificate undecided, numeric check passed")
     assert got["status"] == "pass", got["reason"]
     assert got["components"] >= 1
     assert any("configuration" in a for a in got["attempts"]), got["attempts"]

@@ -18,7 +18,6 @@ import sympy as sp
 
 from rankloci.io import load_model
 from rankloci.jacobian import task_matrix
-from rankloci.verify import dimension_bound
 
 JOINT = ('<joint name="j{k}" type="revolute"><parent link="link_{p}"/><child link="link_{k}"/>'
          '<origin rpy="0 0 0" xyz="{xyz}"/><axis xyz="{axis}"/>'
@@ -43,25 +42,32 @@ def urdf(tmp_path_factory):
 
 
 @pytest.mark.slow
-def test_offset_arm_locus_passes_its_self_check(urdf):
+def test_offset_arm_locus_is_not_called_complete_while_a_component_is_missing(urdf):
+    """tan q2 = 1/1600 and tan q4 = 1/800 give a 5-dimensional component (singular whatever
+    q1, q3, q5, q6 and q7 are) that the branch tree does not find.  The certificate's witness
+    points show it missing, so the locus is shown INCOMPLETE, with exit code 1 and one line on
+    stderr, never as complete."""
     # a process of its own, as a user runs it: its stderr is what the user sees
     run = subprocess.run([sys.executable, "-m", "rankloci", "locus", str(urdf), "--tip", "link_7",
                           "--format", "json", "--quiet"], capture_output=True, text=True)
     out = json.loads(run.stdout)
-    assert run.returncode == 0
-    # quiet means quiet: a Newton iteration that runs away is no warning for the user
-    assert run.stderr == ""
-    assert out["complete"] is True
-    assert not any(n.startswith("INCOMPLETE") for n in out["notes"])
-    # the elbow of the offset arm: components on the near-straight elbow 800 sin q4 + cos q4 = 0
-    # (one, or its pieces q3 in {0, pi} with q6 = +-pi/2 or q5 in {0, pi}, as the tree splits it)
-    assert any("800*sin(q4) + cos(q4)" in c["equations"] for c in out["components"])
-    bound = dimension_bound((6, 7), 7, 1)
-    assert any(c["dimension"] == bound for c in out["components"])
-    # a component below the bound is never passed over in silence
-    low = [i + 1 for i, c in enumerate(out["components"]) if c["dimension"] < bound]
-    for i in low:
-        assert any(n.startswith(f"component {i} has dimension") for n in out["notes"])
+    assert run.returncode == 1
+    assert run.stderr.count("\n") == 1 and "incomplete" in run.stderr
+    assert out["complete"] is False
+    assert out["certificate"]["verdict"] == "failed"
+    assert any("lie on no reported component" in f and "dimension 5" in f
+               for f in out["certificate"]["findings"])
+    assert any(n.startswith("INCOMPLETE") for n in out["notes"])
+    # the elbow of the offset arm, near straight: 800 sin q4 + cos q4 = 0, found and kept
+    assert any("800*sin(q4) + cos(q4)" in e for c in out["components"] for e in c["equations"])
+    # Pinocchio-free check that a point of the missing component is singular: q2 = atan(1/1600)
+    # and q4 = atan(1/800) whatever the other joints
+    tm = task_matrix(load_model(str(urdf), tip_link="link_7"), numeric=True)
+    f = sp.lambdify(tm.variables, tm.matrix, "numpy")
+    q = np.random.default_rng(2).uniform(-np.pi, np.pi, 7)
+    q[1], q[3] = np.arctan2(1.0, 1600.0), np.arctan2(1.0, 800.0)
+    s = np.linalg.svd(np.array(f(*q), dtype=float), compute_uv=False)
+    assert s[-1] / s[0] < 1e-12
 
 
 def test_the_straight_elbow_alone_is_not_singular(urdf):
