@@ -98,9 +98,12 @@ def jacobian(model: ModelLike, *, task: str | Sequence[int] | None = None,
     from ..augmented import parse_augment
     from ..jacobian import task_matrix
 
+    from .symbols import caller_symbols, with_symbols
+
     m = load_model(model, tip=tip, variables=variables, parameters=parameters)
-    return task_matrix(m, task=task, frame=frame, point=point, augment=parse_augment(m, augment),
-                       numeric=numeric)
+    tm = task_matrix(m, task=task, frame=frame, point=point, augment=parse_augment(m, augment),
+                     numeric=numeric)
+    return with_symbols(tm, caller_symbols(model, variables, parameters))
 
 
 def _deadline(seconds):
@@ -291,6 +294,9 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
     -------
     Locus
         With ``seconds`` measured.  Progress goes to the ``rankloci`` logger.
+        For a sympy matrix, in the caller's own symbols (matched by name,
+        whatever their assumptions): ``equations[0].subs({x: 0.3})`` works
+        with the caller's ``x``.
 
     Raises
     ------
@@ -319,10 +325,13 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
     >>> L.contains({"x": 0.7853981633974483, "y": 0.5}), L.contains({"x": 0.0, "y": 0.5})
     (True, False)
     """
+    from .symbols import caller_symbols, with_symbols
+
     m = load_model(model, tip=tip, variables=variables, parameters=parameters)
-    return certified_locus(m, task=task, augment=augment, method=method, seed=seed,
-                           numeric=numeric, verify=verify, frame=frame,
-                           should_stop=_deadline(timeout), progress=log_progress)[0]
+    result = certified_locus(m, task=task, augment=augment, method=method, seed=seed,
+                             numeric=numeric, verify=verify, frame=frame,
+                             should_stop=_deadline(timeout), progress=log_progress)[0]
+    return with_symbols(result, caller_symbols(model, variables, parameters))
 
 
 @dataclass(frozen=True)
@@ -443,7 +452,11 @@ def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
     """
     if samples < 1:
         raise ValueError(f"samples must be at least 1, got {samples}")
+    from .symbols import with_symbols
+
     m = load_model(model, tip=tip, variables=variables, parameters=parameters)
+    if locus is not None:    # a locus in the caller's symbols: the model's own, by name
+        locus = with_symbols(locus, {s.name: s for s in (*m.variables, *m.parameters)})
     return check_model(m, locus, samples=samples, seed=seed, numeric=numeric,
                        should_stop=_deadline(timeout), progress=log_progress)
 
