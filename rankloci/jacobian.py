@@ -107,15 +107,19 @@ def _small_frame(model: RobotModel, rows, point):
     return model.frame, point
 
 
-def parse_constraints(model, texts: Sequence[str]) -> tuple[tuple[str, sp.Expr], ...]:
-    """Parse ``--augment`` expressions in the model's variables and parameters."""
+def parse_constraints(model, texts: Sequence[str], *,
+                      flag: str = "--augment") -> tuple[tuple[str, sp.Expr], ...]:
+    """Parse ``--augment`` expressions in the model's variables and parameters.
+
+    Errors name ``flag`` (``"augment"`` for the Python API).
+    """
     names = {v.name: v for v in model.variables} | {p.name: p for p in model.parameters}
     out = []
     for t in texts:
         try:
             out.append((t, parse_expression(t, names)))
         except ExpressionError as e:
-            raise ModelError(f"--augment: {e}") from None
+            raise ModelError(f"{flag}: {e}") from None
     return tuple(out)
 
 

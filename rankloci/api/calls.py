@@ -13,6 +13,7 @@ import time
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from .arguments import check_arguments, check_for_model, check_samples, check_timeout
 from .models import as_model
 from .progress import log_progress
 
@@ -52,6 +53,7 @@ def load_model(model: ModelLike, *, tip: str | None = None, base_link: str | Non
     >>> rankloci.load_model("puma560")
     <RobotModel 'puma560': 6 revolute joints, standard DH, parameters a2, a3, d3, d4>
     """
+    check_arguments(variables=variables, parameters=parameters, tip=tip, base_link=base_link)
     return as_model(model, variables=variables, parameters=parameters, tip=tip,
                     base_link=base_link)
 
@@ -100,22 +102,19 @@ def jacobian(model: ModelLike, *, task: str | Sequence[int] | None = None,
 
     from .symbols import caller_symbols, with_symbols
 
+    check_arguments(task=task, frame=frame, point=point, augment=augment, numeric=numeric,
+                    variables=variables, parameters=parameters, tip=tip)
     m = load_model(model, tip=tip, variables=variables, parameters=parameters)
-    tm = task_matrix(m, task=task, frame=frame, point=point, augment=parse_augment(m, augment),
-                     numeric=numeric)
+    check_for_model(m, task=task, frame=frame, point=point)
+    tm = task_matrix(m, task=task, frame=frame, point=point,
+                     augment=parse_augment(m, augment, flag="augment"), numeric=numeric)
     return with_symbols(tm, caller_symbols(model, variables, parameters))
 
 
 def _deadline(seconds):
     """A ``should_stop`` that is True once ``seconds`` have passed; None for no limit."""
-    import math
-
-    if seconds is None:
+    if check_timeout(seconds) is None:
         return None
-    if isinstance(seconds, bool) or not isinstance(seconds, (int, float)) \
-            or not math.isfinite(seconds) or seconds < 0:
-        raise ValueError(f"timeout must be a finite number of seconds 0 or above (0 or None: "
-                         f"no limit), got {seconds!r}")
     if seconds == 0:
         return None
     end = time.monotonic() + seconds
@@ -309,11 +308,13 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
         matrix that is not square).
     rankloci.errors.LocusTimeout
         ``timeout`` seconds passed before the locus was complete.
-    ValueError
-        ``method`` is not one of the three; ``variables``, ``parameters``,
-        ``tip`` given for a model that does not take them.
-    TypeError
-        ``model`` is of a type that is not a model.
+    rankloci.errors.ArgumentError
+        An argument of the wrong type or value, checked before any work
+        starts: ``seed``, ``timeout``, ``variables``, ``parameters``,
+        ``task``, ``augment``, ``method``, ``numeric``, ``verify``,
+        ``frame``, ``tip``; ``variables``, ``parameters`` or ``tip`` given
+        for a model that does not take them; ``model`` of a type that is
+        not a model.  It is also a ``ValueError`` and a ``TypeError``.
 
     Examples
     --------
@@ -325,9 +326,15 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
     >>> L.contains({"x": 0.7853981633974483, "y": 0.5}), L.contains({"x": 0.0, "y": 0.5})
     (True, False)
     """
+    from ..augmented import parse_augment
     from .symbols import caller_symbols, with_symbols
 
+    check_arguments(seed=seed, timeout=timeout, variables=variables, parameters=parameters,
+                    task=task, augment=augment, method=method, numeric=numeric, verify=verify,
+                    frame=frame, tip=tip)
     m = load_model(model, tip=tip, variables=variables, parameters=parameters)
+    check_for_model(m, task=task, frame=frame)
+    parse_augment(m, augment, flag="augment")     # its errors in the API's words
     result = certified_locus(m, task=task, augment=augment, method=method, seed=seed,
                              numeric=numeric, verify=verify, frame=frame,
                              should_stop=_deadline(timeout), progress=log_progress)[0]
@@ -450,9 +457,11 @@ def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
     >>> rankloci.check("planar2r", samples=3).ok
     True
     """
-    if samples < 1:
-        raise ValueError(f"samples must be at least 1, got {samples}")
     from .symbols import with_symbols
+
+    check_samples(samples)
+    check_arguments(seed=seed, numeric=numeric, timeout=timeout, variables=variables,
+                    parameters=parameters, tip=tip)
 
     m = load_model(model, tip=tip, variables=variables, parameters=parameters)
     if locus is not None:    # a locus in the caller's symbols: the model's own, by name
@@ -488,9 +497,16 @@ def report(model, directory=None, *, formats=("md",), seed=0, samples=10, numeri
     require_matplotlib("report")
     from ..report import FORMATS, build_report, read_model_notes, write_report
 
+    check_arguments(seed=seed, numeric=numeric, timeout=timeout, tip=tip)
+    check_samples(samples)
+    if isinstance(formats, str):
+        formats = (formats,)
     bad = [f for f in formats if f not in FORMATS]
     if bad:
-        raise ValueError(f"formats: {bad[0]!r} is not one of {FORMATS}")
+        from ..errors import ArgumentError
+
+        raise ArgumentError(f"formats=: {bad[0]!r} is not one of {FORMATS}", argument="formats",
+                            value=formats)
     m = load_model(model, tip=tip)
     built = build_report(m, seed=seed, samples=samples, numeric=numeric, timeout=timeout,
                          clock=time.perf_counter, progress=log_progress, dot=shutil.which("dot"),
