@@ -528,7 +528,7 @@ def require_matplotlib(what: str) -> None:
         raise ImportError(f"the {what} needs matplotlib: {install_command('report')}")
 
 
-def is_singular(model, q, *, locus=None, **options) -> bool:
+def is_singular(model, q, *, locus=None, **options):
     """Is the configuration ``q`` on the locus of ``model``?
 
     Decided by the locus (:meth:`~rankloci.locus.Locus.contains`, which
@@ -538,8 +538,9 @@ def is_singular(model, q, *, locus=None, **options) -> bool:
     ----------
     model
         Anything :func:`load_model` accepts.
-    q : sequence of float or mapping
-        Values of the variables, in order or by name.
+    q : array_like or mapping
+        Values of the variables, in order or by name (or by URDF joint name);
+        an (N, n) array for N configurations.
     locus : Locus, optional
         The locus of ``model``; computed with ``options`` (see :func:`locus`)
         when omitted, and then kept for later calls on the same model.
@@ -549,6 +550,13 @@ def is_singular(model, q, *, locus=None, **options) -> bool:
     >>> import rankloci
     >>> rankloci.is_singular("planar2r", [0.3, 0.0]), rankloci.is_singular("planar2r", [0.3, 1.0])
     (True, False)
+    >>> rankloci.is_singular("planar2r", [[0.3, 0.0], [0.3, 1.0]])
+    array([ True, False])
+
+    Returns
+    -------
+    bool or numpy.ndarray
+        One bool, or a boolean array of shape (N,) for an (N, n) array.
     """
     if locus is None:
         m = load_model(model, tip=options.pop("tip", None),
