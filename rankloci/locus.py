@@ -214,6 +214,12 @@ class Locus:
     components that exist only for other parameter values (a link length of
     zero, two equal offsets the model does not have): the analysis found
     them with symbolic parameters, and they say where the locus would change.
+
+    ``joint_names`` gives, for a URDF chain, the URDF joint of each variable
+    (``q1`` is ``joint_names[0]``), and ``()`` for other models; ``contains``
+    accepts those names as keys.  It is not part of :meth:`to_dict` (the JSON
+    of ``rankloci locus`` adds it as ``"joint_names"``, which
+    :meth:`from_dict` reads back).
     """
 
     model: str
@@ -265,7 +271,8 @@ class Locus:
         ----------
         q : array_like or mapping
             One configuration: the values of :attr:`variables` in order, or a
-            mapping from a variable (name or symbol) to its value; N
+            mapping from a variable (name or symbol), or from a URDF joint name
+            (:attr:`joint_names`), to its value; N
             configurations: an array of shape (N, n).
         rtol : float
             See :data:`rankloci.tolerances.LOCUS_CONTAINS_RTOL`.

@@ -326,7 +326,11 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
     >>> L.contains({"x": 0.7853981633974483, "y": 0.5}), L.contains({"x": 0.0, "y": 0.5})
     (True, False)
     """
+    import logging
+
     from ..augmented import parse_augment
+    from .progress import LOGGER_NAME
+    from .results import task_note, with_model_notes
     from .symbols import caller_symbols, with_symbols
 
     check_arguments(seed=seed, timeout=timeout, variables=variables, parameters=parameters,
@@ -338,6 +342,10 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
     result = certified_locus(m, task=task, augment=augment, method=method, seed=seed,
                              numeric=numeric, verify=verify, frame=frame,
                              should_stop=_deadline(timeout), progress=log_progress)[0]
+    note = task_note(result, m, task)
+    if note:
+        logging.getLogger(LOGGER_NAME).warning("%s: %s", m.name, note)
+    result = with_model_notes(result, m, task)
     return with_symbols(result, caller_symbols(model, variables, parameters))
 
 
