@@ -62,7 +62,7 @@ def jacobian(model: ModelLike, *, task: str | Sequence[int] | None = None,
              frame: str | int | None = None, point: str | int = "tool",
              augment: Sequence[str] = (), numeric: bool = False,
              variables: Variables | None = None, parameters: ParameterValues | None = None,
-             tip: str | None = None) -> TaskMatrix:
+             tip: str | None = None, base_link: str | None = None) -> TaskMatrix:
     """The symbolic matrix whose rank is studied (the command ``rankloci jacobian``).
 
     Parameters
@@ -81,7 +81,7 @@ def jacobian(model: ModelLike, *, task: str | Sequence[int] | None = None,
         takes them (``"q1 + q2"``, ``"lock(q3)"``, ``"elbow(z)"``).
     numeric : bool
         Replace the parameters by their values.
-    variables, parameters, tip
+    variables, parameters, tip, base_link
         See :func:`load_model`.
 
     Returns
@@ -103,8 +103,9 @@ def jacobian(model: ModelLike, *, task: str | Sequence[int] | None = None,
     from .symbols import caller_symbols, with_symbols
 
     check_arguments(task=task, frame=frame, point=point, augment=augment, numeric=numeric,
-                    variables=variables, parameters=parameters, tip=tip)
-    m = load_model(model, tip=tip, variables=variables, parameters=parameters)
+                    variables=variables, parameters=parameters, tip=tip, base_link=base_link)
+    m = load_model(model, tip=tip, base_link=base_link, variables=variables,
+                   parameters=parameters)
     check_for_model(m, task=task, frame=frame, point=point)
     tm = task_matrix(m, task=task, frame=frame, point=point,
                      augment=parse_augment(m, augment, flag="augment"), numeric=numeric)
@@ -253,7 +254,7 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
           parameters: ParameterValues | None = None, task: str | Sequence[int] | None = None,
           augment: Sequence[str] = (), method: str | None = None, timeout: float | None = None,
           seed: int = 0, numeric: bool = False, verify: bool = True, frame: str | int = "auto",
-          tip: str | None = None) -> Locus:
+          tip: str | None = None, base_link: str | None = None) -> Locus:
     """The rank-deficiency locus of a model or a matrix (the command ``rankloci locus``).
 
     Parameters
@@ -288,6 +289,8 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
         small (same rank).
     tip : str, optional
         For a URDF file or a Pinocchio model: the chain's last link or frame.
+    base_link : str, optional
+        For a URDF file: the chain's first link.
 
     Returns
     -------
@@ -335,8 +338,9 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
 
     check_arguments(seed=seed, timeout=timeout, variables=variables, parameters=parameters,
                     task=task, augment=augment, method=method, numeric=numeric, verify=verify,
-                    frame=frame, tip=tip)
-    m = load_model(model, tip=tip, variables=variables, parameters=parameters)
+                    frame=frame, tip=tip, base_link=base_link)
+    m = load_model(model, tip=tip, base_link=base_link, variables=variables,
+                   parameters=parameters)
     check_for_model(m, task=task, frame=frame)
     parse_augment(m, augment, flag="augment")     # its errors in the API's words
     result = certified_locus(m, task=task, augment=augment, method=method, seed=seed,
@@ -436,7 +440,7 @@ def check_model(model, given=None, *, samples=10, seed=0, numeric=False, should_
 
 
 def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
-          variables=None, parameters=None, tip=None) -> Check:
+          variables=None, parameters=None, tip=None, base_link=None) -> Check:
     """Check a locus numerically and exactly (the command ``rankloci check``).
 
     Parameters
@@ -452,6 +456,8 @@ def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
         Compute the locus with the parameter values substituted.
     timeout : float, optional
         Seconds allowed to the locus computation.
+    variables, parameters, tip, base_link
+        See :func:`load_model`.
 
     Returns
     -------
@@ -469,9 +475,9 @@ def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
 
     check_samples(samples)
     check_arguments(seed=seed, numeric=numeric, timeout=timeout, variables=variables,
-                    parameters=parameters, tip=tip)
-
-    m = load_model(model, tip=tip, variables=variables, parameters=parameters)
+                    parameters=parameters, tip=tip, base_link=base_link)
+    m = load_model(model, tip=tip, base_link=base_link, variables=variables,
+                   parameters=parameters)
     if locus is not None:    # a locus in the caller's symbols: the model's own, by name
         locus = with_symbols(locus, {s.name: s for s in (*m.variables, *m.parameters)})
     return check_model(m, locus, samples=samples, seed=seed, numeric=numeric,
@@ -479,7 +485,7 @@ def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
 
 
 def report(model, directory=None, *, formats=("md",), seed=0, samples=10, numeric=False,
-           timeout=None, tip=None):
+           timeout=None, tip=None, base_link=None):
     """Build a report on a model and, given a directory, write it (``rankloci report``).
 
     Needs matplotlib (the ``report`` extra).
@@ -494,6 +500,8 @@ def report(model, directory=None, *, formats=("md",), seed=0, samples=10, numeri
         The PDF needs ``latexmk`` or ``pdflatex`` on the PATH.
     seed, samples, numeric, timeout
         As for the command line.
+    tip, base_link
+        See :func:`load_model`.
 
     Returns
     -------
@@ -505,7 +513,7 @@ def report(model, directory=None, *, formats=("md",), seed=0, samples=10, numeri
     require_matplotlib("report")
     from ..report import FORMATS, build_report, read_model_notes, write_report
 
-    check_arguments(seed=seed, numeric=numeric, timeout=timeout, tip=tip)
+    check_arguments(seed=seed, numeric=numeric, timeout=timeout, tip=tip, base_link=base_link)
     check_samples(samples)
     if isinstance(formats, str):
         formats = (formats,)
@@ -515,7 +523,7 @@ def report(model, directory=None, *, formats=("md",), seed=0, samples=10, numeri
 
         raise ArgumentError(f"formats=: {bad[0]!r} is not one of {FORMATS}", argument="formats",
                             value=formats)
-    m = load_model(model, tip=tip)
+    m = load_model(model, tip=tip, base_link=base_link)
     built = build_report(m, seed=seed, samples=samples, numeric=numeric, timeout=timeout,
                          clock=time.perf_counter, progress=log_progress, dot=shutil.which("dot"),
                          model_notes=read_model_notes(m))
@@ -568,6 +576,7 @@ def is_singular(model, q, *, locus=None, **options):
     """
     if locus is None:
         m = load_model(model, tip=options.pop("tip", None),
+                       base_link=options.pop("base_link", None),
                        variables=options.pop("variables", None),
                        parameters=options.pop("parameters", None))
         key = (m, tuple(sorted((k, repr(v)) for k, v in options.items())))

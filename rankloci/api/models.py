@@ -32,7 +32,7 @@ if TYPE_CHECKING:
     #: Parameter symbol or name -> value (a number or an exact sympy value).
     ParameterValues: TypeAlias = Mapping[sp.Symbol | str, int | float | sp.Expr | str]
 
-from ..errors import ArgumentError
+from ..errors import ArgumentError, ModelError
 
 _IDENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_]{0,31}\Z")
 
@@ -179,6 +179,20 @@ def _is_from(obj, package: str) -> bool:
     return module == package or module.startswith(package + ".")
 
 
+def _in_api_words(error):
+    """A URDF reader's error as the Python API says it: ``tip=``, not ``--tip``.
+
+    A tip or base link that is not in the file, or a file whose chain needs a
+    tip, is an :class:`~rankloci.errors.ArgumentError` naming the argument.
+    """
+    message = error.message.replace("--base-link", "base_link=").replace("--tip", "tip=")
+    if error.field in ("tip_link", "base_link") and error.joint is None:
+        argument = "tip" if error.field == "tip_link" else "base_link"
+        where = f" ({error.file})" if error.file else ""
+        return ArgumentError(f"{argument}=: {message}{where}", argument=argument)
+    return ModelError(message, file=error.file, joint=error.joint, field=error.field)
+
+
 def as_model(model, *, variables=None, parameters=None, tip=None, base_link=None):
     """The rankloci model of anything the library accepts as one.
 
@@ -231,7 +245,10 @@ def as_model(model, *, variables=None, parameters=None, tip=None, base_link=None
         if (tip is not None or base_link is not None) and not spec.lower().endswith(".urdf"):
             raise ArgumentError(f"tip= and base_link= apply to URDF files and Pinocchio models; "
                              f"{spec!r} is neither")
-        return load(spec, base_link=base_link, tip_link=tip)
+        try:
+            return load(spec, base_link=base_link, tip_link=tip)
+        except ModelError as e:
+            raise _in_api_words(e) from None
     if isinstance(model, sp.MatrixBase):
         return matrix_model(model, variables=variables, parameters=parameters)
     if isinstance(model, TaskMatrix):
