@@ -17,7 +17,9 @@ starts fast.
 - the submodules (``rankloci.io``, ``rankloci.methods``, ...) are attributes too,
   except that ``rankloci.locus``, ``rankloci.jacobian`` and ``rankloci.report``
   are the functions: import those modules by name (``from rankloci.locus import
-  Locus``, ``importlib.import_module("rankloci.report")``).
+  Locus``, ``importlib.import_module("rankloci.report")``); the submodules of
+  ``rankloci.report`` are also attributes of the function
+  (``rankloci.report.figures.plot_sigma_slice``).
 
 Examples
 --------
@@ -27,6 +29,7 @@ Examples
 (3, True)
 """
 
+import functools
 import importlib
 import sys
 import types
@@ -42,7 +45,8 @@ _EXPORTS = {
     "Locus": "rankloci.locus", "Component": "rankloci.locus", "Outcome": "rankloci.locus",
     "RobotModel": "rankloci.model", "MatrixModel": "rankloci.model",
     "TaskMatrix": "rankloci.jacobian",
-    "RanklociError": "rankloci.errors", "ModelError": "rankloci.errors",
+    "RanklociError": "rankloci.errors", "ArgumentError": "rankloci.errors",
+    "ModelError": "rankloci.errors",
     "ExpressionError": "rankloci.errors", "ShapeError": "rankloci.errors",
     "LocusError": "rankloci.errors", "LocusTimeout": "rankloci.errors",
     "min_inf_norm": "rankloci.near.min_inf_norm", "manipulability": "rankloci.near.api",
@@ -79,7 +83,37 @@ class _Package(types.ModuleType):
 sys.modules[__name__].__class__ = _Package
 
 
+class _ReportCall:
+    """``rankloci.report``: the function, whose attributes are also the package's submodules.
+
+    ``rankloci.report(...)`` builds a report (:func:`rankloci.api.report`);
+    ``rankloci.report.figures`` is the module :mod:`rankloci.report.figures`
+    (the plotting functions), imported on first use.
+    """
+
+    def __init__(self, function):
+        functools.update_wrapper(self, function)
+
+    def __call__(self, *args, **kwargs):
+        return self.__wrapped__(*args, **kwargs)
+
+    def __getattr__(self, name):
+        if name.startswith("__"):
+            raise AttributeError(name)
+        package = importlib.import_module("rankloci.report")
+        if hasattr(package, name):
+            return getattr(package, name)
+        try:
+            return importlib.import_module(f"rankloci.report.{name}")
+        except ModuleNotFoundError:
+            raise AttributeError(f"rankloci.report has no attribute {name!r}") from None
+
+
 def __getattr__(name):
+    if name == "report":
+        value = _ReportCall(importlib.import_module("rankloci.api").report)
+        globals()[name] = value
+        return value
     if name in _EXPORTS:
         value = getattr(importlib.import_module(_EXPORTS[name]), name)
         globals()[name] = value   # later look-ups do not come here

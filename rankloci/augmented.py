@@ -43,8 +43,10 @@ _CALL = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*\((.*)\)\s*$")
 _AXES = {"x": 0, "y": 1, "z": 2}
 
 
-def expand_preset(model, text: str):
+def expand_preset(model, text: str, *, flag: str = "--augment"):
     """``(name, expression)`` of a preset constraint, or None if ``text`` is no preset.
+
+    Errors name ``flag``: the command line's option, or the Python argument ``augment``.
 
     Examples
     --------
@@ -67,29 +69,29 @@ def expand_preset(model, text: str):
     points = dict(getattr(model, "points", ()))
     if head in ("lock", "sum"):
         if not args or (head == "lock" and len(args) != 1):
-            raise ModelError(f"--augment {text!r}: {head}() takes "
+            raise ModelError(f"{flag} {text!r}: {head}() takes "
                              f"{'one joint variable' if head == 'lock' else 'joint variables'}")
         unknown = [a for a in args if a not in by_name]
         if unknown:
-            raise ModelError(f"--augment {text!r}: {', '.join(unknown)} is not a joint variable "
+            raise ModelError(f"{flag} {text!r}: {', '.join(unknown)} is not a joint variable "
                              f"of {model.name} ({', '.join(by_name)})")
         return text.strip(), sp.Add(*[by_name[a] for a in args])
     if head == "position" or head in points:
         if not isinstance(model, RobotModel):
-            raise ModelError(f"--augment {text!r}: positions need a robot model, not a raw matrix")
+            raise ModelError(f"{flag} {text!r}: positions need a robot model, not a raw matrix")
         if head == "position":
             if len(args) != 2 or not args[0].isdigit():
-                raise ModelError(f"--augment {text!r}: write position(k, x|y|z) with a link "
+                raise ModelError(f"{flag} {text!r}: write position(k, x|y|z) with a link "
                                  f"frame number k")
             frame, axis = int(args[0]), args[1]
             if not 0 <= frame <= model.dof:
-                raise ModelError(f"--augment {text!r}: link frame {frame} is not in 0..{model.dof}")
+                raise ModelError(f"{flag} {text!r}: link frame {frame} is not in 0..{model.dof}")
         else:
             if len(args) != 1:
-                raise ModelError(f"--augment {text!r}: write {head}(x|y|z)")
+                raise ModelError(f"{flag} {text!r}: write {head}(x|y|z)")
             frame, axis = points[head], args[0]
         if axis not in _AXES:
-            raise ModelError(f"--augment {text!r}: {axis!r} is not x, y or z")
+            raise ModelError(f"{flag} {text!r}: {axis!r} is not x, y or z")
         from .kinematics import frame_position, relative_transforms, trig_normal
 
         T = relative_transforms(model, "base")[frame_position(model, frame)]
@@ -97,14 +99,17 @@ def expand_preset(model, text: str):
     return None
 
 
-def parse_augment(model, texts):
-    """Constraints from ``--augment`` texts: presets first, else plain expressions."""
+def parse_augment(model, texts, *, flag: str = "--augment"):
+    """Constraints from ``--augment`` texts: presets first, else plain expressions.
+
+    Errors name ``flag`` (``"augment"`` for the Python API).
+    """
     from .jacobian import parse_constraints
 
     out = []
     for t in texts:
-        got = expand_preset(model, t)
-        out.extend([got] if got is not None else parse_constraints(model, [t]))
+        got = expand_preset(model, t, flag=flag)
+        out.extend([got] if got is not None else parse_constraints(model, [t], flag=flag))
     return tuple(out)
 
 

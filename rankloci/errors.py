@@ -8,6 +8,7 @@ from __future__ import annotations
 
 __all__ = [
     "RanklociError",
+    "ArgumentError",
     "ModelError",
     "ExpressionError",
     "ShapeError",
@@ -18,6 +19,36 @@ __all__ = [
 
 class RanklociError(Exception):
     """Base class of every error rankloci raises on bad input."""
+
+
+class ArgumentError(RanklociError, ValueError, TypeError):
+    """An argument of a library call has a value or a type it does not take.
+
+    The message names the argument, the value given and what is accepted.
+    It is also a :class:`ValueError` and a :class:`TypeError`, so code that
+    caught those from earlier versions keeps working.
+
+    Parameters
+    ----------
+    message : str
+        What is wrong, in the words of the Python API (``seed=``, not ``--seed``).
+    argument : str, optional
+        The name of the argument.
+    value : optional
+        The value given.
+
+    Examples
+    --------
+    >>> e = ArgumentError("seed must be an integer 0 or above, got 'a'", argument="seed",
+    ...                   value="a")
+    >>> isinstance(e, RanklociError) and isinstance(e, ValueError), e.argument
+    (True, 'seed')
+    """
+
+    def __init__(self, message: str, *, argument: str | None = None, value: object = None):
+        self.argument = argument
+        self.value = value
+        super().__init__(message)
 
 
 class ExpressionError(RanklociError):

@@ -65,6 +65,51 @@ class TaskMatrix:
     def shape(self) -> tuple[int, int]:
         return self.matrix.shape
 
+    def evaluate(self, q) -> np.ndarray:
+        """The matrix at configurations, as numbers (the parameters at their values).
+
+        Parameters
+        ----------
+        q : array_like or mapping
+            One configuration (the values of :attr:`variables` in order, or a
+            mapping from variable name or symbol to value), or N of them as an
+            (N, n) array.
+
+        Returns
+        -------
+        numpy.ndarray
+            Shape (rows, cols) for one configuration, (N, rows, cols) for N.
+
+        Raises
+        ------
+        rankloci.errors.ArgumentError
+            A value that is not a finite number (NaN), or the wrong number of values.
+
+        Examples
+        --------
+        >>> import rankloci
+        >>> J = rankloci.jacobian("planar2r")
+        >>> [int(np.linalg.matrix_rank(Jq)) for Jq in J.evaluate([[0.3, 0.0], [0.3, 1.0]])]
+        [1, 2]
+        >>> J.evaluate(np.zeros((5, 2))).shape
+        (5, 2, 2)
+        """
+        from .numeric.equations import NumericMatrix
+        from .numeric.points import configurations
+
+        X, single = configurations(q, self.variables)
+        numeric = self.__dict__.get("_numeric")
+        if numeric is None:
+            M = sp.Matrix(self.matrix).subs(self.parameters)
+            numeric = self.__dict__.setdefault("_numeric",
+                                               NumericMatrix(M, self.variables, self.angles))
+        values = numeric.batch(X)
+        return values[0] if single else values
+
+    def __getstate__(self):
+        # the function cached by evaluate() is lambdified: not pickled
+        return {k: v for k, v in self.__dict__.items() if k != "_numeric"}
+
     def numeric_parameters(self) -> "TaskMatrix":
         """The same matrix with every parameter replaced by its value."""
         if not self.parameters:
@@ -107,15 +152,19 @@ def _small_frame(model: RobotModel, rows, point):
     return model.frame, point
 
 
-def parse_constraints(model, texts: Sequence[str]) -> tuple[tuple[str, sp.Expr], ...]:
-    """Parse ``--augment`` expressions in the model's variables and parameters."""
+def parse_constraints(model, texts: Sequence[str], *,
+                      flag: str = "--augment") -> tuple[tuple[str, sp.Expr], ...]:
+    """Parse ``--augment`` expressions in the model's variables and parameters.
+
+    Errors name ``flag`` (``"augment"`` for the Python API).
+    """
     names = {v.name: v for v in model.variables} | {p.name: p for p in model.parameters}
     out = []
     for t in texts:
         try:
             out.append((t, parse_expression(t, names)))
         except ExpressionError as e:
-            raise ModelError(f"--augment: {e}") from None
+            raise ModelError(f"{flag}: {e}") from None
     return tuple(out)
 
 

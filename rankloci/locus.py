@@ -166,6 +166,12 @@ class Component:
             ``f(*values)`` returns the list of the equations' values; it
             broadcasts over numpy arrays.
 
+        See Also
+        --------
+        Locus.equations_function : the same function for every component of a
+            locus: one argument, the joint vector (or N of them), the model's
+            parameter values substituted, an array returned.
+
         Examples
         --------
         >>> q1, q2 = sp.symbols("q1 q2", real=True)
@@ -208,6 +214,12 @@ class Locus:
     components that exist only for other parameter values (a link length of
     zero, two equal offsets the model does not have): the analysis found
     them with symbolic parameters, and they say where the locus would change.
+
+    ``joint_names`` gives, for a URDF chain, the URDF joint of each variable
+    (``q1`` is ``joint_names[0]``), and ``()`` for other models; ``contains``
+    accepts those names as keys.  It is not part of :meth:`to_dict` (the JSON
+    of ``rankloci locus`` adds it as ``"joint_names"``, which
+    :meth:`from_dict` reads back).
     """
 
     model: str
@@ -224,6 +236,7 @@ class Locus:
     special: tuple = ()           # components for other parameter values only
     complete: bool | None = None  # the certificate passed (None: not certified either way)
     certificate: object = None    # rankloci.exact.witness.Certificate, when one was computed
+    joint_names: tuple = ()       # the model's joint (URDF) name of each variable, or ()
 
     def __repr__(self) -> str:
         special = f" (+{len(self.special)} special)" if self.special else ""
@@ -245,7 +258,7 @@ class Locus:
         # the numeric equations cached by contains() hold lambdified functions
         return {k: v for k, v in self.__dict__.items() if k != "_numeric"}
 
-    def contains(self, q, *, rtol: float = LOCUS_CONTAINS_RTOL) -> bool:
+    def contains(self, q, *, rtol: float = LOCUS_CONTAINS_RTOL):
         """Is the configuration ``q`` on the locus (of the model's own components)?
 
         ``q`` is on a component when every equation, divided by the sum of the
@@ -256,10 +269,25 @@ class Locus:
 
         Parameters
         ----------
-        q : sequence of float or mapping
-            Values of :attr:`variables`, in order, or by name (str or symbol).
+        q : array_like or mapping
+            One configuration: the values of :attr:`variables` in order, or a
+            mapping from a variable (name or symbol), or from a URDF joint name
+            (:attr:`joint_names`), to its value; N
+            configurations: an array of shape (N, n).
         rtol : float
             See :data:`rankloci.tolerances.LOCUS_CONTAINS_RTOL`.
+
+        Returns
+        -------
+        bool or numpy.ndarray
+            One bool for one configuration; a boolean array of shape (N,) for
+            an (N, n) array.
+
+        Raises
+        ------
+        rankloci.errors.ArgumentError
+            A value that is not a finite number (NaN), the wrong number of
+            values, a missing or unknown name.
 
         Examples
         --------
@@ -267,37 +295,90 @@ class Locus:
         >>> L = Locus("m", (q1, q2), {}, (2, 2), "determinant", (Component((sp.sin(q2),)),))
         >>> L.contains([0.4, 0.0]), L.contains({"q1": 0.4, "q2": 3.0})
         (True, False)
+        >>> L.contains([[0.4, 0.0], [0.4, 1.0], [2.0, 3.141592653589793]])
+        array([ True, False,  True])
         """
         import numpy as np
 
+        from .numeric.points import configurations
+
+        X, single = configurations(q, self.variables, self.joint_names)
+        inside = np.zeros(len(X), dtype=bool)
+        for k in range(len(self.components)):
+            todo = np.flatnonzero(~inside)
+            if not todo.size:
+                break
+            eqs = self._equations(k)
+            values = eqs.batch(X[todo])                    # (equations, points)
+            residual = np.max(np.abs(values), axis=0) if len(values) else np.zeros(todo.size)
+            for i in todo[residual <= rtol]:
+                if eqs.admits(X[i]) or _near_admitted(eqs, X[i], np.random.default_rng(k)):
+                    inside[i] = True
+        return bool(inside[0]) if single else inside
+
+    def _equations(self, k):
+        """The scaled numeric equations of component ``k``, lambdified once."""
         from .numeric.equations import Equations
 
-        x = self._point(q)
         numeric = self.__dict__.setdefault("_numeric", {})
-        for k, comp in enumerate(self.components):
-            if k not in numeric:
-                numeric[k] = Equations(comp.equations, self.variables, self.parameters,
-                                       comp.excluding)
-            eqs = numeric[k]
-            if eqs.residual(x) <= rtol and (eqs.admits(x) or _near_admitted(
-                    eqs, x, np.random.default_rng(k))):
-                return True
-        return False
+        if k not in numeric:
+            comp = self.components[k]
+            numeric[k] = Equations(comp.equations, self.variables, self.parameters,
+                                   comp.excluding)
+        return numeric[k]
 
-    def _point(self, q):
+    def equations_function(self, k: int):
+        """The equations of component ``k`` as a numpy function of the joint vector.
+
+        Every component's function takes the same argument: the values of
+        :attr:`variables`, in order (one configuration, or an (N, n) array);
+        the model's parameter values are substituted.  For a function of
+        other arguments, see :meth:`Component.lambdify`.
+
+        Parameters
+        ----------
+        k : int
+            Index into :attr:`components` (0-based).
+
+        Returns
+        -------
+        callable
+            ``f(q)`` returns the values of the equations (not scaled): an
+            array of shape (m,) for one configuration, (N, m) for N of them.
+            It raises :class:`~rankloci.errors.ArgumentError` for a value that
+            is not a finite number.
+
+        Examples
+        --------
+        >>> q1, q2, l = sp.symbols("q1 q2 l", real=True)
+        >>> L = Locus("m", (q1, q2), {l: 2}, (2, 2), "determinant",
+        ...           (Component((l * sp.sin(q2),)),))
+        >>> f = L.equations_function(0)
+        >>> f([0.3, 0.0]), f([[0.3, 0.0], [0.3, 1.5707963267948966]])
+        (array([0.]), array([[0.],
+               [2.]]))
+        """
         import numpy as np
 
-        names = [str(v) for v in self.variables]
-        if isinstance(q, dict):
-            given = {str(k): v for k, v in q.items()}
-            missing = [n for n in names if n not in given]
-            if missing:
-                raise ValueError(f"q has no value for {missing[0]!r}; the variables are {names}")
-            q = [given[n] for n in names]
-        x = np.asarray(q, dtype=float).reshape(-1)
-        if x.size != len(names):
-            raise ValueError(f"q has {x.size} values; the variables are {names}")
-        return x
+        from .numeric.functions import numpy_function
+        from .numeric.points import configurations
+
+        comp = self.components[k]
+        subs = {p: as_expression(v) for p, v in dict(self.parameters).items()}
+        eqs = [as_expression(e).subs(subs) for e in comp.equations]
+        f = numpy_function(tuple(self.variables), eqs) if eqs else None
+        names = self.joint_names
+
+        def equations(q):
+            X, single = configurations(q, self.variables, names)
+            if f is None:
+                values = np.zeros((len(X), 0))
+            else:
+                values = np.stack([np.broadcast_to(np.asarray(v, dtype=float), (len(X),))
+                                   for v in f(*X.T)], axis=-1)
+            return values[0] if single else values
+
+        return equations
 
     @classmethod
     def from_dict(cls, data, model=None) -> "Locus":

@@ -241,4 +241,17 @@ def parse_locus_dict(data, model=None):
         special=tuple(c for c in out if not c.exists_for_model),
         degenerate=bool(data.get("degenerate", False)),
         seconds=_number(data.get("seconds", 0.0), "seconds"),
-        notes=tuple(notes), base=base, complete=complete, certificate=certificate)
+        notes=tuple(notes), base=base, complete=complete, certificate=certificate,
+        joint_names=_joint_names(data, variables))
+
+
+def _joint_names(data, variables) -> tuple:
+    """The ``joint_names`` entry ``rankloci locus --format json`` adds for a URDF chain, if any."""
+    given = data.get("joint_names")
+    if given is None:
+        return ()
+    if not isinstance(given, dict) or set(given) != {v.name for v in variables} \
+            or not all(isinstance(j, str) and 0 < len(j) <= 200 for j in given.values()):
+        raise ModelError("'joint_names' must map every variable to a joint name",
+                         field="joint_names")
+    return tuple(given[v.name] for v in variables)

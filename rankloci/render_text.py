@@ -129,11 +129,14 @@ def locus_json(locus, *, within_limits=(), **extra) -> str:
 
     Each :class:`~rankloci.limits.LimitCheck` of ``within_limits`` becomes the
     ``"within_limits"`` entry of its component (``meets``, ``sample``, ``how``,
-    ``reason``).
+    ``reason``).  For a URDF chain, ``"joint_names"`` maps each variable to
+    its URDF joint (:attr:`Locus.joint_names`).
     """
     data = locus.to_dict()
     for check in within_limits:
         data["components"][check.component - 1]["within_limits"] = check.to_dict()
+    if locus.joint_names:
+        data["joint_names"] = {str(v): j for v, j in zip(locus.variables, locus.joint_names)}
     data.update(extra)
     return json.dumps(data, indent=2)
 

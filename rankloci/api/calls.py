@@ -13,6 +13,7 @@ import time
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from .arguments import check_arguments, check_for_model, check_samples, check_timeout
 from .models import as_model
 from .progress import log_progress
 
@@ -52,6 +53,7 @@ def load_model(model: ModelLike, *, tip: str | None = None, base_link: str | Non
     >>> rankloci.load_model("puma560")
     <RobotModel 'puma560': 6 revolute joints, standard DH, parameters a2, a3, d3, d4>
     """
+    check_arguments(variables=variables, parameters=parameters, tip=tip, base_link=base_link)
     return as_model(model, variables=variables, parameters=parameters, tip=tip,
                     base_link=base_link)
 
@@ -60,7 +62,7 @@ def jacobian(model: ModelLike, *, task: str | Sequence[int] | None = None,
              frame: str | int | None = None, point: str | int = "tool",
              augment: Sequence[str] = (), numeric: bool = False,
              variables: Variables | None = None, parameters: ParameterValues | None = None,
-             tip: str | None = None) -> TaskMatrix:
+             tip: str | None = None, base_link: str | None = None) -> TaskMatrix:
     """The symbolic matrix whose rank is studied (the command ``rankloci jacobian``).
 
     Parameters
@@ -79,7 +81,7 @@ def jacobian(model: ModelLike, *, task: str | Sequence[int] | None = None,
         takes them (``"q1 + q2"``, ``"lock(q3)"``, ``"elbow(z)"``).
     numeric : bool
         Replace the parameters by their values.
-    variables, parameters, tip
+    variables, parameters, tip, base_link
         See :func:`load_model`.
 
     Returns
@@ -98,21 +100,22 @@ def jacobian(model: ModelLike, *, task: str | Sequence[int] | None = None,
     from ..augmented import parse_augment
     from ..jacobian import task_matrix
 
-    m = load_model(model, tip=tip, variables=variables, parameters=parameters)
-    return task_matrix(m, task=task, frame=frame, point=point, augment=parse_augment(m, augment),
-                       numeric=numeric)
+    from .symbols import caller_symbols, with_symbols
+
+    check_arguments(task=task, frame=frame, point=point, augment=augment, numeric=numeric,
+                    variables=variables, parameters=parameters, tip=tip, base_link=base_link)
+    m = load_model(model, tip=tip, base_link=base_link, variables=variables,
+                   parameters=parameters)
+    check_for_model(m, task=task, frame=frame, point=point)
+    tm = task_matrix(m, task=task, frame=frame, point=point,
+                     augment=parse_augment(m, augment, flag="augment"), numeric=numeric)
+    return with_symbols(tm, caller_symbols(model, variables, parameters))
 
 
 def _deadline(seconds):
     """A ``should_stop`` that is True once ``seconds`` have passed; None for no limit."""
-    import math
-
-    if seconds is None:
+    if check_timeout(seconds) is None:
         return None
-    if isinstance(seconds, bool) or not isinstance(seconds, (int, float)) \
-            or not math.isfinite(seconds) or seconds < 0:
-        raise ValueError(f"timeout must be a finite number of seconds 0 or above (0 or None: "
-                         f"no limit), got {seconds!r}")
     if seconds == 0:
         return None
     end = time.monotonic() + seconds
@@ -251,7 +254,7 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
           parameters: ParameterValues | None = None, task: str | Sequence[int] | None = None,
           augment: Sequence[str] = (), method: str | None = None, timeout: float | None = None,
           seed: int = 0, numeric: bool = False, verify: bool = True, frame: str | int = "auto",
-          tip: str | None = None) -> Locus:
+          tip: str | None = None, base_link: str | None = None) -> Locus:
     """The rank-deficiency locus of a model or a matrix (the command ``rankloci locus``).
 
     Parameters
@@ -286,11 +289,16 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
         small (same rank).
     tip : str, optional
         For a URDF file or a Pinocchio model: the chain's last link or frame.
+    base_link : str, optional
+        For a URDF file: the chain's first link.
 
     Returns
     -------
     Locus
         With ``seconds`` measured.  Progress goes to the ``rankloci`` logger.
+        For a sympy matrix, in the caller's own symbols (matched by name,
+        whatever their assumptions): ``equations[0].subs({x: 0.3})`` works
+        with the caller's ``x``.
 
     Raises
     ------
@@ -303,11 +311,13 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
         matrix that is not square).
     rankloci.errors.LocusTimeout
         ``timeout`` seconds passed before the locus was complete.
-    ValueError
-        ``method`` is not one of the three; ``variables``, ``parameters``,
-        ``tip`` given for a model that does not take them.
-    TypeError
-        ``model`` is of a type that is not a model.
+    rankloci.errors.ArgumentError
+        An argument of the wrong type or value, checked before any work
+        starts: ``seed``, ``timeout``, ``variables``, ``parameters``,
+        ``task``, ``augment``, ``method``, ``numeric``, ``verify``,
+        ``frame``, ``tip``; ``variables``, ``parameters`` or ``tip`` given
+        for a model that does not take them; ``model`` of a type that is
+        not a model.  It is also a ``ValueError`` and a ``TypeError``.
 
     Examples
     --------
@@ -319,10 +329,28 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
     >>> L.contains({"x": 0.7853981633974483, "y": 0.5}), L.contains({"x": 0.0, "y": 0.5})
     (True, False)
     """
-    m = load_model(model, tip=tip, variables=variables, parameters=parameters)
-    return certified_locus(m, task=task, augment=augment, method=method, seed=seed,
-                           numeric=numeric, verify=verify, frame=frame,
-                           should_stop=_deadline(timeout), progress=log_progress)[0]
+    import logging
+
+    from ..augmented import parse_augment
+    from .progress import LOGGER_NAME
+    from .results import task_note, with_model_notes
+    from .symbols import caller_symbols, with_symbols
+
+    check_arguments(seed=seed, timeout=timeout, variables=variables, parameters=parameters,
+                    task=task, augment=augment, method=method, numeric=numeric, verify=verify,
+                    frame=frame, tip=tip, base_link=base_link)
+    m = load_model(model, tip=tip, base_link=base_link, variables=variables,
+                   parameters=parameters)
+    check_for_model(m, task=task, frame=frame)
+    parse_augment(m, augment, flag="augment")     # its errors in the API's words
+    result = certified_locus(m, task=task, augment=augment, method=method, seed=seed,
+                             numeric=numeric, verify=verify, frame=frame,
+                             should_stop=_deadline(timeout), progress=log_progress)[0]
+    note = task_note(result, m, task)
+    if note:
+        logging.getLogger(LOGGER_NAME).warning("%s: %s", m.name, note)
+    result = with_model_notes(result, m, task)
+    return with_symbols(result, caller_symbols(model, variables, parameters))
 
 
 @dataclass(frozen=True)
@@ -412,7 +440,7 @@ def check_model(model, given=None, *, samples=10, seed=0, numeric=False, should_
 
 
 def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
-          variables=None, parameters=None, tip=None) -> Check:
+          variables=None, parameters=None, tip=None, base_link=None) -> Check:
     """Check a locus numerically and exactly (the command ``rankloci check``).
 
     Parameters
@@ -428,6 +456,8 @@ def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
         Compute the locus with the parameter values substituted.
     timeout : float, optional
         Seconds allowed to the locus computation.
+    variables, parameters, tip, base_link
+        See :func:`load_model`.
 
     Returns
     -------
@@ -441,15 +471,21 @@ def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
     >>> rankloci.check("planar2r", samples=3).ok
     True
     """
-    if samples < 1:
-        raise ValueError(f"samples must be at least 1, got {samples}")
-    m = load_model(model, tip=tip, variables=variables, parameters=parameters)
+    from .symbols import with_symbols
+
+    check_samples(samples)
+    check_arguments(seed=seed, numeric=numeric, timeout=timeout, variables=variables,
+                    parameters=parameters, tip=tip, base_link=base_link)
+    m = load_model(model, tip=tip, base_link=base_link, variables=variables,
+                   parameters=parameters)
+    if locus is not None:    # a locus in the caller's symbols: the model's own, by name
+        locus = with_symbols(locus, {s.name: s for s in (*m.variables, *m.parameters)})
     return check_model(m, locus, samples=samples, seed=seed, numeric=numeric,
                        should_stop=_deadline(timeout), progress=log_progress)
 
 
 def report(model, directory=None, *, formats=("md",), seed=0, samples=10, numeric=False,
-           timeout=None, tip=None):
+           timeout=None, tip=None, base_link=None):
     """Build a report on a model and, given a directory, write it (``rankloci report``).
 
     Needs matplotlib (the ``report`` extra).
@@ -464,6 +500,8 @@ def report(model, directory=None, *, formats=("md",), seed=0, samples=10, numeri
         The PDF needs ``latexmk`` or ``pdflatex`` on the PATH.
     seed, samples, numeric, timeout
         As for the command line.
+    tip, base_link
+        See :func:`load_model`.
 
     Returns
     -------
@@ -475,10 +513,17 @@ def report(model, directory=None, *, formats=("md",), seed=0, samples=10, numeri
     require_matplotlib("report")
     from ..report import FORMATS, build_report, read_model_notes, write_report
 
+    check_arguments(seed=seed, numeric=numeric, timeout=timeout, tip=tip, base_link=base_link)
+    check_samples(samples)
+    if isinstance(formats, str):
+        formats = (formats,)
     bad = [f for f in formats if f not in FORMATS]
     if bad:
-        raise ValueError(f"formats: {bad[0]!r} is not one of {FORMATS}")
-    m = load_model(model, tip=tip)
+        from ..errors import ArgumentError
+
+        raise ArgumentError(f"formats=: {bad[0]!r} is not one of {FORMATS}", argument="formats",
+                            value=formats)
+    m = load_model(model, tip=tip, base_link=base_link)
     built = build_report(m, seed=seed, samples=samples, numeric=numeric, timeout=timeout,
                          clock=time.perf_counter, progress=log_progress, dot=shutil.which("dot"),
                          model_notes=read_model_notes(m))
@@ -499,7 +544,7 @@ def require_matplotlib(what: str) -> None:
         raise ImportError(f"the {what} needs matplotlib: {install_command('report')}")
 
 
-def is_singular(model, q, *, locus=None, **options) -> bool:
+def is_singular(model, q, *, locus=None, **options):
     """Is the configuration ``q`` on the locus of ``model``?
 
     Decided by the locus (:meth:`~rankloci.locus.Locus.contains`, which
@@ -509,8 +554,9 @@ def is_singular(model, q, *, locus=None, **options) -> bool:
     ----------
     model
         Anything :func:`load_model` accepts.
-    q : sequence of float or mapping
-        Values of the variables, in order or by name.
+    q : array_like or mapping
+        Values of the variables, in order or by name (or by URDF joint name);
+        an (N, n) array for N configurations.
     locus : Locus, optional
         The locus of ``model``; computed with ``options`` (see :func:`locus`)
         when omitted, and then kept for later calls on the same model.
@@ -520,9 +566,17 @@ def is_singular(model, q, *, locus=None, **options) -> bool:
     >>> import rankloci
     >>> rankloci.is_singular("planar2r", [0.3, 0.0]), rankloci.is_singular("planar2r", [0.3, 1.0])
     (True, False)
+    >>> rankloci.is_singular("planar2r", [[0.3, 0.0], [0.3, 1.0]])
+    array([ True, False])
+
+    Returns
+    -------
+    bool or numpy.ndarray
+        One bool, or a boolean array of shape (N,) for an (N, n) array.
     """
     if locus is None:
         m = load_model(model, tip=options.pop("tip", None),
+                       base_link=options.pop("base_link", None),
                        variables=options.pop("variables", None),
                        parameters=options.pop("parameters", None))
         key = (m, tuple(sorted((k, repr(v)) for k, v in options.items())))

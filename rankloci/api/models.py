@@ -32,6 +32,8 @@ if TYPE_CHECKING:
     #: Parameter symbol or name -> value (a number or an exact sympy value).
     ParameterValues: TypeAlias = Mapping[sp.Symbol | str, int | float | sp.Expr | str]
 
+from ..errors import ArgumentError, ModelError
+
 _IDENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_]{0,31}\Z")
 
 
@@ -45,7 +47,7 @@ def _toml_value(value) -> str:
     import sympy as sp
 
     if isinstance(value, bool):
-        raise ValueError(f"parameter value {value!r} is not a number")
+        raise ArgumentError(f"parameters=: value {value!r} is not a number")
     if isinstance(value, (int, float)):
         return repr(value)
     from ..errors import ExpressionError, ModelError
@@ -54,9 +56,9 @@ def _toml_value(value) -> str:
     try:
         expr = as_expression(value, {})   # a string is parsed as a model file's would be
     except ExpressionError as e:
-        raise ModelError(f"parameter value: {e}") from None
+        raise ModelError(f"parameters=: {e}") from None
     if expr.free_symbols or not expr.is_real:
-        raise ValueError(f"parameter value {value!r} is not a real number")
+        raise ArgumentError(f"parameters=: value {value!r} is not a real number")
     if isinstance(expr, sp.Integer):
         return str(int(expr))
     if isinstance(expr, sp.Float) or (expr.is_Rational and _decimal_exact(expr)):
@@ -157,15 +159,15 @@ def _sympy_matrix(matrix, names):
     if isinstance(matrix, sp.MatrixBase):
         return sp.Matrix(matrix)
     if isinstance(matrix, (str, bytes)):
-        raise TypeError("matrix must be a sympy Matrix or a sequence of rows, not a string")
+        raise ArgumentError("matrix must be a sympy Matrix or a sequence of rows, not a string")
     symbols = {n: sp.Symbol(n, real=True) for n in names if _IDENT.match(n)}
     try:
         rows = [list(row) for row in matrix]
     except TypeError:
-        raise TypeError(f"matrix must be a sympy Matrix or a sequence of rows, not a "
+        raise ArgumentError(f"matrix must be a sympy Matrix or a sequence of rows, not a "
                         f"{type(matrix).__name__}") from None
     if any(isinstance(row, (str, bytes)) for row in matrix) or len({len(r) for r in rows}) > 1:
-        raise TypeError("matrix must be a sequence of rows of equal length")
+        raise ArgumentError("matrix must be a sequence of rows of equal length")
     try:
         return sp.Matrix([[as_expression(e, symbols) for e in row] for row in rows])
     except ExpressionError as e:
@@ -175,6 +177,20 @@ def _sympy_matrix(matrix, names):
 def _is_from(obj, package: str) -> bool:
     module = type(obj).__module__ or ""
     return module == package or module.startswith(package + ".")
+
+
+def _in_api_words(error):
+    """A URDF reader's error as the Python API says it: ``tip=``, not ``--tip``.
+
+    A tip or base link that is not in the file, or a file whose chain needs a
+    tip, is an :class:`~rankloci.errors.ArgumentError` naming the argument.
+    """
+    message = error.message.replace("--base-link", "base_link=").replace("--tip", "tip=")
+    if error.field in ("tip_link", "base_link") and error.joint is None:
+        argument = "tip" if error.field == "tip_link" else "base_link"
+        where = f" ({error.file})" if error.file else ""
+        return ArgumentError(f"{argument}=: {message}{where}", argument=argument)
+    return ModelError(message, file=error.file, joint=error.joint, field=error.field)
 
 
 def as_model(model, *, variables=None, parameters=None, tip=None, base_link=None):
@@ -210,16 +226,16 @@ def as_model(model, *, variables=None, parameters=None, tip=None, base_link=None
     from ..model import MatrixModel, RobotModel
 
     if (variables is not None or parameters is not None) and not isinstance(model, sp.MatrixBase):
-        raise ValueError("variables= and parameters= apply to a sympy matrix only, not to "
+        raise ArgumentError("variables= and parameters= apply to a sympy matrix only, not to "
                          f"{type(model).__name__}")
     if isinstance(model, (RobotModel, MatrixModel)):
         if tip is not None or base_link is not None:
-            raise ValueError("tip= and base_link= apply to URDF files and Pinocchio models, "
+            raise ArgumentError("tip= and base_link= apply to URDF files and Pinocchio models, "
                              f"not to a loaded {type(model).__name__}")
         bad = [k for k, v in dict(model.parameters).items() if not isinstance(v, sp.Basic)]
         if bad:
             # later substitutions would hand a string to sympify, which evaluates it
-            raise ValueError(f"parameter {str(bad[0])!r} of {type(model).__name__} "
+            raise ArgumentError(f"parameter {str(bad[0])!r} of {type(model).__name__} "
                              f"{model.name!r} has a {type(model.parameters[bad[0]]).__name__} "
                              "value; model parameters are sympy numbers (load_model parses "
                              "strings)")
@@ -227,9 +243,12 @@ def as_model(model, *, variables=None, parameters=None, tip=None, base_link=None
     if isinstance(model, (str, os.PathLike)):
         spec = os.fspath(model)
         if (tip is not None or base_link is not None) and not spec.lower().endswith(".urdf"):
-            raise ValueError(f"tip= and base_link= apply to URDF files and Pinocchio models; "
+            raise ArgumentError(f"tip= and base_link= apply to URDF files and Pinocchio models; "
                              f"{spec!r} is neither")
-        return load(spec, base_link=base_link, tip_link=tip)
+        try:
+            return load(spec, base_link=base_link, tip_link=tip)
+        except ModelError as e:
+            raise _in_api_words(e) from None
     if isinstance(model, sp.MatrixBase):
         return matrix_model(model, variables=variables, parameters=parameters)
     if isinstance(model, TaskMatrix):
@@ -243,9 +262,9 @@ def as_model(model, *, variables=None, parameters=None, tip=None, base_link=None
         from ..adapters import from_pinocchio
 
         if base_link is not None:
-            raise ValueError("base_link= applies to URDF files; a Pinocchio chain starts at "
+            raise ArgumentError("base_link= applies to URDF files; a Pinocchio chain starts at "
                              "the model's root")
         return from_pinocchio(model, tip=tip)
-    raise TypeError(f"cannot use a {type(model).__module__}.{type(model).__name__} as a model; "
+    raise ArgumentError(f"cannot use a {type(model).__module__}.{type(model).__name__} as a model; "
                     "give a built-in model name, a .toml or .urdf path, a sympy Matrix, a "
                     "Robotics Toolbox DHRobot or a Pinocchio Model")

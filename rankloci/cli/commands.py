@@ -212,6 +212,9 @@ def cmd_locus(args) -> int:
     if got is None:
         return EXIT_FAILED
     locus, row_labels = got
+    from ..api.results import with_model_notes
+
+    locus = with_model_notes(locus, model, args.task)
     if args.tree:
         text = {".dot": tree_dot, ".json": tree_json, ".txt": tree_text}[Path(args.tree).suffix](locus.tree)
         write_atomic(args.tree, text + "\n", "--tree")

@@ -37,17 +37,18 @@ class Manipulability:
     polytope: object
 
 
-def _robot(model):
+def _robot(model, tip=None, base_link=None):
     from ..api import load_model
     from ..model import RobotModel
 
-    model = load_model(model)
+    model = load_model(model, tip=tip, base_link=base_link)
     if not isinstance(model, RobotModel):
         raise ValueError(f"model must be a robot model, got {type(model).__name__}")
     return model
 
 
-def manipulability(model, q, *, position_only: bool = False) -> Manipulability:
+def manipulability(model, q, *, position_only: bool = False, tip: str | None = None,
+                   base_link: str | None = None) -> Manipulability:
     """Manipulability ellipsoid and polytope of ``model`` at ``q``.
 
     Parameters
@@ -57,6 +58,8 @@ def manipulability(model, q, *, position_only: bool = False) -> Manipulability:
         One value per joint variable.
     position_only : bool
         Keep only the position rows (vx, vy, vz) of the task, as Kilic draws them.
+    tip, base_link : str, optional
+        For a URDF file or a Pinocchio model: the chain (:func:`rankloci.load_model`).
 
     Returns
     -------
@@ -71,7 +74,7 @@ def manipulability(model, q, *, position_only: bool = False) -> Manipulability:
     from .manipulability import MAX_POLYTOPE_COLUMNS, ellipsoid, polytope
     from .path import Kinematics
 
-    kin = Kinematics(_robot(model))
+    kin = Kinematics(_robot(model, tip, base_link))
     q = np.asarray(q, dtype=float)
     if q.shape != (kin.n,):
         raise ValueError(f"q must have {kin.n} values (one per joint), got shape {q.shape}")
@@ -84,11 +87,12 @@ def manipulability(model, q, *, position_only: bool = False) -> Manipulability:
     return Manipulability(q=q, J=J, rows=tuple(rows), ellipsoid=ellipsoid(J), polytope=P)
 
 
-def joint_rates(model, q0, points, **options):
+def joint_rates(model, q0, points, *, tip=None, base_link=None, **options):
     """Joint rates of ``model`` along the polyline ``points`` from ``q0``.
 
     ``options`` are those of :func:`rankloci.near.path.joint_rates_along` (``norm``,
-    ``duration``, ``steps``, ``restricted``, ``gain``, ``max_step``).
+    ``duration``, ``steps``, ``restricted``, ``gain``, ``max_step``); ``tip`` and
+    ``base_link`` choose the chain of a URDF file (:func:`rankloci.load_model`).
 
     Examples
     --------
@@ -99,11 +103,14 @@ def joint_rates(model, q0, points, **options):
     """
     from .path import Kinematics, joint_rates_along
 
-    return joint_rates_along(Kinematics(_robot(model)), q0, points, **options)
+    return joint_rates_along(Kinematics(_robot(model, tip, base_link)), q0, points, **options)
 
 
-def nearest_component(model, q, *, seed: int = 0):
+def nearest_component(model, q, *, seed: int = 0, tip: str | None = None,
+                      base_link: str | None = None):
     """The component of the model's locus nearest to ``q`` (joint space): a ``Nearest``.
+
+    ``tip`` and ``base_link`` choose the chain of a URDF file (:func:`rankloci.load_model`).
 
     Examples
     --------
@@ -115,5 +122,5 @@ def nearest_component(model, q, *, seed: int = 0):
 
     from ..api.calls import certified_locus
 
-    locus, tm = certified_locus(_robot(model), seed=seed)
+    locus, tm = certified_locus(_robot(model, tip, base_link), seed=seed)
     return ComponentDistance(locus, tm.angles).nearest(np.asarray(q, dtype=float))

@@ -16,7 +16,7 @@ import subprocess
 
 import numpy as np
 
-__all__ = ["plot_sigma_slice", "plot_augmented", "plot_manipulability_path",
+__all__ = ["plot_sigma_slice", "locus_slice", "plot_augmented", "plot_manipulability_path",
            "plot_manipulability_paths", "plot_tree", "plot_robot", "robot_figure", "figure_png",
            "heatmap_png", "augmented_png", "manipulability_png", "tree_png", "robot_png",
            "tree_dot_source", "HEATMAP_SIZE", "PATH_SIZE", "AUGMENTED_SIZE", "ROBOT_SIZE", "DPI"]
@@ -126,30 +126,105 @@ def _draw_slice(ax, data, names, prismatic, norm, cmap, *, legend=True, prefix="
     return mesh
 
 
-def plot_sigma_slice(data, names, prismatic, *, title: str = "", ax=None):
+def plot_sigma_slice(data, names=None, prismatic=None, *, jacobian=None, component: int = 1,
+                     axes=None, title: str = "", ax=None):
     """A heat map of sigma_min/sigma_max over one slice with the locus drawn on it.
 
     Parameters
     ----------
-    data : SliceData
-        From :func:`~rankloci.report.analysis.slice_grid`.
-    names : sequence of str
-        Names of all joint variables (``data.axes`` index them).
-    prismatic : sequence of bool
-        Which variables are lengths (axis label in m) rather than angles (rad).
+    data : Locus or SliceData
+        A locus: the slice passes through a sample point of its component
+        ``component``, along the two joints ``axes`` (default: the two the
+        component's equations depend on most), and its components are drawn.
+        Or the slice's data, from :func:`~rankloci.report.analysis.slice_grid`.
+    names : sequence of str, optional
+        For slice data: the names of all joint variables (``data.axes`` index them).
+    prismatic : sequence of bool, optional
+        For slice data: which variables are lengths (axis label in m) rather than
+        angles (rad).
+    jacobian : TaskMatrix or model, optional
+        For a locus: its matrix (:func:`rankloci.jacobian`), or anything
+        :func:`rankloci.load_model` takes; default: ``locus.model`` as a
+        built-in model name.
+    component : int
+        For a locus: the 1-based component the slice passes through.
+    axes : (int, int), optional
+        For a locus: the indices of the joints on the x and y axes.
     title : str
     ax : matplotlib.axes.Axes, optional
+        Drawn into; a new Figure otherwise.
 
     Returns
     -------
-    matplotlib.figure.Figure
+    matplotlib.axes.Axes
+
+    Examples
+    --------
+    >>> import rankloci
+    >>> from rankloci.report.figures import plot_sigma_slice
+    >>> ax = plot_sigma_slice(rankloci.locus("planar2r"))
+    >>> ax.get_xlabel(), ax.get_ylabel()
+    ('q1 [rad]', 'q2 [rad]')
     """
+    from ..locus import Locus
+
+    if isinstance(data, Locus):
+        data, names, prismatic = locus_slice(data, jacobian, component=component, axes=axes)
+    elif names is None or prismatic is None:
+        from ..errors import ArgumentError
+
+        raise ArgumentError("names= and prismatic= are needed with slice data (a Locus needs "
+                            "neither)", argument="names")
     with _rc():
         ax = _new_axes(ax, HEATMAP_SIZE)
         mesh = _draw_slice(ax, data, names, prismatic, _norm(data.ratio), "viridis")
         ax.figure.colorbar(mesh, ax=ax).set_label(_CBAR_LABEL)
         ax.set_title(title)
-    return ax.figure
+    return ax
+
+
+def locus_slice(locus, jacobian=None, *, component: int = 1, axes=None):
+    """The slice data of :func:`plot_sigma_slice` for a locus: (SliceData, names, prismatic).
+
+    See :func:`plot_sigma_slice` for the arguments.
+    """
+    from ..api import jacobian as task_jacobian
+    from ..errors import ArgumentError
+    from ..jacobian import TaskMatrix
+    from ..numeric.equations import NumericMatrix
+    from . import analysis as A
+
+    tm = jacobian if isinstance(jacobian, TaskMatrix) else task_jacobian(
+        locus.model if jacobian is None else jacobian)
+    names = [v.name for v in tm.variables]
+    if names != [str(v) for v in locus.variables]:
+        raise ArgumentError(f"jacobian=: its variables {names} are not the locus's "
+                            f"{[str(v) for v in locus.variables]}", argument="jacobian")
+    if len(names) < 2:
+        raise ArgumentError("a slice needs two joint variables; the locus has one",
+                            argument="locus")
+    comps = A.model_components(locus)
+    chosen = dict(comps).get(component)
+    if chosen is None:
+        raise ArgumentError(f"component={component!r} is not a component of the locus (1.."
+                            f"{len(locus.components)})", argument="component", value=component)
+    nm = NumericMatrix(_with_values(tm), tm.variables, tm.angles)
+    point = np.array([chosen.sample[n] for n in names], dtype=float)
+    if axes is None:
+        axes = A.slice_joints(nm, point, A.equation_weights([(component, chosen)], nm.variables))
+    axes = tuple(int(a) for a in axes)
+    if len(axes) != 2 or len(set(axes)) != 2 or not all(0 <= a < len(names) for a in axes):
+        raise ArgumentError(f"axes= must be two different joint indices in 0..{len(names) - 1},"
+                            f" got {axes!r}", argument="axes", value=axes)
+    data = A.slice_grid(nm, comps, dict(tm.parameters), axes, point, through=component)
+    return data, names, [v not in nm.angles for v in nm.variables]
+
+
+def _with_values(tm):
+    """The matrix of ``tm`` with its parameters at their values."""
+    import sympy as sp
+
+    return sp.Matrix(tm.matrix).subs(tm.parameters)
 
 
 def plot_augmented(plain, augmented, names, prismatic, *, title: str = "", ax=None):
@@ -390,7 +465,40 @@ def _tree_layout(G):
 
 
 def plot_tree(summary, ax=None):
-    """The cut-down branch tree drawn top-down with matplotlib (no graphviz needed)."""
+    """The cut-down branch tree drawn top-down with matplotlib (no graphviz needed).
+
+    Parameters
+    ----------
+    summary : Locus or TreeSummary
+        A locus (its branch tree ``Locus.tree``, cut down by
+        :func:`~rankloci.report.tree_summary.tree_summary`), or the cut-down tree.
+    ax : matplotlib.axes.Axes, optional
+        Drawn into; a new Figure otherwise.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+
+    Examples
+    --------
+    >>> import rankloci
+    >>> from rankloci.report.figures import plot_tree
+    >>> L = rankloci.locus("planar2r")
+    >>> ax = plot_tree(L)
+    >>> len(ax.texts) == L.tree.number_of_nodes(), ax.axison    # a small tree is drawn whole
+    (True, False)
+    """
+    from ..locus import Locus
+
+    if isinstance(summary, Locus):
+        from .tree_summary import tree_summary
+
+        if summary.tree is None:
+            from ..errors import ArgumentError
+
+            raise ArgumentError("the locus has no branch tree (one read from JSON has none)",
+                                argument="summary")
+        summary = tree_summary(summary.tree)
     G = summary.graph
     pos = _tree_layout(G)
     width = max(x for x, _ in pos.values()) + 1 if pos else 1
@@ -409,14 +517,14 @@ def plot_tree(summary, ax=None):
         ax.set_xlim(-0.7, width - 0.3)
         ax.set_ylim(-depth + 0.4, 0.6)
         ax.axis("off")
-    return ax.figure
+    return ax
 
 
 # --- PNG bytes for the report ------------------------------------------------------------------
 
 def heatmap_png(data, names, prismatic, *, title: str) -> bytes:
     """:func:`plot_sigma_slice` as PNG bytes."""
-    return figure_png(plot_sigma_slice(data, names, prismatic, title=title))
+    return figure_png(plot_sigma_slice(data, names, prismatic, title=title).figure)
 
 
 def augmented_png(plain, augmented, names, prismatic, *, title: str) -> bytes:
@@ -445,4 +553,4 @@ def tree_png(summary, *, dot: str | None = None) -> bytes:
                 return run.stdout
         except (OSError, subprocess.SubprocessError):
             pass
-    return figure_png(plot_tree(summary))
+    return figure_png(plot_tree(summary).figure)

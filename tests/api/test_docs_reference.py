@@ -47,8 +47,12 @@ def test_the_directive_pattern_reads_both_markups(tmp_path):
 
 
 def test_every_public_name_is_in_the_api_reference():
-    documented = {id(_resolve(t)) for t in documented_targets()}
-    missing = [name for name in rankloci.__all__ if id(getattr(rankloci, name)) not in documented]
+    import inspect
+
+    # rankloci.report wraps rankloci.api.report (its attributes are the figures' modules)
+    documented = {id(inspect.unwrap(_resolve(t))) for t in documented_targets()}
+    missing = [name for name in rankloci.__all__
+               if id(inspect.unwrap(getattr(rankloci, name))) not in documented]
     assert missing == [], f"not documented in docs/: {missing}"
 
 

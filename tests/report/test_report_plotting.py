@@ -69,7 +69,7 @@ def test_locus_lines_on_a_heat_map_are_thin_and_told_apart():
     line = np.array([[-1.0, 0.0], [1.0, 0.0]])
     curves = tuple((k, (line + [0.0, 0.2 * k],), np.zeros((0, 2))) for k in (1, 2, 3, 4))
     data = SliceData((0, 1), xs, ys, np.full((5, 5), 0.5), np.zeros(2), None, curves)
-    fig = F.plot_sigma_slice(data, ["q1", "q2"], [False, True], title="t")
+    fig = F.plot_sigma_slice(data, ["q1", "q2"], [False, True], title="t").figure
     drawn = [ln for ln in fig.axes[0].lines if (ln.get_label() or "").startswith("component")]
     assert len(drawn) == 4
     looks = {(to_hex(ln.get_color()), ln.get_linestyle()) for ln in drawn}
