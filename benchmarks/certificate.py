@@ -110,8 +110,11 @@ def main(argv=None) -> int:
         row = measure(name, model, options)
         print(json.dumps(row), flush=True)
         rows.append(row)
-    meta = {"date": time.strftime("%Y-%m-%d"), "machine": platform.machine() + ", "
-            + platform.processor() or "unknown", "python": platform.python_version()}
+    import os
+
+    meta = {"date": time.strftime("%Y-%m-%d"),
+            "machine": f"{platform.machine()}, {os.cpu_count()} cores",
+            "python": platform.python_version()}
     out = Path(args.output)
     out.write_text(render(rows, meta), encoding="utf-8")
     out.with_suffix(".json").write_text(json.dumps({"meta": meta, "rows": rows}, indent=1) + "\n",
