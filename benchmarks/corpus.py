@@ -656,8 +656,8 @@ def self_checked(model, tm, method, chain: Chain, ref, seed: int, *, emit=None,
     """The locus as `rankloci locus` shows it (self-check, recomputation, hints), graded again.
 
     Run for the chains whose first computation fails grading: the table says whether the
-    self-check catches the failure (``complete`` false: the locus is shown marked incomplete)
-    or repairs it (the locus shown passes grading).  ``emit`` gets ``partial`` before each
+    self-check catches the failure (``complete`` false: the locus is shown marked incomplete;
+    null: not certified) or repairs it (the locus shown passes grading).  ``emit`` gets ``partial`` before each
     step, so that each step gets the grading allowance.
     """
     import numpy as np
@@ -683,7 +683,7 @@ def self_checked(model, tm, method, chain: Chain, ref, seed: int, *, emit=None,
         emit(mark)
     g = grade(model, tm, locus, ref, np.random.default_rng(seed))
     return {"status": "pass" if g["ok"] else "fail", "reason": g["reason"],
-            "complete": v.complete, "attempts": list(v.attempts), "seconds": t1 - t0,
+            "complete": locus.complete, "attempts": list(v.attempts), "seconds": t1 - t0,
             "components": sum(c.exists_for_model for c in locus.components)}
 
 
