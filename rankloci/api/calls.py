@@ -271,9 +271,11 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
     method : {"svm", "subdeterminant", "determinant"}, optional
         Default: determinant for a square matrix, svm otherwise.
     timeout : float, optional
-        Seconds; :class:`~rankloci.errors.LocusTimeout` is raised after them.
-        The computation polls its deadline between branches, so one long
-        factorisation can overrun it (the command line also kills its child).
+        Seconds for the whole call, loading the model and building J included;
+        :class:`~rankloci.errors.LocusTimeout` is raised after them
+        (:func:`rankloci.api.deadline.time_limit`).  One long step inside
+        compiled code (a factorisation in FLINT) ends before it is seen; the
+        command line, which kills its child, bounds those too.
     seed : int
         Seed of the numeric probes; the same seed gives the same locus.
     numeric : bool
@@ -319,10 +321,13 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
     >>> L.contains({"x": 0.7853981633974483, "y": 0.5}), L.contains({"x": 0.0, "y": 0.5})
     (True, False)
     """
-    m = load_model(model, tip=tip, variables=variables, parameters=parameters)
-    return certified_locus(m, task=task, augment=augment, method=method, seed=seed,
-                           numeric=numeric, verify=verify, frame=frame,
-                           should_stop=_deadline(timeout), progress=log_progress)[0]
+    from .deadline import time_limit
+
+    with time_limit(timeout, "the locus computation") as should_stop:
+        m = load_model(model, tip=tip, variables=variables, parameters=parameters)
+        return certified_locus(m, task=task, augment=augment, method=method, seed=seed,
+                               numeric=numeric, verify=verify, frame=frame,
+                               should_stop=should_stop, progress=log_progress)[0]
 
 
 @dataclass(frozen=True)
@@ -427,7 +432,7 @@ def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
     numeric : bool
         Compute the locus with the parameter values substituted.
     timeout : float, optional
-        Seconds allowed to the locus computation.
+        Seconds allowed to the whole call (as for :func:`locus`).
 
     Returns
     -------
@@ -443,9 +448,12 @@ def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
     """
     if samples < 1:
         raise ValueError(f"samples must be at least 1, got {samples}")
-    m = load_model(model, tip=tip, variables=variables, parameters=parameters)
-    return check_model(m, locus, samples=samples, seed=seed, numeric=numeric,
-                       should_stop=_deadline(timeout), progress=log_progress)
+    from .deadline import time_limit
+
+    with time_limit(timeout, "the check") as should_stop:
+        m = load_model(model, tip=tip, variables=variables, parameters=parameters)
+        return check_model(m, locus, samples=samples, seed=seed, numeric=numeric,
+                           should_stop=should_stop, progress=log_progress)
 
 
 def report(model, directory=None, *, formats=("md",), seed=0, samples=10, numeric=False,
