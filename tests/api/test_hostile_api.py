@@ -234,3 +234,31 @@ def test_a_call_that_ends_in_time_is_not_interrupted_later():
     assert L.complete is True
     time.sleep(0.1)          # nothing pending in this thread once the call returned
 
+
+
+def test_time_running_out_while_recomputing_is_a_timeout_not_a_rejection():
+    """The first computation fails its certificate, the recomputation runs out of time: the
+    error says the time ran out (it said the self-check rejects the locus)."""
+    import dataclasses
+
+    import numpy as np
+
+    from rankloci.jacobian import task_matrix
+    from rankloci.methods import compute_locus, method_for
+    from rankloci.verify import verified_locus
+
+    model = rankloci.load_model("planar3r")
+    tm = task_matrix(model, frame="auto")
+    calls = []
+
+    def compute(t, seed, **_):
+        calls.append(seed)
+        if len(calls) > 1:
+            raise LocusTimeout("the determinant computation did not finish within its budget")
+        found = compute_locus(t, method_for(t.shape), rng=np.random.default_rng(seed))
+        wrong = dataclasses.replace(found.components[0], equations=(sp.cos(t.variables[0]),))
+        return dataclasses.replace(found, components=(wrong,))    # fails its certificate
+
+    with pytest.raises(LocusTimeout, match="time ran out while the locus was computed again"):
+        verified_locus(compute, tm, task_matrix(model), seed=0)
+    assert len(calls) == 2
