@@ -613,3 +613,53 @@ def test_case_file_edited_by_hand_is_computed_again(tmp_path, monkeypatch, capsy
     assert {k: v for k, v in again.items() if k != "seconds"} == {
         k: v for k, v in first.items() if k != "seconds"}
     assert "| planar2r |" in (tmp_path / "out" / "summary.md").read_text()
+
+
+# --- --timeout counts from the start of the process ----------------------------------------------
+
+def _busy(progress):
+    progress("a step that never returns")
+    while True:
+        pass
+
+
+def test_the_kill_counts_from_the_given_start_not_from_the_childs():
+    """Imports and building J came before the child's start and were not counted: the command
+    ended up to 4.8 s past --timeout."""
+    import time
+
+    from rankloci.cli.limits import KILL_GRACE, LimitExceeded, run_limited
+
+    t0 = time.monotonic()
+    with pytest.raises(LimitExceeded, match="did not finish within 4 s"):
+        run_limited(_busy, timeout=4, memory_mb=0, started=t0 - 3.5)
+    # killed at t0 + 0.5 + KILL_GRACE; counted from the child's start it would be t0 + 4.5
+    assert time.monotonic() - t0 < 4 - 3.5 + KILL_GRACE + 2.0
+    assert KILL_GRACE <= 0.5        # the kill, the error line and the exit within 1 s
+
+
+def test_the_process_start_is_before_its_imports():
+    import subprocess
+    import sys
+
+    code = ("import time; t = time.monotonic(); time.sleep(0.5)\n"
+            "from rankloci.cli.limits import process_started\n"
+            "print(t - process_started(), time.monotonic() - process_started())")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=120, check=True).stdout.split()
+    before_sleep, age = map(float, out)
+    assert 0.0 <= before_sleep < 60 and age >= 0.5
+
+
+def test_the_childs_deadline_counts_from_the_given_start(capsys, monkeypatch):
+    """A start long ago leaves no time: the locus stops at once (at its first poll, or
+    killed), exit 1 and one line."""
+    import time
+
+    t0 = time.monotonic()
+    assert main(["locus", "planar3r", "--timeout", "600", "--quiet"],
+                started=t0 - 599.9) == 1
+    assert time.monotonic() - t0 < 10
+    err = capsys.readouterr().err
+    assert err.startswith("rankloci: error: ") and "did not finish" in err and "600 s" in err
+    assert len(err.splitlines()) == 1
