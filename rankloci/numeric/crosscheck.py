@@ -361,10 +361,11 @@ def render_check_text(report: CheckReport) -> str:
         lines.append(f"{'on ' + eqs:<34} {len(c.points):>6}  {'ok' if c.ok else 'FAIL':<6} {detail}")
     for eqs in report.skipped:
         lines.append(f"{'on ' + ', '.join(eqs)[:31]:<34} {'-':>6}  {'skip':<6} parameter conditions")
-    mn = min((p.sigma_ratio for p in report.off_locus), default=float("nan"))
+    mn = min((p.sigma_ratio for p in report.off_locus), default=None)
     lines.append(f"{'off-locus (full rank)':<34} {len(report.off_locus):>6}  "
                  f"{'ok' if not report.off_locus_failures else 'FAIL':<6} "
-                 f"{len(report.off_locus_failures)} rank deficient, min sigma ratio {mn:.1e}")
+                 + (f"{len(report.off_locus_failures)} rank deficient, min sigma ratio {mn:.1e}"
+                    if mn is not None else "no configuration is off the locus"))
     lines.append(f"{'completeness probe':<34} {report.probe_starts:>6}  "
                  f"{'ok' if not report.uncovered else 'FAIL':<6} "
                  f"{report.probe_singular} singular minima, {len(report.uncovered)} on no component")

@@ -663,3 +663,37 @@ def test_the_childs_deadline_counts_from_the_given_start(capsys, monkeypatch):
     err = capsys.readouterr().err
     assert err.startswith("rankloci: error: ") and "did not finish" in err and "600 s" in err
     assert len(err.splitlines()) == 1
+
+
+# --- degenerate models in reports ----------------------------------------------------------------
+
+def _displays(tex):
+    """The bodies of the numbered displays of a LaTeX report."""
+    import re
+
+    return re.findall(r"\\begin\{(align|equation)\}(.*?)\\end\{\1\}", tex, re.S)
+
+
+def test_report_of_an_all_zero_matrix_has_no_empty_display(tmp_path, monkeypatch, capsys):
+    """An empty align is a LaTeX error ("Paragraph ended before \\align* was complete")."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "zero.toml").write_text(_raw("zero", [["0", "0"], ["0", "0"]], ("x", "y")))
+    assert main(["report", "zero.toml", "-o", "out", "--format", "md,tex", "--quiet"]) == 0
+    tex = (tmp_path / "out" / "zero.tex").read_text()
+    assert _displays(tex) and all(body.strip() for _, body in _displays(tex))
+    assert "none (every configuration)" in tex and "No equation" in tex
+    assert "none (every configuration)" in (tmp_path / "out" / "zero.md").read_text()
+
+
+def test_report_of_a_zero_length_arm_says_no_nan(tmp_path, monkeypatch, capsys):
+    import re
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "zl.toml").write_text('name = "zl"\nconvention = "dh"\ntask = "planar"\n'
+                                      '[[joint]]\na = 0\n[[joint]]\na = 0\n')
+    assert main(["report", "zl.toml", "-o", "out", "--format", "md,tex", "--quiet"]) == 0
+    assert "warning" not in capsys.readouterr().err
+    for name in ("zl.md", "zl.tex"):
+        text = (tmp_path / "out" / name).read_text()
+        assert not re.search(r"\bnan\b", text, re.I), name
+        assert "no configuration is off the locus" in text
