@@ -697,3 +697,15 @@ def test_report_of_a_zero_length_arm_says_no_nan(tmp_path, monkeypatch, capsys):
         text = (tmp_path / "out" / name).read_text()
         assert not re.search(r"\bnan\b", text, re.I), name
         assert "no configuration is off the locus" in text
+
+
+def test_a_correct_empty_locus_of_an_unbounded_variable_passes_its_check(tmp_path, monkeypatch,
+                                                                       capsys):
+    """det [[1, x], [0, 1]] = 1: never singular, but sigma_min/sigma_max ~ 1/x**2 tends to 0 as
+    x runs off; the probe's minima out there were taken for singular points on no component."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "shear.toml").write_text(_raw("shear", [["1", "x"], ["0", "1"]]))
+    assert main(["check", "shear.toml", "--quiet", "--format", "json"]) == 0
+    got = json.loads(capsys.readouterr().out)
+    assert got["ok"] and got["completeness"]["uncovered"] == []
+    assert got["completeness"]["ran_off_to_infinity"] > 0
