@@ -298,7 +298,14 @@ def cmd_check(args) -> int:
     try:
         result = run_limited(work, timeout=args.timeout, memory_mb=args.memory,
                              progress=progress, started=getattr(args, "started", None))
-    except (LocusTimeout, LimitExceeded) as e:
+    except LocusTimeout as e:
+        # e says which computation stopped ("the svm computation did not finish ...")
+        clear_status()
+        print(f"rankloci: error: the check stopped: {e}; raise --timeout (now "
+              f"{args.timeout:g} s)", file=sys.stderr)
+        return EXIT_FAILED
+    except LimitExceeded as e:
+        # e is a predicate ("did not finish within 5 s and was stopped ...")
         clear_status()
         print(f"rankloci: error: the check {e}", file=sys.stderr)
         return EXIT_FAILED

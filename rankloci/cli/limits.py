@@ -240,12 +240,24 @@ def _kill(child):
 
 
 def _death(exitcode, memory_mb, last) -> str:
-    """Why a child that sent no result ended."""
+    """Why a child that sent no result ended.
+
+    Under the address-space limit an allocation that fails inside compiled code
+    aborts the child (SIGABRT, or SIGSEGV/SIGBUS on a null pointer).  Nothing in
+    rankloci sends SIGKILL to a child except at the time limit (reported
+    before this is reached), and the address-space limit never does: SIGKILL,
+    SIGTERM and any other signal came from outside, from a user or from the
+    system's out-of-memory killer.
+    """
     if exitcode is not None and exitcode < 0:
-        name = signal.Signals(-exitcode).name
-        if memory_mb and -exitcode in (signal.SIGABRT, signal.SIGKILL, signal.SIGSEGV,
-                                       signal.SIGBUS):
+        number = -exitcode
+        try:
+            name = signal.Signals(number).name
+        except ValueError:
+            name = "an unnamed signal"
+        if memory_mb and number in (signal.SIGABRT, signal.SIGSEGV, signal.SIGBUS):
             return (f"ended by {name}, most likely out of memory inside compiled code (limit "
                     f"{memory_mb} MiB; raise --memory) (last progress: {last})")
-        return f"ended by {name} (last progress: {last})"
+        return (f"was killed by signal {number} ({name}) from outside rankloci: by a user or "
+                f"by the system's out-of-memory killer (last progress: {last})")
     return f"ended without a result (exit code {exitcode}) (last progress: {last})"

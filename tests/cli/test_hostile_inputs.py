@@ -709,3 +709,38 @@ def test_a_correct_empty_locus_of_an_unbounded_variable_passes_its_check(tmp_pat
     got = json.loads(capsys.readouterr().out)
     assert got["ok"] and got["completeness"]["uncovered"] == []
     assert got["completeness"]["ran_off_to_infinity"] > 0
+
+
+# --- what the error lines say --------------------------------------------------------------------
+
+def _killed_from_outside(progress):
+    import os
+    import signal
+
+    progress("computing")
+    os.kill(os.getpid(), signal.SIGKILL)        # as `kill -9` from a shell would
+
+
+def test_a_child_killed_from_outside_is_not_called_out_of_memory():
+    from rankloci.cli.limits import LimitExceeded, run_limited
+
+    with pytest.raises(LimitExceeded) as err:
+        run_limited(_killed_from_outside, timeout=60, memory_mb=4096)
+    message = str(err.value)
+    assert "killed by signal 9 (SIGKILL) from outside rankloci" in message
+    assert "most likely out of memory" not in message and "last progress: computing" in message
+
+
+def test_a_check_out_of_time_says_what_stopped_in_plain_words(capsys, monkeypatch):
+    """It said "the check the svm computation did not finish ..."."""
+    import itertools
+
+    import rankloci.cli.commands
+
+    ticks = itertools.count(0.0, 1000.0)       # every budget is spent at the first poll
+    monkeypatch.setattr(rankloci.cli.commands, "deadline_clock", lambda: next(ticks))
+    assert main(["check", "planar3r", "--timeout", "600", "--quiet"]) == 1
+    err = capsys.readouterr().err
+    assert len(err.splitlines()) == 1 and "Traceback" not in err
+    assert err.startswith("rankloci: error: the check stopped: the ")
+    assert "the check the" not in err and "raise --timeout (now 600 s)" in err
