@@ -744,3 +744,61 @@ def test_a_check_out_of_time_says_what_stopped_in_plain_words(capsys, monkeypatc
     assert len(err.splitlines()) == 1 and "Traceback" not in err
     assert err.startswith("rankloci: error: the check stopped: the ")
     assert "the check the" not in err and "raise --timeout (now 600 s)" in err
+
+
+def _server(handler):
+    """A TCP server on a free local port running ``handler(connection)`` in a thread."""
+    import socket
+    import threading
+
+    listener = socket.create_server(("127.0.0.1", 0))
+    kept = []
+
+    def serve():
+        while True:
+            try:
+                conn, _ = listener.accept()
+            except OSError:
+                return
+            kept.append(conn)
+            try:
+                handler(conn)
+            except OSError:          # the test closed the connection first
+                pass
+
+    threading.Thread(target=serve, daemon=True).start()
+    return listener, kept
+
+
+def _http_reply(conn):
+    conn.recv(1 << 16)
+    conn.sendall(b"HTTP/1.0 200 OK\r\nContent-Length: 2\r\n\r\nok")
+
+
+@pytest.mark.parametrize("kind, handler", [("silent", lambda conn: None),
+                                           ("http", _http_reply),
+                                           ("ssh", lambda c: c.sendall(b"SSH-2.0-OpenSSH_9\r\n"))])
+def test_scheduler_address_where_no_scheduler_greets(tmp_path, monkeypatch, capsys, kind,
+                                                       handler):
+    """A server that accepts and never answers, or answers HTTP: the client waited for ever."""
+    import time
+
+    from rankloci.sweep import execute
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(execute, "CONNECT_SECONDS", 1.0)
+    monkeypatch.setattr(execute, "WORKER_WAIT_SECONDS", 1.0)
+    listener, kept = _server(handler)
+    address = "tcp://127.0.0.1:%d" % listener.getsockname()[1]
+    (tmp_path / "s.toml").write_text('models = ["planar2r"]\n')
+    t0 = time.monotonic()
+    try:
+        line = _one_error_line(capsys, main(["sweep", "s.toml", "-o", "out", "--scheduler",
+                                             address, "--quiet"]))
+    finally:
+        listener.close()
+        for conn in kept:
+            conn.close()
+    assert time.monotonic() - t0 < 30
+    assert f"no Dask scheduler answers at {address}" in line
+    assert not (tmp_path / "out").exists()
