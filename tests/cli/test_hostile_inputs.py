@@ -802,3 +802,31 @@ def test_scheduler_address_where_no_scheduler_greets(tmp_path, monkeypatch, caps
     assert time.monotonic() - t0 < 30
     assert f"no Dask scheduler answers at {address}" in line
     assert not (tmp_path / "out").exists()
+
+
+def test_an_interrupt_lost_inside_a_callback_still_stops_a_serial_sweep(tmp_path, monkeypatch,
+                                                                        capsys):
+    """Ctrl-C during the fork of a case's child raised inside logging's at-fork lock release,
+    which ignores exceptions ("Exception ignored in _releaseLock"): the sweep went on to exit
+    0.  Here the first case's interrupt is swallowed the same way."""
+    import signal
+
+    from rankloci.sweep import execute
+
+    real = execute.run_case
+    ran = []
+
+    def run_case(case, *args, **kw):
+        ran.append(case.id)
+        try:
+            signal.getsignal(signal.SIGINT)(signal.SIGINT, None)     # Ctrl-C ...
+        except KeyboardInterrupt:
+            pass                                                     # ... ignored
+        return real(case, *args, **kw)
+
+    monkeypatch.setattr(execute, "run_case", run_case)
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "s.toml").write_text('models = ["planar2r", "planar3r"]\n')
+    assert main(["sweep", "s.toml", "-o", "out", "--serial", "--quiet"]) == 130
+    assert len(ran) == 1 and "interrupted" in capsys.readouterr().err
+    assert not (tmp_path / "out" / "summary.md").exists()
