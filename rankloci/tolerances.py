@@ -268,6 +268,13 @@ PROBE_SINGULAR_RTOL = RANK_RTOL
 #: has them at 9e-13 to 8e-10 (the one at 1.7e-10 is regular when evaluated with 40 digits).
 PROBE_DESCENT_RTOL = 1e-13
 
+#: A probe minimum where a variable that is not an angle is larger than this in magnitude ran
+#: off to infinity: sigma_min/sigma_max can tend to 0 there without J ever losing rank (J =
+#: [[1, x], [0, 1]], whose determinant is 1, has a ratio of about 1/x**2), so it is no singular
+#: point.  The probe starts at normal(0, 1) values; lengths of the models in millimetres stay
+#: below 1e4, so a real singular point near a start is far inside this bound.
+PROBE_ESCAPE_ABS = 1e6
+
 #: dJ/dq by the complex step (rankloci.numeric.equations.NumericMatrix) and by the symbolic
 #: derivative agree to this, relative to the largest |dJ/dq_k| entry at the same q.  Both are
 #: exact up to rounding (the complex step subtracts nothing); on the built-in arms they differ

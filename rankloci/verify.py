@@ -328,6 +328,12 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
     (Locus, Verification)
         The locus carries its certificate; its notes say what the checks found when it is not
         certified.
+
+    Raises
+    ------
+    LocusTimeout
+        The time ran out before any attempt passed or left its certificate undecided
+        (an attempt that failed it is not returned then: the time limit stopped the work).
     """
     from .numeric.crosscheck import cross_check
 
@@ -356,6 +362,7 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
     attempts, locus, hints, what, report = [], None, [], "", None
     best = None        # (rank, locus, problems, complete): passed < undecided < failed
     rounds = 0
+    timed_out = False
     queue = list(plan)
     while queue:
         t, s, base, how = queue.pop(0)
@@ -373,6 +380,7 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
             if best is None:
                 raise
             attempts.append(f"{what}: did not finish within the time limit")
+            timed_out = True
             break
         report = cross_check(locus, reference.matrix, reference.variables,
                              angles=reference.angles, parameters=reference.parameters,
@@ -391,7 +399,10 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
         rank = {True: 0, None: 1, False: 2}[complete]
         if best is None or rank < best[0]:
             best = (rank, locus, problems, complete)
-        if complete is True or stop():
+        if complete is True:
+            break
+        if stop():
+            timed_out = True
             break
         if complete is None and cert.verdict == "undecided" and not cert.prime:
             break      # the certificate does not apply to this matrix: recomputing cannot help
@@ -405,6 +416,11 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
         elif complete is None:
             break      # the numeric check passes and nothing decides more: keep this locus
     _, locus, problems, complete = best
+    if timed_out and complete is False:
+        # no attempt passed and the time ran out before the next one could: what stopped the
+        # computation is the time limit, not the certificate
+        raise LocusTimeout("the time ran out while the locus was computed again after it "
+                           "failed its certificate (" + "; ".join(attempts) + ")")
     notes = tuple(dimension_findings(locus)) if complete is not True else ()
     cert = locus.certificate
     if complete is False:

@@ -274,9 +274,11 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
     method : {"svm", "subdeterminant", "determinant"}, optional
         Default: determinant for a square matrix, svm otherwise.
     timeout : float, optional
-        Seconds; :class:`~rankloci.errors.LocusTimeout` is raised after them.
-        The computation polls its deadline between branches, so one long
-        factorisation can overrun it (the command line also kills its child).
+        Seconds for the whole call, loading the model and building J included;
+        :class:`~rankloci.errors.LocusTimeout` is raised after them
+        (:func:`rankloci.api.deadline.time_limit`).  One long step inside
+        compiled code (a factorisation in FLINT) ends before it is seen; the
+        command line, which kills its child, bounds those too.
     seed : int
         Seed of the numeric probes; the same seed gives the same locus.
     numeric : bool
@@ -332,6 +334,7 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
     import logging
 
     from ..augmented import parse_augment
+    from .deadline import time_limit
     from .progress import LOGGER_NAME
     from .results import task_note, with_model_notes
     from .symbols import caller_symbols, with_symbols
@@ -339,13 +342,14 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
     check_arguments(seed=seed, timeout=timeout, variables=variables, parameters=parameters,
                     task=task, augment=augment, method=method, numeric=numeric, verify=verify,
                     frame=frame, tip=tip, base_link=base_link)
-    m = load_model(model, tip=tip, base_link=base_link, variables=variables,
-                   parameters=parameters)
-    check_for_model(m, task=task, frame=frame)
-    parse_augment(m, augment, flag="augment")     # its errors in the API's words
-    result = certified_locus(m, task=task, augment=augment, method=method, seed=seed,
-                             numeric=numeric, verify=verify, frame=frame,
-                             should_stop=_deadline(timeout), progress=log_progress)[0]
+    with time_limit(timeout, "the locus computation") as should_stop:
+        m = load_model(model, tip=tip, base_link=base_link, variables=variables,
+                       parameters=parameters)
+        check_for_model(m, task=task, frame=frame)
+        parse_augment(m, augment, flag="augment")     # its errors in the API's words
+        result = certified_locus(m, task=task, augment=augment, method=method, seed=seed,
+                                 numeric=numeric, verify=verify, frame=frame,
+                                 should_stop=should_stop, progress=log_progress)[0]
     note = task_note(result, m, task)
     if note:
         logging.getLogger(LOGGER_NAME).warning("%s: %s", m.name, note)
@@ -455,7 +459,7 @@ def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
     numeric : bool
         Compute the locus with the parameter values substituted.
     timeout : float, optional
-        Seconds allowed to the locus computation.
+        Seconds allowed to the whole call (as for :func:`locus`).
     variables, parameters, tip, base_link
         See :func:`load_model`.
 
@@ -471,17 +475,19 @@ def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
     >>> rankloci.check("planar2r", samples=3).ok
     True
     """
+    from .deadline import time_limit
     from .symbols import with_symbols
 
     check_samples(samples)
     check_arguments(seed=seed, numeric=numeric, timeout=timeout, variables=variables,
                     parameters=parameters, tip=tip, base_link=base_link)
-    m = load_model(model, tip=tip, base_link=base_link, variables=variables,
-                   parameters=parameters)
-    if locus is not None:    # a locus in the caller's symbols: the model's own, by name
-        locus = with_symbols(locus, {s.name: s for s in (*m.variables, *m.parameters)})
-    return check_model(m, locus, samples=samples, seed=seed, numeric=numeric,
-                       should_stop=_deadline(timeout), progress=log_progress)
+    with time_limit(timeout, "the check") as should_stop:
+        m = load_model(model, tip=tip, base_link=base_link, variables=variables,
+                       parameters=parameters)
+        if locus is not None:    # a locus in the caller's symbols: the model's own, by name
+            locus = with_symbols(locus, {s.name: s for s in (*m.variables, *m.parameters)})
+        return check_model(m, locus, samples=samples, seed=seed, numeric=numeric,
+                           should_stop=should_stop, progress=log_progress)
 
 
 def report(model, directory=None, *, formats=("md",), seed=0, samples=10, numeric=False,

@@ -97,7 +97,8 @@ def _limited(args, work, progress, what):
     from .limits import LimitExceeded, run_limited
 
     try:
-        return run_limited(work, timeout=args.timeout, memory_mb=args.memory, progress=progress)
+        return run_limited(work, timeout=args.timeout, memory_mb=args.memory, progress=progress,
+                           started=getattr(args, "started", None))
     except LocusTimeout as e:
         clear_status()
         print(f"rankloci: error: {e}; raise --timeout (now {args.timeout:g} s) or try "
@@ -167,10 +168,13 @@ def _jacobian_text(args, tm, notes=()) -> str:
 deadline_clock = time.monotonic
 
 
-def _deadline(seconds):
-    """A ``should_stop`` that says True once ``seconds`` have passed; None for no limit."""
+def _deadline(seconds, started=None):
+    """A ``should_stop`` that says True once ``seconds`` have passed since ``started`` (a
+    :func:`time.monotonic` reading; default now); None for no limit."""
     if seconds is None or seconds <= 0:
         return None
+    if started is not None:
+        seconds -= time.monotonic() - started
     clock = deadline_clock
     end = clock() + seconds
     return lambda: clock() > end
@@ -192,6 +196,7 @@ def cmd_locus(args) -> int:
 
     def work(report):
         tell = report            # the parent prints it unless --quiet, and keeps the last one
+        should_stop = _deadline(args.timeout, getattr(args, "started", None))
         tm = _task_matrix(args, model, extra, tell)
         try:
             method = method_for(tm.shape, args.method)
@@ -204,8 +209,7 @@ def cmd_locus(args) -> int:
         from ..api.calls import model_locus
 
         locus = model_locus(model, tm, method, task=args.task, extra=extra, seed=args.seed,
-                            verify=args.verify, progress=tell,
-                            should_stop=_deadline(args.timeout))
+                            verify=args.verify, progress=tell, should_stop=should_stop)
         return locus, tm.row_labels
 
     got = _limited(args, work, progress, "the locus computation")
@@ -290,13 +294,21 @@ def cmd_check(args) -> int:
         # takes time and memory to read
         locus = None if raw is None else _parsed_locus(raw, args.locus, model)
         return check_model(model, locus, samples=args.samples, seed=args.seed,
-                           numeric=args.numeric, should_stop=_deadline(args.timeout),
+                           numeric=args.numeric,
+                           should_stop=_deadline(args.timeout, getattr(args, "started", None)),
                            progress=report_progress)
 
     try:
         result = run_limited(work, timeout=args.timeout, memory_mb=args.memory,
-                             progress=progress)
-    except (LocusTimeout, LimitExceeded) as e:
+                             progress=progress, started=getattr(args, "started", None))
+    except LocusTimeout as e:
+        # e says which computation stopped ("the svm computation did not finish ...")
+        clear_status()
+        print(f"rankloci: error: the check stopped: {e}; raise --timeout (now "
+              f"{args.timeout:g} s)", file=sys.stderr)
+        return EXIT_FAILED
+    except LimitExceeded as e:
+        # e is a predicate ("did not finish within 5 s and was stopped ...")
         clear_status()
         print(f"rankloci: error: the check {e}", file=sys.stderr)
         return EXIT_FAILED

@@ -30,10 +30,11 @@ from ..errors import LocusTimeout, RanklociError
 from .output import shortened
 
 __all__ = ["run_limited", "LimitExceeded", "KILL_GRACE", "DEFAULT_MEMORY_MB", "MAX_TIMEOUT_S",
-           "MAX_MEMORY_MB"]
+           "MAX_MEMORY_MB", "process_started"]
 
-#: Seconds between the work's own deadline and the parent's kill.
-KILL_GRACE = 1.0
+#: Seconds between the work's own deadline and the parent's kill: the kill, the error line
+#: and the exit of the process fit in what is left of a second past the limit.
+KILL_GRACE = 0.5
 
 #: Default address-space limit of the child, in MiB.  The built-in models peak below 300 MB
 #: of resident memory; the address space of an idle child (Python, numpy, sympy, FLINT and
@@ -57,7 +58,35 @@ class ChildFailed(Exception):
     """The work raised an exception that is not bad input: a bug, with the child's traceback."""
 
 
-def run_limited(work, *, timeout: float | None, memory_mb: int | None, progress=None):
+def process_started() -> float:
+    """The :func:`time.monotonic` reading at which this process started.
+
+    A ``--timeout`` is measured from the start of the process, the interpreter's
+    start and the imports included.  On Linux the start time is the kernel's
+    (``/proc/self/stat``, in clock ticks since boot); elsewhere it is the time
+    of the first call.
+    """
+    global _STARTED
+    if _STARTED is None:
+        now = time.monotonic()
+        _STARTED = now
+        try:
+            with open("/proc/self/stat") as f:
+                fields = f.read().rsplit(")", 1)[1].split()
+            ticks = int(fields[19])          # field 22, starttime; fields[0] is field 3
+            age = time.clock_gettime(time.CLOCK_BOOTTIME) - ticks / os.sysconf("SC_CLK_TCK")
+            if 0.0 <= age < 3600.0:
+                _STARTED = now - age
+        except (OSError, ValueError, IndexError, AttributeError):
+            pass
+    return _STARTED
+
+
+_STARTED = None
+
+
+def run_limited(work, *, timeout: float | None, memory_mb: int | None, progress=None,
+                started: float | None = None):
     """``work(progress)`` run in a child process under the limits; its return value.
 
     Parameters
@@ -70,6 +99,9 @@ def run_limited(work, *, timeout: float | None, memory_mb: int | None, progress=
         Address-space limit of the child in MiB; None or 0 for no limit.
     progress : callable, optional
         Called in the parent with each progress message of the child.
+    started : float, optional
+        The :func:`time.monotonic` reading the timeout is measured from (default: now).
+        The child is killed at ``started + timeout + KILL_GRACE``.
 
     Raises
     ------
@@ -90,7 +122,7 @@ def run_limited(work, *, timeout: float | None, memory_mb: int | None, progress=
     ctx = multiprocessing.get_context("fork")
     receive, send = ctx.Pipe(duplex=False)
     child = ctx.Process(target=_child, args=(work, send, memory_mb), daemon=True)
-    start = time.monotonic()
+    start = time.monotonic() if started is None else started
     child.start()
     send.close()
     last = "(no progress reported)"
@@ -208,12 +240,24 @@ def _kill(child):
 
 
 def _death(exitcode, memory_mb, last) -> str:
-    """Why a child that sent no result ended."""
+    """Why a child that sent no result ended.
+
+    Under the address-space limit an allocation that fails inside compiled code
+    aborts the child (SIGABRT, or SIGSEGV/SIGBUS on a null pointer).  Nothing in
+    rankloci sends SIGKILL to a child except at the time limit (reported
+    before this is reached), and the address-space limit never does: SIGKILL,
+    SIGTERM and any other signal came from outside, from a user or from the
+    system's out-of-memory killer.
+    """
     if exitcode is not None and exitcode < 0:
-        name = signal.Signals(-exitcode).name
-        if memory_mb and -exitcode in (signal.SIGABRT, signal.SIGKILL, signal.SIGSEGV,
-                                       signal.SIGBUS):
+        number = -exitcode
+        try:
+            name = signal.Signals(number).name
+        except ValueError:
+            name = "an unnamed signal"
+        if memory_mb and number in (signal.SIGABRT, signal.SIGSEGV, signal.SIGBUS):
             return (f"ended by {name}, most likely out of memory inside compiled code (limit "
                     f"{memory_mb} MiB; raise --memory) (last progress: {last})")
-        return f"ended by {name} (last progress: {last})"
+        return (f"was killed by signal {number} ({name}) from outside rankloci: by a user or "
+                f"by the system's out-of-memory killer (last progress: {last})")
     return f"ended without a result (exit code {exitcode}) (last progress: {last})"

@@ -199,8 +199,8 @@ def _locus_distance(model, args, tell):
     if tell:
         tell(f"{model.name}: computing the locus of its Jacobian (the locus rankloci locus "
              "shows)")
-    locus, tm = certified_locus(model, seed=args.seed, should_stop=_deadline(args.timeout),
-                                progress=tell)
+    stop = _deadline(args.timeout, getattr(args, "started", None))
+    locus, tm = certified_locus(model, seed=args.seed, should_stop=stop, progress=tell)
     labels = [", ".join(f"{e} = 0" for e in c.equations) for c in locus.components]
     return ComponentDistance(locus, tm.angles), labels
 

@@ -21,8 +21,10 @@ from __future__ import annotations
 import math
 
 import argparse
+import contextlib
 import json
 import re
+import signal
 import sys
 import time
 from pathlib import Path
@@ -300,6 +302,42 @@ def _executor(args, pending):
     return ex, f"on {where}, {threads} worker thread{'' if threads == 1 else 's'}"
 
 
+@contextlib.contextmanager
+def _interrupts_remembered():
+    """Ctrl-C raises KeyboardInterrupt and is remembered; yields ``interrupted()``.
+
+    A KeyboardInterrupt raised inside a callback that Python runs and whose exceptions it
+    ignores (logging's lock release after each fork of a case's child: "Exception ignored in
+    _releaseLock") was lost, and the sweep went on.  Remembered, it stops the sweep at the
+    next event at the latest.
+    """
+    hits = []
+
+    def interrupt(signum, frame):
+        hits.append(signum)
+        raise KeyboardInterrupt
+
+    try:
+        old = signal.signal(signal.SIGINT, interrupt)
+    except ValueError:           # not the main thread: signals stay as they are
+        yield lambda: False
+        return
+    try:
+        yield lambda: bool(hits)
+    finally:
+        signal.signal(signal.SIGINT, old)
+
+
+def _until(interrupted, events):
+    """The events, with a KeyboardInterrupt as soon as ``interrupted()`` says one was lost."""
+    for event in events:
+        if interrupted():
+            raise KeyboardInterrupt
+        yield event
+        if interrupted():
+            raise KeyboardInterrupt
+
+
 def cmd_sweep(args) -> int:
     from ..sweep.cases import expand
     from ..sweep.execute import serial_events
@@ -352,17 +390,18 @@ def cmd_sweep(args) -> int:
         events = (executor.events(pending, sources, timeout=timeout, memory=memory)
                   if executor else serial_events(pending, sources, timeout=timeout,
                                                  memory=memory))
-        for event in events:
-            if event[0] == "start":
-                progress.started(event[1])
-            elif event[0] == "done":
-                _, case, result = event
-                data = (result["locus"] or {}) | {"sweep": result["sweep"]}
-                write_atomic(case_dir / f"{case.id}.json", json.dumps(data, indent=2) + "\n")
-                records[case.id] = result["sweep"]
-                progress.finished(case, result["sweep"])
-            else:
-                progress.draw()
+        with _interrupts_remembered() as interrupted:
+            for event in _until(interrupted, events):
+                if event[0] == "start":
+                    progress.started(event[1])
+                elif event[0] == "done":
+                    _, case, result = event
+                    data = (result["locus"] or {}) | {"sweep": result["sweep"]}
+                    write_atomic(case_dir / f"{case.id}.json", json.dumps(data, indent=2) + "\n")
+                    records[case.id] = result["sweep"]
+                    progress.finished(case, result["sweep"])
+                else:
+                    progress.draw()
     except KeyboardInterrupt:
         progress.close()
         if executor:

@@ -29,7 +29,8 @@ import sympy as sp
 from ..expr import as_expression
 from ..tolerances import (COVER_RESIDUAL, MINOR_RTOL, OFF_LOCUS_MIN_RESIDUAL, ON_COMPONENT_RESIDUAL,
                           ON_LOCUS_RTOL, PRECISE_CHECK_DIGITS, PRECISE_CHECK_FLOOR, PRECISE_FALL,
-                          PRECISE_STABLE_RTOL, PROBE_DESCENT_RTOL, PROBE_SINGULAR_RTOL, RANK_RTOL)
+                          PRECISE_STABLE_RTOL, PROBE_DESCENT_RTOL, PROBE_ESCAPE_ABS,
+                          PROBE_SINGULAR_RTOL, RANK_RTOL)
 from .equations import (MAX_TRIES, Equations, NumericMatrix, descend_to_singular, minimise_ratio,
                         points_on)
 from .fsp import dependent_rows
@@ -117,6 +118,7 @@ class CheckReport:
     uncovered: tuple              # PointCheck of singular probe points on no component
     findings: tuple = ()          # FSP / minor disagreements with the SVD (data only)
     thresholds: dict = field(default_factory=dict)
+    probe_escaped: int = 0        # probe minima that ran off to infinity (not singular points)
 
     @property
     def ok(self) -> bool:
@@ -135,6 +137,7 @@ class CheckReport:
                           "failures": [p.to_dict() for p in self.off_locus_failures]},
             "completeness": {"ok": not self.uncovered, "starts": self.probe_starts,
                              "singular_minima": self.probe_singular,
+                             "ran_off_to_infinity": self.probe_escaped,
                              "uncovered": [p.to_dict() for p in self.uncovered]},
             "findings": list(self.findings),
             "thresholds": dict(self.thresholds),
@@ -323,12 +326,23 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
 
     # completeness
     tell("check: singular points found by minimising sigma_min/sigma_max")
-    singular, uncovered = 0, []
+    singular, uncovered, escaped = 0, [], 0
+    unbounded = np.array([v not in nm.angles for v in nm.variables], dtype=bool)
+
+    def ran_off(q):
+        return bool(np.any(np.abs(np.asarray(q)[unbounded]) > PROBE_ESCAPE_ABS))
+
     for q0 in nm.random_q(rng, samples):
         q = minimise_ratio(nm, q0)
+        if ran_off(q):
+            escaped += 1        # the ratio tends to 0 at infinity: no singular point
+            continue
         if sigma_ratio(nm(q)) > PROBE_SINGULAR_RTOL:
             continue
         q, r = descend_to_singular(nm, q)
+        if ran_off(q):
+            escaped += 1
+            continue
         if r > PROBE_DESCENT_RTOL:
             continue            # a positive local minimum: nearly, not exactly, singular
         p = _point(nm, q)
@@ -339,11 +353,12 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
 
     thresholds = {"RANK_RTOL": RANK_RTOL, "ON_COMPONENT_RESIDUAL": ON_COMPONENT_RESIDUAL,
                   "OFF_LOCUS_MIN_RESIDUAL": OFF_LOCUS_MIN_RESIDUAL,
-                  "COVER_RESIDUAL": COVER_RESIDUAL, "MINOR_RTOL": MINOR_RTOL}
+                  "COVER_RESIDUAL": COVER_RESIDUAL, "MINOR_RTOL": MINOR_RTOL,
+                  "PROBE_ESCAPE_ABS": PROBE_ESCAPE_ABS}
     return CheckReport(model=locus.model, seed=seed, samples=samples, components=tuple(checked),
                        skipped=tuple(skipped), off_locus=tuple(off), off_locus_failures=off_fails,
                        probe_singular=singular, probe_starts=samples, uncovered=tuple(uncovered),
-                       findings=tuple(findings), thresholds=thresholds)
+                       findings=tuple(findings), thresholds=thresholds, probe_escaped=escaped)
 
 
 def render_check_text(report: CheckReport) -> str:
@@ -361,13 +376,16 @@ def render_check_text(report: CheckReport) -> str:
         lines.append(f"{'on ' + eqs:<34} {len(c.points):>6}  {'ok' if c.ok else 'FAIL':<6} {detail}")
     for eqs in report.skipped:
         lines.append(f"{'on ' + ', '.join(eqs)[:31]:<34} {'-':>6}  {'skip':<6} parameter conditions")
-    mn = min((p.sigma_ratio for p in report.off_locus), default=float("nan"))
+    mn = min((p.sigma_ratio for p in report.off_locus), default=None)
     lines.append(f"{'off-locus (full rank)':<34} {len(report.off_locus):>6}  "
                  f"{'ok' if not report.off_locus_failures else 'FAIL':<6} "
-                 f"{len(report.off_locus_failures)} rank deficient, min sigma ratio {mn:.1e}")
+                 + (f"{len(report.off_locus_failures)} rank deficient, min sigma ratio {mn:.1e}"
+                    if mn is not None else "no configuration is off the locus"))
     lines.append(f"{'completeness probe':<34} {report.probe_starts:>6}  "
                  f"{'ok' if not report.uncovered else 'FAIL':<6} "
-                 f"{report.probe_singular} singular minima, {len(report.uncovered)} on no component")
+                 f"{report.probe_singular} singular minima, {len(report.uncovered)} on no component"
+                 + (f", {report.probe_escaped} ran off to infinity" if report.probe_escaped
+                    else ""))
     for p in report.uncovered:
         lines.append("  uncovered: (" + ", ".join(f"{x:+.6f}" for x in p.q)
                      + f"), sigma ratio {p.sigma_ratio:.1e}")

@@ -95,6 +95,11 @@ def _summary(report):
 SUMMARY_EQUATION_WIDTH = 21.0
 
 
+#: What stands for the equations of a component without any: J is rank deficient everywhere
+#: (an all-zero matrix, a joint that never moves the tool).
+EVERY_CONFIGURATION = "none (every configuration)"
+
+
 def summary_table(report, views) -> Table:
     """One row per component: its equations with their side conditions, its geometric reading,
     the motion it loses and the figures that show it; each number links to its subsection."""
@@ -118,7 +123,7 @@ def summary_table(report, views) -> Table:
                 where = ref(label, f"component {v.index}")
                 parts.append(f"an {what} of {terms} terms (see {where})")
         figs = component_figures(report, v.index)
-        row = (ref(label, str(v.index)), ", ".join(parts),
+        row = (ref(label, str(v.index)), ", ".join(parts) or EVERY_CONFIGURATION,
                "; ".join(v.geometry) or "-", "; ".join(v.motions) or "-",
                ", ".join(ref(lab, "Fig.", figure=True) for lab, _ in figs) or "-")
         if report.has_limits:

@@ -16,6 +16,7 @@ import numpy as np
 import sympy as sp
 
 from .blocks import SIGMA, numbered, plural, signed
+from ..numeric.svd import sigma_ratio
 
 __all__ = ["FigureFile", "report_figures", "MAX_SLICES", "MAX_PATHS"]
 
@@ -113,14 +114,14 @@ def _robot_figures(model, model_tm, comps, views, nm, params, paths, stem) -> li
                         title=title)
         flat = ""
         if lin:
-            s0 = np.linalg.svd(Jv0, compute_uv=False)
-            s1 = np.linalg.svd(Jv1, compute_uv=False)
+            # the ratio of the semi-axes; 0 for J_v = 0 (an arm of zero length), not nan
+            r0, r1 = (float(sigma_ratio(Jv)) for Jv in (Jv0, Jv1))
             flat = (" Green: the translational manipulability ellipsoid "
                     "$\\lbrace J_v \\dot q : \\lVert \\dot q \\rVert \\le 1 \\rbrace$ at the task "
                     "point, scaled to a quarter of the arm's size; its smallest semi-axis is "
-                    f"{s0[-1] / s0[0]:.2g} of its largest at the singular pose and "
-                    f"{s1[-1] / s1[0]:.2g} at the regular one"
-                    + (" (flat: the lost motion is a translation)." if s0[-1] / s0[0] < 1e-6
+                    f"{r0:.2g} of its largest at the singular pose and "
+                    f"{r1:.2g} at the regular one"
+                    + (" (flat: the lost motion is a translation)." if r0 < 1e-6
                        else " (not flat: the lost motion involves a rotation)."))
         hot = (f" Red, long: the axes the reading names ({', '.join(map(str, axes))})."
                if axes else "")

@@ -94,8 +94,12 @@ def _component_blocks(report, view, level: int = 3):
         out.append(Para(f"In the notation of {jac} (the plain text at the end of this "
                         "subsection writes the sines and cosines out):"))
         out.append(_equation_math(view.folded, view.folded_excluding or c.excluding))
-    else:
+    elif eqs or c.excluding:
         out.append(_equation_math(eqs, c.excluding))
+    else:
+        # an empty display is a LaTeX error ("Paragraph ended before \align* was complete")
+        out.append(Para("No equation: the component is all of joint space (the rank of $J$ is "
+                        "below its maximum at every configuration)."))
     items = []
     if c.solved:
         items.append(f"Solved: {_solved(c)}.")
@@ -139,8 +143,9 @@ def _component_blocks(report, view, level: int = 3):
                         "component, and at no random configuration; directions are checked "
                         "at the sample point (all numerically):", lead="Reading."))
         out.append(Bullets(tuple(r[0].upper() + r[1:] + "." for r in view.readings)))
-    out.append(Para("The equations as plain text:"))
-    out.append(Code(plain_equations(c)))
+    if c.equations or c.excluding:
+        out.append(Para("The equations as plain text:"))
+        out.append(Code(plain_equations(c)))
     labels = figure_labels(report)
     for f in report.figure("robot"):
         if f.through == view.index:
@@ -319,10 +324,11 @@ def _check_section(report):
                      detail))
     for eqs in chk.skipped:
         rows.append(("on " + ", ".join(eqs)[:40], "-", "skip", "special parameter values"))
-    mn = min((p.sigma_ratio for p in chk.off_locus), default=float("nan"))
+    mn = min((p.sigma_ratio for p in chk.off_locus), default=None)
     rows.append(("off-locus (regular)", str(len(chk.off_locus)),
                  "pass" if not chk.off_locus_failures else "FAIL",
-                 f"{len(chk.off_locus_failures)} singular; smallest sigma ratio {mn:.1e}"))
+                 f"{len(chk.off_locus_failures)} singular; smallest sigma ratio {mn:.1e}"
+                 if mn is not None else "no configuration is off the locus"))
     rows.append(("completeness probe", str(chk.probe_starts),
                  "pass" if not chk.uncovered else "FAIL",
                  f"{chk.probe_singular} singular minima, {len(chk.uncovered)} on no component"))

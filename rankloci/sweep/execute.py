@@ -35,6 +35,10 @@ TICK_SECONDS = 0.25
 #: Seconds to wait for the first worker of a running scheduler.
 WORKER_WAIT_SECONDS = 60.0
 
+#: Seconds to connect to a scheduler's address and to hear its greeting: a Dask scheduler
+#: sends its handshake as soon as a connection is accepted.
+CONNECT_SECONDS = 10.0
+
 #: Dask settings of a sweep's cluster: each worker runs one case at a time (the
 #: scheduler sends a worker no more tasks than it has threads), worker processes may fork
 #: the child of each case, and a worker is never paused or restarted for its memory: each
@@ -135,6 +139,7 @@ class DaskExecutor:
         """A client of the scheduler at ``address`` (``tcp://HOST:8786``)."""
         from distributed import Client
 
+        greeted(address, CONNECT_SECONDS)
         try:
             client = Client(address, timeout=WORKER_WAIT_SECONDS)
         except (OSError, TimeoutError) as e:
@@ -248,3 +253,39 @@ class DaskExecutor:
 
     def __exit__(self, *exc):
         self.close()
+
+
+def greeted(address: str, seconds: float) -> None:
+    """Raise :class:`SetupError` unless a Dask scheduler greets at ``tcp://HOST:PORT``.
+
+    The client's own handshake waits without end on a server that accepts and says nothing
+    (or an HTTP server, which waits for a request).  A Dask scheduler writes its handshake as
+    soon as it accepts a connection: a frame whose first 8 bytes are its length, little-endian.
+    Other schemes (``tls://``) are left to the client.
+    """
+    import socket
+    import struct
+
+    scheme, _, rest = address.partition("://")
+    if scheme != "tcp":
+        return
+    host, _, port = rest.rpartition(":")
+    try:
+        with socket.create_connection((host.strip("[]"), int(port)), timeout=seconds) as sock:
+            sock.settimeout(seconds)
+            head = b""
+            while len(head) < 8:
+                chunk = sock.recv(8 - len(head))
+                if not chunk:
+                    raise SetupError(f"no Dask scheduler answers at {address}: the connection "
+                                     f"was closed without a greeting")
+                head += chunk
+    except TimeoutError:
+        raise SetupError(f"no Dask scheduler answers at {address}: nothing came within "
+                         f"{seconds:g} s (a Dask scheduler greets at once)") from None
+    except (OSError, ValueError) as e:
+        raise SetupError(f"cannot reach the Dask scheduler at {address}: "
+                         f"{getattr(e, 'strerror', None) or e}") from None
+    if not 0 < struct.unpack("<Q", head)[0] < 2 ** 24:
+        raise SetupError(f"no Dask scheduler answers at {address}: what answers there speaks "
+                         f"another protocol")

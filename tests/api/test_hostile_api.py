@@ -11,12 +11,13 @@ from __future__ import annotations
 
 import ast
 import pathlib
+import time
 
 import pytest
 import sympy as sp
 
 import rankloci
-from rankloci.errors import RanklociError
+from rankloci.errors import LocusTimeout, RanklociError
 
 PAYLOAD = "__import__('pathlib').Path('PWNED').touch() or 2"
 
@@ -171,3 +172,93 @@ def test_timeout_that_is_no_number_of_seconds_is_refused(timeout):
         rankloci.locus("planar2r", timeout=timeout)
     with pytest.raises(ValueError, match="timeout= must be a finite number"):
         rankloci.check("planar2r", timeout=timeout, samples=1)
+
+
+def _ends_within(limit, call):
+    """The LocusTimeout ``call`` raises, and the seconds it took."""
+    t0 = time.monotonic()
+    with pytest.raises(LocusTimeout) as info:
+        call()
+    return info.value, time.monotonic() - t0
+
+
+# generous for a loaded 2-core machine; without the bound both calls ran for minutes
+_SLACK_S = 3.0
+
+
+def test_timeout_bounds_building_a_huge_matrix():
+    """The expansion of (x+y+z+k+1)**64 is one long sympy step that polls no deadline."""
+    x, y, z, k = sp.symbols("x y z k")
+    M = sp.Matrix([[(x + y + z + k + 1) ** 64, 1], [1, x]])
+    e, took = _ends_within(1, lambda: rankloci.locus(M, timeout=1))
+    assert took < 1 + _SLACK_S
+    assert "did not finish within 1 s" in str(e)
+
+
+def test_timeout_bounds_building_the_jacobian_of_a_long_arm():
+    from rankloci.io.toml_model import parse_model
+
+    arm = parse_model('name = "arm20"\ntask = "planar"\n' + "".join(
+        '[[joint]]\nkind = "revolute"\na = 1\nalpha = 0\nd = 0\n' for _ in range(20)))
+    _, took = _ends_within(1, lambda: rankloci.locus(arm, timeout=1))
+    assert took < 1 + _SLACK_S
+    _, took = _ends_within(1, lambda: rankloci.check(arm, timeout=1, samples=1))
+    assert took < 1 + _SLACK_S
+
+
+def test_time_limit_interrupts_again_code_that_swallows_the_first_interruption():
+    from rankloci.api.deadline import time_limit
+
+    swallowed = []
+
+    def stubborn():
+        while True:
+            try:
+                while True:
+                    pass
+            except Exception as e:       # what careless code does
+                swallowed.append(type(e))
+                if len(swallowed) == 2:
+                    raise
+
+    def limited():
+        with time_limit(0.1):
+            stubborn()
+
+    _, took = _ends_within(0.1, limited)
+    assert len(swallowed) == 2 and took < 0.1 + _SLACK_S
+
+
+def test_a_call_that_ends_in_time_is_not_interrupted_later():
+    L = rankloci.locus("planar2r", timeout=30)
+    assert L.complete is True
+    time.sleep(0.1)          # nothing pending in this thread once the call returned
+
+
+
+def test_time_running_out_while_recomputing_is_a_timeout_not_a_rejection():
+    """The first computation fails its certificate, the recomputation runs out of time: the
+    error says the time ran out (it said the self-check rejects the locus)."""
+    import dataclasses
+
+    import numpy as np
+
+    from rankloci.jacobian import task_matrix
+    from rankloci.methods import compute_locus, method_for
+    from rankloci.verify import verified_locus
+
+    model = rankloci.load_model("planar3r")
+    tm = task_matrix(model, frame="auto")
+    calls = []
+
+    def compute(t, seed, **_):
+        calls.append(seed)
+        if len(calls) > 1:
+            raise LocusTimeout("the determinant computation did not finish within its budget")
+        found = compute_locus(t, method_for(t.shape), rng=np.random.default_rng(seed))
+        wrong = dataclasses.replace(found.components[0], equations=(sp.cos(t.variables[0]),))
+        return dataclasses.replace(found, components=(wrong,))    # fails its certificate
+
+    with pytest.raises(LocusTimeout, match="time ran out while the locus was computed again"):
+        verified_locus(compute, tm, task_matrix(model), seed=0)
+    assert len(calls) == 2

@@ -613,3 +613,220 @@ def test_case_file_edited_by_hand_is_computed_again(tmp_path, monkeypatch, capsy
     assert {k: v for k, v in again.items() if k != "seconds"} == {
         k: v for k, v in first.items() if k != "seconds"}
     assert "| planar2r |" in (tmp_path / "out" / "summary.md").read_text()
+
+
+# --- --timeout counts from the start of the process ----------------------------------------------
+
+def _busy(progress):
+    progress("a step that never returns")
+    while True:
+        pass
+
+
+def test_the_kill_counts_from_the_given_start_not_from_the_childs():
+    """Imports and building J came before the child's start and were not counted: the command
+    ended up to 4.8 s past --timeout."""
+    import time
+
+    from rankloci.cli.limits import KILL_GRACE, LimitExceeded, run_limited
+
+    t0 = time.monotonic()
+    with pytest.raises(LimitExceeded, match="did not finish within 4 s"):
+        run_limited(_busy, timeout=4, memory_mb=0, started=t0 - 3.5)
+    # killed at t0 + 0.5 + KILL_GRACE; counted from the child's start it would be t0 + 4.5
+    assert time.monotonic() - t0 < 4 - 3.5 + KILL_GRACE + 2.0
+    assert KILL_GRACE <= 0.5        # the kill, the error line and the exit within 1 s
+
+
+def test_the_process_start_is_before_its_imports():
+    import subprocess
+    import sys
+
+    code = ("import time; t = time.monotonic(); time.sleep(0.5)\n"
+            "from rankloci.cli.limits import process_started\n"
+            "print(t - process_started(), time.monotonic() - process_started())")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=120, check=True).stdout.split()
+    before_sleep, age = map(float, out)
+    assert 0.0 <= before_sleep < 60 and age >= 0.5
+
+
+def test_the_childs_deadline_counts_from_the_given_start(capsys, monkeypatch):
+    """A start long ago leaves no time: the locus stops at once (at its first poll, or
+    killed), exit 1 and one line."""
+    import time
+
+    t0 = time.monotonic()
+    assert main(["locus", "planar3r", "--timeout", "600", "--quiet"],
+                started=t0 - 599.9) == 1
+    assert time.monotonic() - t0 < 10
+    err = capsys.readouterr().err
+    assert err.startswith("rankloci: error: ") and "did not finish" in err and "600 s" in err
+    assert len(err.splitlines()) == 1
+
+
+# --- degenerate models in reports ----------------------------------------------------------------
+
+def _displays(tex):
+    """The bodies of the numbered displays of a LaTeX report."""
+    import re
+
+    return re.findall(r"\\begin\{(align|equation)\}(.*?)\\end\{\1\}", tex, re.S)
+
+
+def test_report_of_an_all_zero_matrix_has_no_empty_display(tmp_path, monkeypatch, capsys):
+    """An empty align is a LaTeX error ("Paragraph ended before \\align* was complete")."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "zero.toml").write_text(_raw("zero", [["0", "0"], ["0", "0"]], ("x", "y")))
+    assert main(["report", "zero.toml", "-o", "out", "--format", "md,tex", "--quiet"]) == 0
+    tex = (tmp_path / "out" / "zero.tex").read_text()
+    assert _displays(tex) and all(body.strip() for _, body in _displays(tex))
+    assert "none (every configuration)" in tex and "No equation" in tex
+    assert "none (every configuration)" in (tmp_path / "out" / "zero.md").read_text()
+
+
+def test_report_of_a_zero_length_arm_says_no_nan(tmp_path, monkeypatch, capsys):
+    import re
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "zl.toml").write_text('name = "zl"\nconvention = "dh"\ntask = "planar"\n'
+                                      '[[joint]]\na = 0\n[[joint]]\na = 0\n')
+    assert main(["report", "zl.toml", "-o", "out", "--format", "md,tex", "--quiet"]) == 0
+    assert "warning" not in capsys.readouterr().err
+    for name in ("zl.md", "zl.tex"):
+        text = (tmp_path / "out" / name).read_text()
+        assert not re.search(r"\bnan\b", text, re.I), name
+        assert "no configuration is off the locus" in text
+
+
+def test_a_correct_empty_locus_of_an_unbounded_variable_passes_its_check(tmp_path, monkeypatch,
+                                                                       capsys):
+    """det [[1, x], [0, 1]] = 1: never singular, but sigma_min/sigma_max ~ 1/x**2 tends to 0 as
+    x runs off; the probe's minima out there were taken for singular points on no component."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "shear.toml").write_text(_raw("shear", [["1", "x"], ["0", "1"]]))
+    assert main(["check", "shear.toml", "--quiet", "--format", "json"]) == 0
+    got = json.loads(capsys.readouterr().out)
+    assert got["ok"] and got["completeness"]["uncovered"] == []
+    assert got["completeness"]["ran_off_to_infinity"] > 0
+
+
+# --- what the error lines say --------------------------------------------------------------------
+
+def _killed_from_outside(progress):
+    import os
+    import signal
+
+    progress("computing")
+    os.kill(os.getpid(), signal.SIGKILL)        # as `kill -9` from a shell would
+
+
+def test_a_child_killed_from_outside_is_not_called_out_of_memory():
+    from rankloci.cli.limits import LimitExceeded, run_limited
+
+    with pytest.raises(LimitExceeded) as err:
+        run_limited(_killed_from_outside, timeout=60, memory_mb=4096)
+    message = str(err.value)
+    assert "killed by signal 9 (SIGKILL) from outside rankloci" in message
+    assert "most likely out of memory" not in message and "last progress: computing" in message
+
+
+def test_a_check_out_of_time_says_what_stopped_in_plain_words(capsys, monkeypatch):
+    """It said "the check the svm computation did not finish ..."."""
+    import itertools
+
+    import rankloci.cli.commands
+
+    ticks = itertools.count(0.0, 1000.0)       # every budget is spent at the first poll
+    monkeypatch.setattr(rankloci.cli.commands, "deadline_clock", lambda: next(ticks))
+    assert main(["check", "planar3r", "--timeout", "600", "--quiet"]) == 1
+    err = capsys.readouterr().err
+    assert len(err.splitlines()) == 1 and "Traceback" not in err
+    assert err.startswith("rankloci: error: the check stopped: the ")
+    assert "the check the" not in err and "raise --timeout (now 600 s)" in err
+
+
+def _server(handler):
+    """A TCP server on a free local port running ``handler(connection)`` in a thread."""
+    import socket
+    import threading
+
+    listener = socket.create_server(("127.0.0.1", 0))
+    kept = []
+
+    def serve():
+        while True:
+            try:
+                conn, _ = listener.accept()
+            except OSError:
+                return
+            kept.append(conn)
+            try:
+                handler(conn)
+            except OSError:          # the test closed the connection first
+                pass
+
+    threading.Thread(target=serve, daemon=True).start()
+    return listener, kept
+
+
+def _http_reply(conn):
+    conn.recv(1 << 16)
+    conn.sendall(b"HTTP/1.0 200 OK\r\nContent-Length: 2\r\n\r\nok")
+
+
+@pytest.mark.parametrize("kind, handler", [("silent", lambda conn: None),
+                                           ("http", _http_reply),
+                                           ("ssh", lambda c: c.sendall(b"SSH-2.0-OpenSSH_9\r\n"))])
+def test_scheduler_address_where_no_scheduler_greets(tmp_path, monkeypatch, capsys, kind,
+                                                       handler):
+    """A server that accepts and never answers, or answers HTTP: the client waited for ever."""
+    import time
+
+    from rankloci.sweep import execute
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(execute, "CONNECT_SECONDS", 1.0)
+    monkeypatch.setattr(execute, "WORKER_WAIT_SECONDS", 1.0)
+    listener, kept = _server(handler)
+    address = "tcp://127.0.0.1:%d" % listener.getsockname()[1]
+    (tmp_path / "s.toml").write_text('models = ["planar2r"]\n')
+    t0 = time.monotonic()
+    try:
+        line = _one_error_line(capsys, main(["sweep", "s.toml", "-o", "out", "--scheduler",
+                                             address, "--quiet"]))
+    finally:
+        listener.close()
+        for conn in kept:
+            conn.close()
+    assert time.monotonic() - t0 < 30
+    assert f"no Dask scheduler answers at {address}" in line
+    assert not (tmp_path / "out").exists()
+
+
+def test_an_interrupt_lost_inside_a_callback_still_stops_a_serial_sweep(tmp_path, monkeypatch,
+                                                                        capsys):
+    """Ctrl-C during the fork of a case's child raised inside logging's at-fork lock release,
+    which ignores exceptions ("Exception ignored in _releaseLock"): the sweep went on to exit
+    0.  Here the first case's interrupt is swallowed the same way."""
+    import signal
+
+    from rankloci.sweep import execute
+
+    real = execute.run_case
+    ran = []
+
+    def run_case(case, *args, **kw):
+        ran.append(case.id)
+        try:
+            signal.getsignal(signal.SIGINT)(signal.SIGINT, None)     # Ctrl-C ...
+        except KeyboardInterrupt:
+            pass                                                     # ... ignored
+        return real(case, *args, **kw)
+
+    monkeypatch.setattr(execute, "run_case", run_case)
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "s.toml").write_text('models = ["planar2r", "planar3r"]\n')
+    assert main(["sweep", "s.toml", "-o", "out", "--serial", "--quiet"]) == 130
+    assert len(ran) == 1 and "interrupted" in capsys.readouterr().err
+    assert not (tmp_path / "out" / "summary.md").exists()
