@@ -58,6 +58,17 @@ def _workers_arg(text: str) -> int:
     return value
 
 
+def _seconds_arg(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (0 < value <= 3600):
+        raise argparse.ArgumentTypeError(f"{text[:20]!r} is not a number of seconds above 0 "
+                                         f"and at most 3600")
+    return value
+
+
 def _cores() -> int:
     import os
 
@@ -77,6 +88,12 @@ def add_sweep_arguments(p) -> None:
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="use a running Dask scheduler, e.g. tcp://HOST:8786, instead of a local "
                         "cluster")
+    p.add_argument("--connect-timeout", type=_seconds_arg, default=None, metavar="SECONDS",
+                   help="seconds to wait for the scheduler of --scheduler to answer, then for "
+                        "its first worker (default 20)")
+    p.add_argument("--no-dashboard", action="store_true",
+                   help="no Dask dashboard for the local cluster (by default it is served on "
+                        "port 8787, or a free port, and its link printed)")
     p.add_argument("--serial", action="store_true",
                    help="no Dask: run the cases one after another in this process (the default "
                         "when one case is left to run)")
@@ -98,6 +115,8 @@ class _Progress:
         self.finished_before = total - to_run
         self.done = self.failed = 0
         self.running: set = set()
+        self.workers: dict = {}
+        self.finished_ids: set = set()
         self.start = time.monotonic()
         self._drawn = False
 
@@ -127,12 +146,20 @@ class _Progress:
         self.stream.flush()
         self._drawn = True
 
-    def started(self, case) -> None:
+    def started(self, case, worker: str = "") -> None:
+        if case.id in self.finished_ids:      # its start reported after its end
+            return
+        if case.id in self.running:
+            self.line(f"note: {case.label}: running again on {worker or 'another worker'}: the "
+                      f"worker that was running it ({self.workers[case.id] or 'unknown'}) "
+                      f"was lost")
         self.running.add(case.id)
+        self.workers[case.id] = worker
         self.draw()
 
     def finished(self, case, record) -> None:
         self.running.discard(case.id)
+        self.finished_ids.add(case.id)
         self.done += 1
         ok = record["status"] == "done" and record.get("check") != "fail"
         self.failed += not ok
@@ -140,6 +167,8 @@ class _Progress:
             what = (f"{record['components']} component{'' if record['components'] == 1 else 's'}"
                     f", check {record['check']}" if record["status"] == "done"
                     else record["note"])
+            if not ok and record.get("worker") and record["worker"] not in what:
+                what += f" (on worker {record['worker']})"
             self.line(f"[{self.finished_before + self.done}/{self.total}] {case.label}: "
                       f"{record['status']}, {what} ({record['seconds']:.1f} s)")
         self.draw()
@@ -271,9 +300,9 @@ def _settings(spec, timeout, memory) -> str:
             f"{f'{memory} MiB' if memory else 'unlimited memory'} per case.")
 
 
-def _executor(args, pending):
+def _executor(args, pending, memory):
     """``(DaskExecutor or None, where it runs)`` for the cases to run (None: in this process)."""
-    from ..sweep.execute import DaskExecutor, SetupError
+    from ..sweep.execute import CONNECT_TIMEOUT_S, DaskExecutor, SetupError
 
     if args.serial or (len(pending) <= 1 and not args.scheduler):
         # one case runs here, unless a scheduler was named: then its address is used (and a
@@ -281,9 +310,10 @@ def _executor(args, pending):
         return None, "in this process, one after another"
     try:
         if args.scheduler:
-            ex = DaskExecutor.remote(args.scheduler)
+            ex = DaskExecutor.remote(args.scheduler, connect_timeout=args.connect_timeout
+                                     or CONNECT_TIMEOUT_S)
         else:
-            ex = DaskExecutor.local(args.workers or _cores())
+            ex = DaskExecutor.local(args.workers or _cores(), dashboard=not args.no_dashboard)
     except ImportError:
         from ..extras import install_command
 
@@ -292,7 +322,7 @@ def _executor(args, pending):
     except SetupError as e:
         raise UsageError(str(e)) from None
     try:
-        threads = ex.check_workers()
+        threads = ex.check_workers(memory)
     except SetupError as e:
         ex.close()
         raise UsageError(str(e)) from None
@@ -302,7 +332,7 @@ def _executor(args, pending):
 
 def cmd_sweep(args) -> int:
     from ..sweep.cases import expand
-    from ..sweep.execute import serial_events
+    from ..sweep.execute import MEMORY_RESOURCE, serial_events
     from ..sweep.spec import read_spec
     from ..sweep.summary import render_csv, render_figure, render_markdown, status_counts
 
@@ -311,6 +341,8 @@ def cmd_sweep(args) -> int:
     require_module("matplotlib", "report", "rankloci sweep (its summary figure)")
     if args.serial and (args.scheduler or args.workers):
         raise UsageError("--serial runs without Dask; it excludes --workers and --scheduler")
+    if args.connect_timeout and not args.scheduler:
+        raise UsageError("--connect-timeout is the wait for the scheduler of --scheduler")
     if args.scheduler and args.workers:
         raise UsageError("--workers sizes a local cluster; a running scheduler has its own "
                          "workers")
@@ -334,7 +366,7 @@ def cmd_sweep(args) -> int:
     progress = _Progress(len(cases), len(pending), args.quiet)
     for note in skipped:
         progress.line(f"note: {note}")
-    executor, where = _executor(args, pending) if pending else (None, "")
+    executor, where = _executor(args, pending, memory) if pending else (None, "")
     try:                                    # the first write: the spec and the cluster are good
         case_dir.mkdir(parents=True, exist_ok=True)
     except OSError as e:
@@ -347,6 +379,17 @@ def cmd_sweep(args) -> int:
     progress.line(f"sweep {spec.file}: {len(cases)} case{'' if len(cases) == 1 else 's'}, "
                   f"{len(records)} finished before, {len(pending)} to run"
                   + (f" {where}" if pending else ""))
+    if executor:
+        link = executor.dashboard_link
+        if link:
+            progress.line(f"Dask dashboard: {link}")
+        elif executor.cluster is not None and not args.no_dashboard:
+            from ..extras import install_command
+
+            progress.line(f"note: no Dask dashboard: it needs bokeh ({install_command('sweep')})")
+        if memory and not executor.memory_offers:
+            progress.line(f"note: the Dask workers declare no {MEMORY_RESOURCE} resource: the "
+                          f"scheduler does not know that each case may use {memory} MiB")
     t0 = time.monotonic()
     try:
         events = (executor.events(pending, sources, timeout=timeout, memory=memory)
@@ -354,7 +397,7 @@ def cmd_sweep(args) -> int:
                                                  memory=memory))
         for event in events:
             if event[0] == "start":
-                progress.started(event[1])
+                progress.started(event[1], event[2])
             elif event[0] == "done":
                 _, case, result = event
                 data = (result["locus"] or {}) | {"sweep": result["sweep"]}

@@ -115,7 +115,8 @@ def failed_result(case, message: str, *, timeout: float, memory: int,
     """The result of a case that failed with ``message`` (status ``error``, no locus).
 
     ``transient`` marks a failure of the machinery rather than of the case (a worker
-    that died): a resumed sweep computes such a case again.
+    that died): a resumed sweep computes such a case again.  ``worker`` is the address of
+    the Dask worker that ran the case (set by the executor; ``""`` in this process).
     """
     record = {
         "schema": RECORD_SCHEMA, "id": case.id, "case": case.label, "model": case.model,
@@ -125,7 +126,7 @@ def failed_result(case, message: str, *, timeout: float, memory: int,
         "status": "error", "components": None, "special": None, "kinds": "", "check": "",
         "note": _short(message), "message": message,
         "limits": {"timeout": timeout, "memory": memory}, "seconds": 0.0,
-        "transient": transient,
+        "transient": transient, "worker": "",
     }
     return {"sweep": record, "locus": None}
 

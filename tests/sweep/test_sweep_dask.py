@@ -1,0 +1,202 @@
+"""``rankloci sweep`` on real Dask clusters: lost workers, the order of the cases, the checks.
+
+A cluster here is a ``dask scheduler`` and ``dask worker`` processes started as a user
+starts them (:func:`cluster`), or the local cluster of ``--workers``.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import psutil
+import pytest
+
+from rankloci.cli import main
+
+#: Two models with several cases each, so that a worker killed early holds cases of both.
+SPEC = """seed = 1
+timeout = 300
+
+[[model]]
+name = "planar3r"
+[model.grid]
+augment = ["", "sum(q1, q2, q3)"]
+[model.grid.parameters]
+l2 = [0.5, 1.5]
+
+[[model]]
+name = "planar2r"
+[model.grid.parameters]
+l1 = [1, 2, 3]
+"""
+
+#: Seconds a cluster may take to start, and a sweep of :data:`SPEC` to finish.
+START_WAIT_S = 60.0
+SWEEP_WAIT_S = 240.0
+
+#: The environment of a worker that may fork the child of each case.
+WORKER_ENV = {"DASK_DISTRIBUTED__WORKER__DAEMON": "False"}
+
+
+def _rows(path: Path) -> list[dict]:
+    return list(csv.DictReader(io.StringIO(path.read_text())))
+
+
+class Cluster:
+    """A ``dask scheduler`` and single-threaded ``dask worker`` processes, without nannies."""
+
+    def __init__(self, tmp: Path, workers: int, worker_args=(), env=None):
+        self.file = tmp / "scheduler.json"
+        env = os.environ | WORKER_ENV | (env or {})
+        quiet = {"stdout": subprocess.DEVNULL, "stderr": subprocess.DEVNULL}
+        self.scheduler = subprocess.Popen(
+            [sys.executable, "-m", "distributed.cli.dask_scheduler", "--port", "0",
+             "--no-dashboard", "--scheduler-file", str(self.file)], env=env, **quiet)
+        self.workers = []
+        try:
+            self._wait(lambda: self.file.exists() and self.file.stat().st_size)
+            self.address = json.loads(self.file.read_text())["address"]
+            for _ in range(workers):
+                self.workers.append(subprocess.Popen(
+                    [sys.executable, "-m", "distributed.cli.dask_worker", self.address,
+                     "--nthreads", "1", "--no-nanny", "--memory-limit", "0", "--no-dashboard",
+                     *worker_args], env=env, **quiet))
+            from distributed import Client
+
+            with Client(self.address, timeout=START_WAIT_S) as client:
+                client.wait_for_workers(workers, timeout=START_WAIT_S)
+        except BaseException:
+            self.close()
+            raise
+
+    @staticmethod
+    def _wait(ready):
+        end = time.monotonic() + START_WAIT_S
+        while not ready():
+            assert time.monotonic() < end, "the Dask cluster did not start"
+            time.sleep(0.05)
+
+    def close(self):
+        for proc in [*self.workers, self.scheduler]:
+            if proc.poll() is None:
+                proc.kill()
+            proc.wait()
+
+
+@pytest.fixture
+def cluster(tmp_path):
+    clusters = []
+
+    def start(workers=2, worker_args=(), env=None):
+        clusters.append(Cluster(tmp_path, workers, worker_args, env))
+        return clusters[-1]
+
+    yield start
+    for c in clusters:
+        c.close()
+
+
+def _sweep(args, **kw):
+    run = "import sys; from rankloci.cli import main; sys.exit(main(sys.argv[1:]))"
+    return subprocess.Popen([sys.executable, "-c", run, "sweep", *args], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, **kw)
+
+
+def _kill_a_worker_mid_case(c: Cluster, args):
+    """Run the sweep; kill the first worker seen running a case (its forked child).
+
+    Returns the sweep's exit code, its stderr and the killed worker.
+    """
+    proc = _sweep([*args, "--scheduler", c.address])
+    try:
+        victim = None
+        end = time.monotonic() + SWEEP_WAIT_S
+        while victim is None and proc.poll() is None and time.monotonic() < end:
+            victim = next((w for w in c.workers if psutil.Process(w.pid).children()), None)
+            time.sleep(0.02)
+        assert victim is not None, "no worker ran a case"
+        victim.send_signal(signal.SIGKILL)
+        victim.wait()
+        _, err = proc.communicate(timeout=SWEEP_WAIT_S)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    return proc.returncode, err, victim
+
+
+@pytest.mark.slow
+def test_a_worker_killed_mid_case_costs_its_case_only_and_the_sweep_completes(cluster,
+                                                                              tmp_path):
+    (tmp_path / "spec.toml").write_text(SPEC)
+    c = cluster(workers=2)
+    code, err, victim = _kill_a_worker_mid_case(c, [str(tmp_path / "spec.toml"), "-o",
+                                                    str(tmp_path / "out")])
+    assert code == 0, err
+    rows = _rows(tmp_path / "out" / "summary.csv")
+    assert len(rows) == 7
+    assert all(r["status"] == "done" and r["check"] == "pass" for r in rows), rows
+    # the case it was running started again on the other worker, and only that case
+    assert err.count("was lost") == 1, err
+    survivor = next(w for w in c.workers if w is not victim)
+    assert survivor.poll() is None
+    records = [json.loads(p.read_text())["sweep"] for p in (tmp_path / "out" / "cases")
+               .glob("*.json")]
+    assert all(r["worker"] for r in records) and len({r["worker"] for r in records}) <= 2
+
+
+@pytest.mark.slow
+def test_a_case_whose_workers_all_died_names_the_case_the_worker_and_the_cause(cluster,
+                                                                                tmp_path):
+    """With no failure allowed, the case of the killed worker fails (and is resumed)."""
+    (tmp_path / "spec.toml").write_text(SPEC)
+    c = cluster(workers=2, env={"DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES": "0"})
+    args = [str(tmp_path / "spec.toml"), "-o", str(tmp_path / "out")]
+    code, err, victim = _kill_a_worker_mid_case(c, args)
+    assert code == 1, err
+    rows = _rows(tmp_path / "out" / "summary.csv")
+    failed = [r for r in rows if r["status"] != "done"]
+    assert len(failed) == 1 and failed[0]["status"] == "error", rows
+    case = failed[0]["case"]
+    record = next(d["sweep"] for d in (json.loads(p.read_text()) for p in
+                                       (tmp_path / "out" / "cases").glob("*.json"))
+                  if d["sweep"]["case"] == case)
+    assert record["transient"] and record["worker"].startswith("tcp://")
+    message = record["message"]
+    assert case in message and record["worker"] in message and "died" in message, message
+    assert "NoneType" not in err and f"on worker {record['worker']}" in err
+    # run again (on the worker left), only that case is computed
+    code = _sweep(args + ["--scheduler", c.address]).wait(timeout=SWEEP_WAIT_S)
+    assert code == 0
+    assert all(r["status"] == "done" for r in _rows(tmp_path / "out" / "summary.csv"))
+
+
+#: Cases listed shortest first: the sweep must run them longest expected first.
+ORDER_SPEC = """models = ["planar2r", "planar3r", "planar4r"]
+timeout = 300
+
+[[model]]
+name = "planar3r"
+[model.grid]
+augment = ["sum(q1, q2, q3)"]
+"""
+
+
+@pytest.mark.slow
+def test_the_longest_expected_cases_run_first_on_a_local_cluster(tmp_path, capsys):
+    (tmp_path / "spec.toml").write_text(ORDER_SPEC)
+    code = main(["sweep", str(tmp_path / "spec.toml"), "-o", str(tmp_path / "out"),
+                 "--workers", "1", "--no-dashboard"])
+    assert code == 0
+    # one worker: the cases finish in the order they start
+    finished = [line.split("] ", 1)[1].split(":", 1)[0]
+                for line in capsys.readouterr().err.splitlines() if "/4] " in line]
+    assert finished == ["planar4r", "planar3r + sum(q1, q2, q3)", "planar3r", "planar2r"]
