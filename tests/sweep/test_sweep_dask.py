@@ -200,3 +200,14 @@ def test_the_longest_expected_cases_run_first_on_a_local_cluster(tmp_path, capsy
     finished = [line.split("] ", 1)[1].split(":", 1)[0]
                 for line in capsys.readouterr().err.splitlines() if "/4] " in line]
     assert finished == ["planar4r", "planar3r + sum(q1, q2, q3)", "planar3r", "planar2r"]
+
+
+@pytest.mark.slow
+def test_the_memory_limit_gives_the_serial_rows_on_a_local_cluster(tmp_path):
+    from test_sweep_cli import MEMORY_ROWS, write_memory_spec
+
+    code = main(["sweep", str(write_memory_spec(tmp_path)), "-o", str(tmp_path / "m"),
+                 "--workers", "2", "--memory", "60", "--no-dashboard"])
+    assert code == 1
+    assert [(r["status"], r["note"]) for r in _rows(tmp_path / "m" / "summary.csv")] == \
+        MEMORY_ROWS
