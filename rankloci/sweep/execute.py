@@ -53,6 +53,9 @@ TASK_RETRIES = 2
 #: offers what its share of the machine holds (``dask worker --resources MEMORY=4096``).
 MEMORY_RESOURCE = "MEMORY"
 
+#: Most unusable workers named in one error.
+MAX_PROBLEMS_SHOWN = 3
+
 #: Address of the local cluster's dashboard; when the port is taken, Dask takes another.
 DASHBOARD_ADDRESS = ":8787"
 
@@ -226,17 +229,38 @@ class DaskExecutor:
 
         Gives up after ``connect_timeout`` seconds without an answer.
         """
+        import threading
+
         from distributed import Client
 
-        try:
-            client = Client(address, timeout=connect_timeout)
-        except (OSError, TimeoutError) as e:
+        # Client's own timeout does not cover a server that accepts the connection and never
+        # answers: the connection is made in a thread, and given up at the deadline
+        got: dict = {}
+
+        def connect():
+            try:
+                got["client"] = Client(address, timeout=connect_timeout)
+            except BaseException as e:  # noqa: BLE001 -- handed to the caller
+                got["error"] = e
+
+        thread = threading.Thread(target=connect, daemon=True, name="rankloci-connect")
+        thread.start()
+        thread.join(connect_timeout + 1.0)
+        if thread.is_alive():
+            raise SetupError(f"no Dask scheduler answered at {address} within "
+                             f"{connect_timeout:g} s (--connect-timeout)")
+        e = got.get("error")
+        if isinstance(e, (OSError, TimeoutError)):
             raise SetupError(f"cannot reach the Dask scheduler at {address} within "
                              f"{connect_timeout:g} s (--connect-timeout): {e}") from None
-        except (Exception, MemoryError) as e:  # noqa: BLE001 -- whatever answered is no scheduler
-            # (a web server's reply read as a message length asks for exabytes)
+        if isinstance(e, (Exception, MemoryError)):
+            # whatever answered is no scheduler (a web server's reply read as a message
+            # length asks for exabytes)
             raise SetupError(f"no Dask scheduler answers at {address} ({type(e).__name__}: "
                              f"{str(e)[:120]})") from None
+        if e is not None:
+            raise e
+        client = got["client"]
         return cls(client, connect_timeout=connect_timeout)
 
     @property
@@ -283,9 +307,10 @@ class DaskExecutor:
                     f"cannot start the child process that enforces each case's limits: start "
                     f"it with DASK_DISTRIBUTED__WORKER__DAEMON=False")
         if problems:
-            more = len(problems) - 1
-            raise SetupError(problems[0] + (f" (and {more} other worker problem"
-                                            f"{'' if more == 1 else 's'})" if more else ""))
+            shown = problems[:MAX_PROBLEMS_SHOWN]
+            more = len(problems) - len(shown)
+            raise SetupError("; ".join(shown) + (f" (and {more} more worker"
+                                                 f"{'' if more == 1 else 's'})" if more else ""))
         workers = self.client.scheduler_info(n_workers=-1)["workers"]
         self.memory_offers = {a: w["resources"][MEMORY_RESOURCE] for a, w in workers.items()
                               if MEMORY_RESOURCE in (w.get("resources") or {})}

@@ -53,22 +53,24 @@ def _rows(path: Path) -> list[dict]:
 class Cluster:
     """A ``dask scheduler`` and single-threaded ``dask worker`` processes, without nannies."""
 
-    def __init__(self, tmp: Path, workers: int, worker_args=(), env=None):
+    def __init__(self, tmp: Path, workers: int, worker_args=(), env=None, worker_envs=None):
         self.file = tmp / "scheduler.json"
         env = os.environ | WORKER_ENV | (env or {})
+        # run from tmp: "python -m" puts its working directory first on sys.path
         quiet = {"stdout": subprocess.DEVNULL, "stderr": subprocess.DEVNULL}
         self.scheduler = subprocess.Popen(
             [sys.executable, "-m", "distributed.cli.dask_scheduler", "--port", "0",
-             "--no-dashboard", "--scheduler-file", str(self.file)], env=env, **quiet)
+             "--no-dashboard", "--scheduler-file", str(self.file)], env=env, cwd=tmp, **quiet)
         self.workers = []
         try:
             self._wait(lambda: self.file.exists() and self.file.stat().st_size)
             self.address = json.loads(self.file.read_text())["address"]
-            for _ in range(workers):
+            for i in range(workers):
                 self.workers.append(subprocess.Popen(
                     [sys.executable, "-m", "distributed.cli.dask_worker", self.address,
                      "--nthreads", "1", "--no-nanny", "--memory-limit", "0", "--no-dashboard",
-                     *worker_args], env=env, **quiet))
+                     *worker_args], env=env | (worker_envs[i] if worker_envs else {}),
+                    cwd=tmp, **quiet))
             from distributed import Client
 
             with Client(self.address, timeout=START_WAIT_S) as client:
@@ -95,8 +97,8 @@ class Cluster:
 def cluster(tmp_path):
     clusters = []
 
-    def start(workers=2, worker_args=(), env=None):
-        clusters.append(Cluster(tmp_path, workers, worker_args, env))
+    def start(workers=2, worker_args=(), env=None, worker_envs=None):
+        clusters.append(Cluster(tmp_path, workers, worker_args, env, worker_envs))
         return clusters[-1]
 
     yield start
@@ -211,3 +213,69 @@ def test_the_memory_limit_gives_the_serial_rows_on_a_local_cluster(tmp_path):
     assert code == 1
     assert [(r["status"], r["note"]) for r in _rows(tmp_path / "m" / "summary.csv")] == \
         MEMORY_ROWS
+
+
+def test_an_unanswering_scheduler_is_given_up_at_the_connect_timeout(tmp_path, capsys):
+    import socket
+
+    (tmp_path / "spec.toml").write_text(SPEC)
+    with socket.socket() as server:       # accepts connections (the kernel does), never answers
+        server.bind(("127.0.0.1", 0))
+        server.listen(8)
+        address = "tcp://127.0.0.1:%d" % server.getsockname()[1]
+        t0 = time.monotonic()
+        code = main(["sweep", str(tmp_path / "spec.toml"), "-o", str(tmp_path / "out"),
+                     "--scheduler", address, "--connect-timeout", "1.5"])
+        took = time.monotonic() - t0
+    err = capsys.readouterr().err
+    assert code == 2 and f"at {address} within 1.5 s (--connect-timeout)" in err
+    assert took < 1.5 + 5.0 and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.slow
+def test_workers_with_another_or_a_broken_rankloci_are_named(cluster, tmp_path):
+    import shutil
+
+    import rankloci
+
+    # a stale copy: the same version string, one line of source changed
+    stale = tmp_path / "stale"
+    shutil.copytree(Path(rankloci.__file__).parent, stale / "rankloci",
+                    ignore=shutil.ignore_patterns("__pycache__"))
+    with open(stale / "rankloci" / "locus.py", "a") as f:
+        f.write("\n# a local change\n")
+    broken = tmp_path / "broken" / "rankloci"
+    broken.mkdir(parents=True)
+    (broken / "__init__.py").write_text("raise ImportError('a broken installation')\n")
+    c = cluster(workers=2, worker_envs=[{"PYTHONPATH": str(stale)},
+                                        {"PYTHONPATH": str(broken.parent)}])
+    (tmp_path / "spec.toml").write_text(SPEC)
+    proc = _sweep([str(tmp_path / "spec.toml"), "-o", str(tmp_path / "out"), "--scheduler",
+                   c.address])
+    _, err = proc.communicate(timeout=SWEEP_WAIT_S)
+    assert proc.returncode == 2 and len(err.strip().splitlines()) == 1, err
+    from distributed import Client
+
+    with Client(c.address, timeout=START_WAIT_S) as client:
+        pids = client.run(os.getpid)
+    by_pid = {w.pid: a for a, w in zip(sorted(pids, key=pids.get), sorted(
+        c.workers, key=lambda w: w.pid))}
+    stale_worker, broken_worker = by_pid[c.workers[0].pid], by_pid[c.workers[1].pid]
+    assert f"worker {stale_worker} " in err and "another rankloci source (version " \
+        f"{rankloci.__version__}" in err
+    assert f"worker {broken_worker} cannot run rankloci" in err and "broken installation" in err
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.slow
+def test_the_local_cluster_serves_its_dashboard():
+    import urllib.request
+
+    from rankloci.sweep.execute import DaskExecutor
+
+    with DaskExecutor.local(1) as ex:
+        link = ex.dashboard_link
+        assert link and link.startswith("http://") and link.endswith("/status")
+        with urllib.request.urlopen(link, timeout=30) as page:
+            assert page.status == 200 and b"Dask" in page.read()
