@@ -279,3 +279,29 @@ def test_the_local_cluster_serves_its_dashboard():
         assert link and link.startswith("http://") and link.endswith("/status")
         with urllib.request.urlopen(link, timeout=30) as page:
             assert page.status == 200 and b"Dask" in page.read()
+
+
+def _most_cases_at_once(proc, worker) -> int:
+    """The most case children ``worker`` had at once while the sweep ``proc`` ran."""
+    most = 0
+    while proc.poll() is None:
+        try:
+            most = max(most, len(psutil.Process(worker.pid).children()))
+        except psutil.NoSuchProcess:
+            break
+        time.sleep(0.01)
+    return most
+
+
+@pytest.mark.slow
+def test_a_worker_runs_no_more_cases_at_once_than_its_memory_holds(cluster, tmp_path):
+    (tmp_path / "spec.toml").write_text(SPEC)
+    c = cluster(workers=1, worker_args=["--nthreads", "2", "--resources", "MEMORY=1000"])
+    args = [str(tmp_path / "spec.toml"), "--scheduler", c.address]
+    proc = _sweep([*args, "-o", str(tmp_path / "big"), "--memory", "2000"])
+    _, err = proc.communicate(timeout=SWEEP_WAIT_S)
+    assert proc.returncode == 2 and "the largest offers 1000 MiB" in err, err
+    for memory, at_once in (("600", 1), ("400", 2)):
+        proc = _sweep([*args, "-o", str(tmp_path / memory), "--memory", memory])
+        assert _most_cases_at_once(proc, c.workers[0]) == at_once
+        assert proc.wait(timeout=SWEEP_WAIT_S) == 0
