@@ -33,17 +33,19 @@ from .parser import UsageError, memory_arg, timeout_arg
 __all__ = ["add_sweep_arguments", "cmd_sweep", "EPILOG_SWEEP"]
 
 EPILOG_SWEEP = """examples:
-  rankloci sweep examples/designs.toml -o out/designs          # a local Dask cluster, one worker per core
-  rankloci sweep examples/designs.toml -o out/designs --workers 2
-  rankloci sweep examples/designs.toml -o out/designs --scheduler tcp://head:8786
-  rankloci sweep examples/designs.toml -o out/designs --serial # no Dask: one case after another
+  rankloci sweep examples/sweeps/robots.toml -o out/robots     # a local Dask cluster, one worker per core
+  rankloci sweep examples/sweeps/designs.toml -o out/designs --workers 2
+  rankloci sweep examples/sweeps/augment.toml -o out/augment --serial  # no Dask: one case after another
+  rankloci sweep examples/sweeps/designs.toml -o out/designs --scheduler tcp://head:8786
 
 A spec (TOML, read as data) names the models (built-in names, .toml/.urdf files,
 directories, every chain of a URDF file with chains = "all"), a grid over parameter
 values and constraint rows, the task, the method and the limits per case; see
-examples/designs.toml in rankloci's source tree and the user guide's page on
-sweeps.  Writes DIR/cases/*.json (one locus per case), DIR/summary.csv,
-DIR/summary.md and a figure.  Run again to resume: finished cases are skipped.
+examples/sweeps/ in rankloci's source tree (a robot collection, a design grid and an
+augment grid) and the user guide's page on sweeps.  Writes DIR/cases/*.json (one
+locus per case), DIR/summary.csv, DIR/summary.md and a figure.  Run again to resume:
+finished cases are skipped.  The local cluster serves Dask's dashboard (its link is
+printed; --no-dashboard for none).
 Exit 0 when every case is done and passes its self-check, 1 otherwise, 2 on bad input.
 """
 

@@ -305,3 +305,15 @@ def test_a_worker_runs_no_more_cases_at_once_than_its_memory_holds(cluster, tmp_
         proc = _sweep([*args, "-o", str(tmp_path / memory), "--memory", memory])
         assert _most_cases_at_once(proc, c.workers[0]) == at_once
         assert proc.wait(timeout=SWEEP_WAIT_S) == 0
+
+
+@pytest.mark.slow
+def test_the_robot_collection_example_runs_as_written_and_prints_the_dashboard(tmp_path,
+                                                                               capsys):
+    spec = Path(__file__).resolve().parents[2] / "examples" / "sweeps" / "robots.toml"
+    code = main(["sweep", str(spec), "-o", str(tmp_path / "out"), "--workers", "2"])
+    err = capsys.readouterr().err
+    assert code == 0, err
+    rows = _rows(tmp_path / "out" / "summary.csv")
+    assert len(rows) == 6 and all(r["status"] == "done" and r["check"] == "pass" for r in rows)
+    assert "rankloci: Dask dashboard: http://" in err

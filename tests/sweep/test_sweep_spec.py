@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from rankloci.sweep.cases import expand
-from rankloci.sweep.spec import MAX_CASES, SpecError, parse_spec
+from rankloci.sweep.spec import MAX_CASES, SpecError, parse_spec, read_spec
 
 
 def test_lists_ranges_and_expressions_become_exact_values():
@@ -95,3 +97,21 @@ def test_a_missing_spec_file_is_one_error(tmp_path):
 
     with pytest.raises(SpecError, match="nope.toml: cannot read"):
         read_spec(tmp_path / "nope.toml")
+
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "sweeps"
+
+
+@pytest.mark.parametrize("name, cases", [
+    ("robots.toml", ["planar3r", "planar2r_long.toml", "scara.toml", "my_arm.toml",
+                     "arm.urdf:base->l_fore", "arm.urdf:base->r_fore"]),
+    ("designs.toml", [f"planar3r l2={a} l3={b}{c}" for a in ("0.5", "1") for b in
+                      ("0.5", "1", "1.5") for c in ("", " + q1 + q2 + q3")]),
+    ("augment.toml", ["planar4r", "planar4r + q1 + q2 + q3 + q4", "planar4r + lock(q2)",
+                      "planar4r + lock(q1), lock(q4)"]),
+])
+def test_the_shipped_example_specs_read_as_documented(name, cases):
+
+    got, _, skipped = expand(read_spec(EXAMPLES / name))
+    assert [c.label for c in got] == cases and skipped == []
+    assert all(not c.problem for c in got)
