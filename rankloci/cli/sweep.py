@@ -102,7 +102,8 @@ def add_sweep_arguments(p) -> None:
     p.add_argument("--timeout", type=timeout_arg, default=None,
                    help="seconds per case, instead of the spec's (0 = none)")
     p.add_argument("--memory", type=memory_arg, default=None, metavar="MIB",
-                   help="memory limit per case in MiB, instead of the spec's (0 = none)")
+                   help="limit of each case's own memory in MiB (the pages its process holds "
+                        "alone), instead of the spec's (0 = none)")
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
 
 
