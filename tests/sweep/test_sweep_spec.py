@@ -115,3 +115,25 @@ def test_the_shipped_example_specs_read_as_documented(name, cases):
     got, _, skipped = expand(read_spec(EXAMPLES / name))
     assert [c.label for c in got] == cases and skipped == []
     assert all(not c.problem for c in got)
+
+
+ROOT = EXAMPLES.parents[1]
+
+
+@pytest.mark.parametrize("doc", ["README.md", "docs/guide/sweeps.md"])
+def test_the_sweep_files_the_documentation_names_are_shipped(doc):
+    import re
+
+    named = set(re.findall(r"examples/sweeps/[\w./-]*\w", (ROOT / doc).read_text()))
+    assert named and all((ROOT / p).exists() for p in named), named
+
+
+def test_the_guide_shows_the_robot_collection_spec_as_shipped():
+    import tomllib
+
+    guide = (ROOT / "docs" / "guide" / "sweeps.md").read_text()
+    block = guide.split("`robots.toml`, with the keys", 1)[1].split("```toml\n", 1)[1]
+    shown = tomllib.loads(block.split("```", 1)[0])
+    assert shown == tomllib.loads((EXAMPLES / "robots.toml").read_text())
+    for name in ("arms", "my_arm.toml", "robots/arm.urdf"):  # what its entries name
+        assert (EXAMPLES / name).exists()
