@@ -8,9 +8,16 @@ interrupted from Python.  So the command runs its work in a forked child:
   ``should_stop``), which reports how far it got;
 - the parent kills the child at ``timeout + KILL_GRACE`` seconds, whatever it
   is doing, and reports the last progress message it received;
-- the child's address space is limited to ``memory_mb`` (``RLIMIT_AS``), so
-  running out of memory ends the child (a ``MemoryError``, or an abort inside
-  compiled code) instead of the machine.
+- the child's own memory is limited to ``memory_mb``: the parent reads it every
+  :data:`MEMORY_POLL_S` seconds (the pages no other process shares, from
+  ``/proc/PID/smaps_rollup``: what the child allocated or copied on write, not
+  what it inherited from its parent) and kills the child over the limit.  So the
+  limit means the same in any parent: the command line, or a sweep's worker,
+  which maps other libraries and holds other data.  As a backstop against an
+  allocation faster than the polling, the child's address space may grow by
+  :data:`BACKSTOP_FACTOR` times the limit (``RLIMIT_AS``, above what it inherited)
+  before an allocation fails with a ``MemoryError``.  Where ``/proc`` has no
+  ``smaps_rollup`` (not Linux), only that backstop holds.
 
 Progress messages and the result travel back through a pipe; the parent does
 all the printing.
@@ -30,16 +37,24 @@ from ..errors import LocusTimeout, RanklociError
 from .output import shortened
 
 __all__ = ["run_limited", "LimitExceeded", "KILL_GRACE", "DEFAULT_MEMORY_MB", "MAX_TIMEOUT_S",
-           "MAX_MEMORY_MB", "process_started"]
+           "MAX_MEMORY_MB", "process_started", "own_memory_mib", "MEMORY_POLL_S"]
 
 #: Seconds between the work's own deadline and the parent's kill: the kill, the error line
 #: and the exit of the process fit in what is left of a second past the limit.
 KILL_GRACE = 0.5
 
-#: Default address-space limit of the child, in MiB.  The built-in models peak below 300 MB
-#: of resident memory; the address space of an idle child (Python, numpy, sympy, FLINT and
-#: their thread arenas) is about 1.5 GB.
+#: Default limit of the child's own memory, in MiB.
 DEFAULT_MEMORY_MB = 8192
+
+#: Seconds between two readings of the child's memory.  Reading it costs about 0.1 ms for a
+#: child of 1 GB; Python allocates at most a few hundred MB in this time.
+MEMORY_POLL_S = 0.05
+
+#: The backstop: the child's address space may grow by this times the limit, plus
+#: :data:`BACKSTOP_MIB`, over what it had when it started (its allocations reserve address
+#: space before they touch it: malloc arenas, numpy's zeroed arrays).
+BACKSTOP_FACTOR = 2
+BACKSTOP_MIB = 512
 
 
 #: The longest time limit, in seconds (about 11.6 days): the operating system's waits refuse
@@ -86,7 +101,7 @@ _STARTED = None
 
 
 def run_limited(work, *, timeout: float | None, memory_mb: int | None, progress=None,
-                started: float | None = None):
+                started: float | None = None, usage: dict | None = None):
     """``work(progress)`` run in a child process under the limits; its return value.
 
     Parameters
@@ -96,12 +111,16 @@ def run_limited(work, *, timeout: float | None, memory_mb: int | None, progress=
     timeout : float or None
         Seconds; None or 0 for no limit.
     memory_mb : int or None
-        Address-space limit of the child in MiB; None or 0 for no limit.
+        Limit of the child's own memory (:func:`own_memory_mib`) in MiB; None or 0 for
+        no limit.
     progress : callable, optional
         Called in the parent with each progress message of the child.
     started : float, optional
         The :func:`time.monotonic` reading the timeout is measured from (default: now).
         The child is killed at ``started + timeout + KILL_GRACE``.
+    usage : dict, optional
+        Filled with ``peak_mib``: the largest own memory of the child read while it ran
+        (read only under a memory limit; None where it cannot be read).
 
     Raises
     ------
@@ -127,10 +146,27 @@ def run_limited(work, *, timeout: float | None, memory_mb: int | None, progress=
     send.close()
     last = "(no progress reported)"
     kill_at = start + timeout + KILL_GRACE if timeout else None
+    watch = bool(memory_mb) and own_memory_mib(child.pid) is not None
+    peak = None
     try:
         while True:
             wait = None if kill_at is None else max(0.0, kill_at - time.monotonic())
-            if not receive.poll(wait):
+            if watch:
+                wait = MEMORY_POLL_S if wait is None else min(wait, MEMORY_POLL_S)
+            ready = receive.poll(wait)
+            if watch:
+                now = own_memory_mib(child.pid)
+                peak = max(peak or 0.0, now or 0.0)
+                if usage is not None:
+                    usage["peak_mib"] = round(peak, 1)
+                if now is not None and now > memory_mb:
+                    _kill(child)
+                    raise LimitExceeded(f"ran out of memory: its own memory passed the limit "
+                                        f"of {memory_mb} MiB and it was stopped (raise "
+                                        f"--memory) (last progress: {last})")
+            if not ready:
+                if kill_at is None or time.monotonic() < kill_at:
+                    continue
                 _kill(child)
                 raise LimitExceeded(f"did not finish within {timeout:g} s and was stopped "
                                     f"(last progress: {last})")
@@ -199,7 +235,9 @@ def _child(work, send, memory_mb):
     signal.signal(signal.SIGINT, signal.SIG_IGN)       # the parent handles Ctrl-C
     _die_with_parent()
     if memory_mb:
-        limit = int(memory_mb) * 2 ** 20
+        inherited = _address_space()      # 0: unknown, and the limit is the address space
+        limit = (inherited + (BACKSTOP_FACTOR * int(memory_mb) + BACKSTOP_MIB) * 2 ** 20
+                 if inherited else int(memory_mb) * 2 ** 20)
         try:
             resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
         except (ValueError, OverflowError, OSError) as e:
@@ -231,6 +269,34 @@ def _child(work, send, memory_mb):
         send.close()
         sys.stdout.flush()
         os._exit(0)
+
+
+def own_memory_mib(pid: int) -> float | None:
+    """The memory process ``pid`` holds alone, in MiB: its private pages and its swap.
+
+    Pages it shares with its parent since the fork are not counted until it writes
+    to them.  None where ``/proc/PID/smaps_rollup`` cannot be read (not Linux, or the
+    process is gone).
+    """
+    try:
+        with open(f"/proc/{pid}/smaps_rollup", "rb") as f:
+            text = f.read()
+    except OSError:
+        return None
+    kb = 0
+    for line in text.splitlines():
+        if line.startswith((b"Private_Clean:", b"Private_Dirty:", b"Swap:")):
+            kb += int(line.split()[1])
+    return kb / 1024
+
+
+def _address_space() -> int:
+    """This process's address space in bytes (0 where /proc cannot say)."""
+    try:
+        with open("/proc/self/statm", "rb") as f:
+            return int(f.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
+    except (OSError, ValueError, IndexError):
+        return 0
 
 
 def _kill(child):

@@ -35,17 +35,19 @@ from .parser import UsageError, memory_arg, timeout_arg
 __all__ = ["add_sweep_arguments", "cmd_sweep", "EPILOG_SWEEP"]
 
 EPILOG_SWEEP = """examples:
-  rankloci sweep examples/designs.toml -o out/designs          # a local Dask cluster, one worker per core
-  rankloci sweep examples/designs.toml -o out/designs --workers 2
-  rankloci sweep examples/designs.toml -o out/designs --scheduler tcp://head:8786
-  rankloci sweep examples/designs.toml -o out/designs --serial # no Dask: one case after another
+  rankloci sweep examples/sweeps/robots.toml -o out/robots     # a local Dask cluster, one worker per core
+  rankloci sweep examples/sweeps/designs.toml -o out/designs --workers 2
+  rankloci sweep examples/sweeps/augment.toml -o out/augment --serial  # no Dask: one case after another
+  rankloci sweep examples/sweeps/designs.toml -o out/designs --scheduler tcp://head:8786
 
 A spec (TOML, read as data) names the models (built-in names, .toml/.urdf files,
 directories, every chain of a URDF file with chains = "all"), a grid over parameter
 values and constraint rows, the task, the method and the limits per case; see
-examples/designs.toml in rankloci's source tree and the user guide's page on
-sweeps.  Writes DIR/cases/*.json (one locus per case), DIR/summary.csv,
-DIR/summary.md and a figure.  Run again to resume: finished cases are skipped.
+examples/sweeps/ in rankloci's source tree (a robot collection, a design grid and an
+augment grid) and the user guide's page on sweeps.  Writes DIR/cases/*.json (one
+locus per case), DIR/summary.csv, DIR/summary.md and a figure.  Run again to resume:
+finished cases are skipped.  The local cluster serves Dask's dashboard (its link is
+printed; --no-dashboard for none).
 Exit 0 when every case is done and passes its self-check, 1 otherwise, 2 on bad input.
 """
 
@@ -57,6 +59,17 @@ def _workers_arg(text: str) -> int:
         value = 0
     if value < 1:
         raise argparse.ArgumentTypeError(f"{text[:20]!r} is not a number of workers 1 or above")
+    return value
+
+
+def _seconds_arg(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (0 < value <= 3600):
+        raise argparse.ArgumentTypeError(f"{text[:20]!r} is not a number of seconds above 0 "
+                                         f"and at most 3600")
     return value
 
 
@@ -79,13 +92,20 @@ def add_sweep_arguments(p) -> None:
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="use a running Dask scheduler, e.g. tcp://HOST:8786, instead of a local "
                         "cluster")
+    p.add_argument("--connect-timeout", type=_seconds_arg, default=None, metavar="SECONDS",
+                   help="seconds to wait for the scheduler of --scheduler to answer, then for "
+                        "its first worker (default 20)")
+    p.add_argument("--no-dashboard", action="store_true",
+                   help="no Dask dashboard for the local cluster (by default it is served on "
+                        "port 8787, or a free port, and its link printed)")
     p.add_argument("--serial", action="store_true",
                    help="no Dask: run the cases one after another in this process (the default "
                         "when one case is left to run)")
     p.add_argument("--timeout", type=timeout_arg, default=None,
                    help="seconds per case, instead of the spec's (0 = none)")
     p.add_argument("--memory", type=memory_arg, default=None, metavar="MIB",
-                   help="memory limit per case in MiB, instead of the spec's (0 = none)")
+                   help="limit of each case's own memory in MiB (the pages its process holds "
+                        "alone), instead of the spec's (0 = none)")
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
 
 
@@ -100,6 +120,8 @@ class _Progress:
         self.finished_before = total - to_run
         self.done = self.failed = 0
         self.running: set = set()
+        self.workers: dict = {}
+        self.finished_ids: set = set()
         self.start = time.monotonic()
         self._drawn = False
 
@@ -129,12 +151,20 @@ class _Progress:
         self.stream.flush()
         self._drawn = True
 
-    def started(self, case) -> None:
+    def started(self, case, worker: str = "") -> None:
+        if case.id in self.finished_ids:      # its start reported after its end
+            return
+        if case.id in self.running:
+            self.line(f"note: {case.label}: running again on {worker or 'another worker'}: the "
+                      f"worker that was running it ({self.workers[case.id] or 'unknown'}) "
+                      f"was lost")
         self.running.add(case.id)
+        self.workers[case.id] = worker
         self.draw()
 
     def finished(self, case, record) -> None:
         self.running.discard(case.id)
+        self.finished_ids.add(case.id)
         self.done += 1
         ok = record["status"] == "done" and record.get("check") != "fail"
         self.failed += not ok
@@ -142,6 +172,8 @@ class _Progress:
             what = (f"{record['components']} component{'' if record['components'] == 1 else 's'}"
                     f", check {record['check']}" if record["status"] == "done"
                     else record["note"])
+            if not ok and record.get("worker") and record["worker"] not in what:
+                what += f" (on worker {record['worker']})"
             self.line(f"[{self.finished_before + self.done}/{self.total}] {case.label}: "
                       f"{record['status']}, {what} ({record['seconds']:.1f} s)")
         self.draw()
@@ -273,9 +305,9 @@ def _settings(spec, timeout, memory) -> str:
             f"{f'{memory} MiB' if memory else 'unlimited memory'} per case.")
 
 
-def _executor(args, pending):
+def _executor(args, pending, memory):
     """``(DaskExecutor or None, where it runs)`` for the cases to run (None: in this process)."""
-    from ..sweep.execute import DaskExecutor, SetupError
+    from ..sweep.execute import CONNECT_TIMEOUT_S, DaskExecutor, SetupError
 
     if args.serial or (len(pending) <= 1 and not args.scheduler):
         # one case runs here, unless a scheduler was named: then its address is used (and a
@@ -283,9 +315,10 @@ def _executor(args, pending):
         return None, "in this process, one after another"
     try:
         if args.scheduler:
-            ex = DaskExecutor.remote(args.scheduler)
+            ex = DaskExecutor.remote(args.scheduler, connect_timeout=args.connect_timeout
+                                     or CONNECT_TIMEOUT_S)
         else:
-            ex = DaskExecutor.local(args.workers or _cores())
+            ex = DaskExecutor.local(args.workers or _cores(), dashboard=not args.no_dashboard)
     except ImportError:
         from ..extras import install_command
 
@@ -294,7 +327,7 @@ def _executor(args, pending):
     except SetupError as e:
         raise UsageError(str(e)) from None
     try:
-        threads = ex.check_workers()
+        threads = ex.check_workers(memory)
     except SetupError as e:
         ex.close()
         raise UsageError(str(e)) from None
@@ -340,7 +373,7 @@ def _until(interrupted, events):
 
 def cmd_sweep(args) -> int:
     from ..sweep.cases import expand
-    from ..sweep.execute import serial_events
+    from ..sweep.execute import MEMORY_RESOURCE, serial_events
     from ..sweep.spec import read_spec
     from ..sweep.summary import render_csv, render_figure, render_markdown, status_counts
 
@@ -349,6 +382,8 @@ def cmd_sweep(args) -> int:
     require_module("matplotlib", "report", "rankloci sweep (its summary figure)")
     if args.serial and (args.scheduler or args.workers):
         raise UsageError("--serial runs without Dask; it excludes --workers and --scheduler")
+    if args.connect_timeout and not args.scheduler:
+        raise UsageError("--connect-timeout is the wait for the scheduler of --scheduler")
     if args.scheduler and args.workers:
         raise UsageError("--workers sizes a local cluster; a running scheduler has its own "
                          "workers")
@@ -372,7 +407,7 @@ def cmd_sweep(args) -> int:
     progress = _Progress(len(cases), len(pending), args.quiet)
     for note in skipped:
         progress.line(f"note: {note}")
-    executor, where = _executor(args, pending) if pending else (None, "")
+    executor, where = _executor(args, pending, memory) if pending else (None, "")
     try:                                    # the first write: the spec and the cluster are good
         case_dir.mkdir(parents=True, exist_ok=True)
     except OSError as e:
@@ -385,6 +420,17 @@ def cmd_sweep(args) -> int:
     progress.line(f"sweep {spec.file}: {len(cases)} case{'' if len(cases) == 1 else 's'}, "
                   f"{len(records)} finished before, {len(pending)} to run"
                   + (f" {where}" if pending else ""))
+    if executor:
+        link = executor.dashboard_link
+        if link:
+            progress.line(f"Dask dashboard: {link}")
+        elif executor.cluster is not None and not args.no_dashboard:
+            from ..extras import install_command
+
+            progress.line(f"note: no Dask dashboard: it needs bokeh ({install_command('sweep')})")
+        if memory and not executor.memory_offers:
+            progress.line(f"note: the Dask workers declare no {MEMORY_RESOURCE} resource: the "
+                          f"scheduler does not know that each case may use {memory} MiB")
     t0 = time.monotonic()
     try:
         events = (executor.events(pending, sources, timeout=timeout, memory=memory)
@@ -393,7 +439,7 @@ def cmd_sweep(args) -> int:
         with _interrupts_remembered() as interrupted:
             for event in _until(interrupted, events):
                 if event[0] == "start":
-                    progress.started(event[1])
+                    progress.started(event[1], event[2])
                 elif event[0] == "done":
                     _, case, result = event
                     data = (result["locus"] or {}) | {"sweep": result["sweep"]}

@@ -32,7 +32,7 @@ import sympy as sp
 
 from .spec import MAX_CASES, SpecError, SweepSpec
 
-__all__ = ["Case", "expand"]
+__all__ = ["Case", "expand", "expected_cost"]
 
 
 @dataclass(frozen=True)
@@ -281,3 +281,22 @@ def expand(spec: SweepSpec) -> tuple[list[Case], dict[str, str], list[str]]:
                         raise SpecError(f"the sweep has more than {MAX_CASES} cases",
                                         file=spec.file)
     return cases, models.sources, models.skipped
+
+
+def expected_cost(case: Case) -> tuple:
+    """A key that orders cases by their expected time: the largest runs longest.
+
+    The time of a locus grows fastest with the joints (the variables of J), then with
+    the constraint rows, then with the parameters left symbolic.  A sweep starts its
+    cases in the decreasing order of this key, so that its longest cases do not start
+    last and hold up its end.
+
+    Examples
+    --------
+    >>> from rankloci.sweep.spec import parse_spec
+    >>> spec = parse_spec('models = ["planar2r", "puma560", "planar3r"]\\n')
+    >>> [c.label for c in sorted(expand(spec)[0], key=expected_cost, reverse=True)]
+    ['puma560', 'planar3r', 'planar2r']
+    """
+    symbolic = 0 if case.numeric else len(case.parameters)
+    return (case.joints or 0, len(case.augment), symbolic)

@@ -24,6 +24,9 @@ constraint rows, and how each case is computed::
     l2 = [0.5, 1.0, "3/2"]
     l3 = { start = 0.5, stop = 1.5, num = 3 }            # or step = 0.5
 
+``examples/sweeps/`` of the source tree has specs that run as written (a robot
+collection with the files named above, a design grid, an augment grid).
+
 Nothing in the file is executed: TOML is parsed with :mod:`tomllib` and every
 expression string with :func:`rankloci.expr.parse_expression`.  Relative
 paths are taken from the spec's directory.  Every problem is a

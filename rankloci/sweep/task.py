@@ -115,7 +115,8 @@ def failed_result(case, message: str, *, timeout: float, memory: int,
     """The result of a case that failed with ``message`` (status ``error``, no locus).
 
     ``transient`` marks a failure of the machinery rather than of the case (a worker
-    that died): a resumed sweep computes such a case again.
+    that died): a resumed sweep computes such a case again.  ``worker`` is the address of
+    the Dask worker that ran the case (set by the executor; ``""`` in this process).
     """
     record = {
         "schema": RECORD_SCHEMA, "id": case.id, "case": case.label, "model": case.model,
@@ -125,7 +126,7 @@ def failed_result(case, message: str, *, timeout: float, memory: int,
         "status": "error", "components": None, "special": None, "kinds": "", "check": "",
         "note": _short(message), "message": message,
         "limits": {"timeout": timeout, "memory": memory}, "seconds": 0.0,
-        "transient": transient,
+        "transient": transient, "worker": "", "peak_mib": None,
     }
     return {"sweep": record, "locus": None}
 
@@ -141,14 +142,17 @@ def run_case(case, text: str | None, *, timeout: float, memory: int) -> dict:
     timeout : float
         Seconds for the whole case (0: none); the child is killed one second after.
     memory : int
-        Address-space limit of the child in MiB (0: none).
+        Limit of the child's own memory in MiB (0: none): the pages it does not share
+        with the worker that forked it (:func:`rankloci.cli.limits.own_memory_mib`), the
+        same whatever process runs the case.
 
     Returns
     -------
     dict
         ``{"sweep": record, "locus": locus dict or None}``; the record holds the
-        summary row (``status`` is one of :data:`STATUSES`), the limits and the
-        seconds the case took.
+        summary row (``status`` is one of :data:`STATUSES`), the limits, the
+        seconds the case took and the largest own memory read while it ran
+        (``peak_mib``, MiB; None without a memory limit).
     """
     from ..cli.limits import ChildFailed, LimitExceeded, run_limited
     from ..errors import LocusTimeout, RanklociError
@@ -159,9 +163,10 @@ def run_case(case, text: str | None, *, timeout: float, memory: int) -> dict:
     _preload()
     start = time.perf_counter()
     locus = None
+    usage: dict = {}
     try:
         locus, summary = run_limited(_work(case, text, timeout), timeout=timeout or None,
-                                     memory_mb=memory or None)
+                                     memory_mb=memory or None, usage=usage)
         record.update(summary, status="done", method=locus["method"])
         if summary["check"] == "fail":
             record["note"] = "the self-check rejects the locus (see its notes)"
@@ -185,4 +190,5 @@ def run_case(case, text: str | None, *, timeout: float, memory: int) -> dict:
         else:
             record.update(note=_short(f"bug: {last}"), message=str(e))
     record["seconds"] = round(time.perf_counter() - start, 3)
+    record["peak_mib"] = usage.get("peak_mib")
     return {"sweep": record, "locus": locus}

@@ -55,5 +55,5 @@ def test_every_file_an_example_reads_exists(command, epilog):
 def test_the_examples_name_files_at_all():
     """The check above has something to check: the examples read shipped files."""
     named = {p for _, epilog in _epilogs() for p in input_paths(epilog)}
-    assert {"examples/my_matrix.toml", "examples/waypoints.csv", "examples/designs.toml",
+    assert {"examples/my_matrix.toml", "examples/waypoints.csv", "examples/sweeps/designs.toml",
             "kinematics_models/extra/iiwa_offsets.urdf"} <= named

@@ -123,3 +123,29 @@ def test_the_child_dies_with_a_parent_killed_outright(tmp_path):
     while _child_state(child) not in ("gone", "Z"):
         assert time.monotonic() < deadline, "the child outlived its parent"
         time.sleep(0.05)
+
+
+def _touch_mib(n: int) -> bytearray:
+    """n MiB written to (a zeroed allocation that is never written takes no memory)."""
+    block = bytearray(n * 2 ** 20)
+    block[::4096] = b"x" * len(block[::4096])
+    return block
+
+
+def _allocates_100_mib(progress):
+    block = _touch_mib(100)
+    time.sleep(0.5)                  # held long enough for the parent to read it
+    return len(block)
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc/PID/smaps_rollup")
+def test_the_memory_limit_counts_the_childs_own_memory_not_what_its_parent_holds():
+    # the parent (this test process) holds 400 MiB of written memory and maps numpy and
+    # sympy (over 1 GB of address space): none of it counts against the child's limit
+    held = _touch_mib(400)
+    usage: dict = {}
+    assert run_limited(_allocates_100_mib, timeout=60, memory_mb=300, usage=usage) == 100 * 2 ** 20
+    assert 100 <= usage["peak_mib"] < 300
+    with pytest.raises(LimitExceeded, match="out of memory.* 60 MiB"):
+        run_limited(_allocates_100_mib, timeout=60, memory_mb=60)
+    del held

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from rankloci.sweep.cases import expand
-from rankloci.sweep.spec import MAX_CASES, SpecError, parse_spec
+from rankloci.sweep.spec import MAX_CASES, SpecError, parse_spec, read_spec
 
 
 def test_lists_ranges_and_expressions_become_exact_values():
@@ -95,3 +97,43 @@ def test_a_missing_spec_file_is_one_error(tmp_path):
 
     with pytest.raises(SpecError, match="nope.toml: cannot read"):
         read_spec(tmp_path / "nope.toml")
+
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "sweeps"
+
+
+@pytest.mark.parametrize("name, cases", [
+    ("robots.toml", ["planar3r", "planar2r_long.toml", "scara.toml", "my_arm.toml",
+                     "arm.urdf:base->l_fore", "arm.urdf:base->r_fore"]),
+    ("designs.toml", [f"planar3r l2={a} l3={b}{c}" for a in ("0.5", "1") for b in
+                      ("0.5", "1", "1.5") for c in ("", " + q1 + q2 + q3")]),
+    ("augment.toml", ["planar4r", "planar4r + q1 + q2 + q3 + q4", "planar4r + lock(q2)",
+                      "planar4r + lock(q1), lock(q4)"]),
+])
+def test_the_shipped_example_specs_read_as_documented(name, cases):
+
+    got, _, skipped = expand(read_spec(EXAMPLES / name))
+    assert [c.label for c in got] == cases and skipped == []
+    assert all(not c.problem for c in got)
+
+
+ROOT = EXAMPLES.parents[1]
+
+
+@pytest.mark.parametrize("doc", ["README.md", "docs/guide/sweeps.md"])
+def test_the_sweep_files_the_documentation_names_are_shipped(doc):
+    import re
+
+    named = set(re.findall(r"examples/sweeps/[\w./-]*\w", (ROOT / doc).read_text()))
+    assert named and all((ROOT / p).exists() for p in named), named
+
+
+def test_the_guide_shows_the_robot_collection_spec_as_shipped():
+    import tomllib
+
+    guide = (ROOT / "docs" / "guide" / "sweeps.md").read_text()
+    block = guide.split("`robots.toml`, with the keys", 1)[1].split("```toml\n", 1)[1]
+    shown = tomllib.loads(block.split("```", 1)[0])
+    assert shown == tomllib.loads((EXAMPLES / "robots.toml").read_text())
+    for name in ("arms", "my_arm.toml", "robots/arm.urdf"):  # what its entries name
+        assert (EXAMPLES / name).exists()
