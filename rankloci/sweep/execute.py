@@ -475,8 +475,9 @@ def greeted(address: str, seconds: float) -> None:
                                      f"was closed without a greeting")
                 head += chunk
     except TimeoutError:
-        raise SetupError(f"no Dask scheduler answers at {address}: nothing came within "
-                         f"{seconds:g} s (a Dask scheduler greets at once)") from None
+        raise SetupError(f"no Dask scheduler answers at {address} within {seconds:g} s "
+                         "(--connect-timeout): nothing came, and a Dask scheduler greets at "
+                         "once") from None
     except (OSError, ValueError) as e:
         raise SetupError(f"cannot reach the Dask scheduler at {address}: "
                          f"{getattr(e, 'strerror', None) or e}") from None

@@ -63,9 +63,14 @@ def snake():
 
 @pytest.mark.slow
 def test_nine_joint_snake_passes_its_self_check(snake):
+    """A 6 x 9 matrix: components of codimension 3 and 4 are beyond the certificate's
+    elimination, so the locus is not certified (complete is null), but nothing disproves it and
+    the numeric self-check of the locus shown passes."""
     _, locus, verification = snake
-    assert verification.complete, verification.problems
-    assert locus.complete
+    assert locus.complete is None
+    assert locus.certificate.verdict == "undecided"
+    assert verification.problems and all(p.startswith("certificate:")
+                                         for p in verification.problems), verification.problems
 
 
 @pytest.mark.slow

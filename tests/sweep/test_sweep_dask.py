@@ -209,7 +209,7 @@ def test_the_memory_limit_gives_the_serial_rows_on_a_local_cluster(tmp_path):
     from test_sweep_cli import MEMORY_ROWS, write_memory_spec
 
     code = main(["sweep", str(write_memory_spec(tmp_path)), "-o", str(tmp_path / "m"),
-                 "--workers", "2", "--memory", "60", "--no-dashboard"])
+                 "--workers", "2", "--memory", "90", "--no-dashboard"])
     assert code == 1
     assert [(r["status"], r["note"]) for r in _rows(tmp_path / "m" / "summary.csv")] == \
         MEMORY_ROWS
