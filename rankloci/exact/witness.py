@@ -381,18 +381,12 @@ def _integer_root(atom):
 
 def _random_prime(rng, surds):
     """A prime P in [2**PRIME_BITS, 2**(PRIME_BITS+1)) with a square root of every surd."""
+    from ..tree.modular import prime_with_roots
+
     while True:
-        cand = int(rng.integers(2 ** PRIME_BITS, 2 ** (PRIME_BITS + 1))) | 1
-        if not flint.fmpz(cand).is_prime():
-            continue
-        roots = []
-        for prime in surds:
-            r = flint.nmod_poly([-prime, 0, 1], cand).roots()
-            if not r:
-                break
-            roots.append(int(r[0][0]))
-        else:
-            return cand, roots
+        found = prime_with_roots(rng, surds, PRIME_BITS)
+        if found is not None:
+            return found
 
 
 def _mod(q, P):
@@ -911,13 +905,9 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
                                 f"determinants would have degree up to {D} in {c} variables")
                 uncertain.append(c)
                 for k in comps:
-                    if k.codim == c:
-                        if k.pieces is not None:
-                            findings.extend(_check_pieces(k, rows, forms, P, roots, rng, n))
-                        else:
-                            findings.append(f"{k.label} (dimension {k.dimension}) is not "
-                                            "certified: its witness points need too large an "
-                                            "elimination, and it is not given in solved form")
+                    if k.codim == c and not _by_pieces(k, rows, forms, P, roots, rng, n,
+                                                       findings):
+                        uncertain.append(c)
                 continue
             Hp = _compressions(Mp, n, m, c + 1, P, rng)
             degree_sum += sum(max(0, int(h.total_degree())) for h in Hp)
@@ -948,12 +938,7 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
             try:
                 pts = _component_points(eqs, exc, plane, rng, k, findings)
             except _TooLarge:
-                if k.pieces is not None:
-                    findings.extend(_check_pieces(k, rows, forms, P, roots, rng, n))
-                else:
-                    findings.append(f"{k.label} (dimension {k.dimension}) is not "
-                                    "certified: its witness points need too large an "
-                                    "elimination, and it is not given in solved form")
+                if not _by_pieces(k, rows, forms, P, roots, rng, n, findings):
                     uncertain.append(c)
                 continue
             if k.pieces is not None:
@@ -1029,6 +1014,17 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
                        discovered_complex=found_complex, slices=slices,
                        discovered_merged=merged,
                        uncovered=total_uncovered)
+
+
+def _by_pieces(k, rows, forms, P, roots, rng, n, findings) -> bool:
+    """Check a component whose witness points are out of reach at its pieces, when it is in
+    solved form (findings extended); False when it is not, and it stays uncertified."""
+    if k.pieces is not None:
+        findings.extend(_check_pieces(k, rows, forms, P, roots, rng, n))
+        return True
+    findings.append(f"{k.label} (dimension {k.dimension}) is not certified: its witness "
+                    "points need too large an elimination, and it is not given in solved form")
+    return False
 
 
 def _check_pieces(k, rows, forms, P, roots, rng, n):

@@ -33,7 +33,7 @@ import numpy as np
 from ..algebra import PolyRing
 from .branch import Branch
 
-__all__ = ["ModularProbe", "block_rank", "evaluate"]
+__all__ = ["ModularProbe", "block_rank", "evaluate", "prime_with_roots"]
 
 #: Random points per branch; the rank is the largest over them (a rank mod P can only drop,
 #: and a branch cut by several equations can consist of pieces of different rank).
@@ -50,6 +50,24 @@ PRIMES = 8
 PRIME_BITS = 61
 
 
+def prime_with_roots(rng, surds, bits: int, tries: int = 200):
+    """A random prime P in [2**bits, 2**(bits + 1)) and a square root mod P of each of the
+    ``surds`` (primes), or None when ``tries`` candidates gave none."""
+    for _ in range(tries):
+        cand = int(rng.integers(2 ** bits, 2 ** (bits + 1), dtype=np.uint64)) | 1
+        if not flint.fmpz(cand).is_prime():
+            continue
+        roots = []
+        for prime in surds:
+            r = flint.nmod_poly([-prime, 0, 1], cand).roots()
+            if not r:
+                break
+            roots.append(int(r[0][0]))
+        else:
+            return cand, roots
+    return None
+
+
 class ModularProbe:
     """Exact ranks and zero tests at random points of branches modulo large primes."""
 
@@ -64,20 +82,7 @@ class ModularProbe:
 
     def _new_prime(self) -> tuple[int, list[int]] | None:
         """A prime P and square roots mod P of the ring's surd primes (None if none found)."""
-        for _ in range(200):
-            cand = int(self.rng.integers(2 ** PRIME_BITS, 2 ** (PRIME_BITS + 1), dtype=np.uint64))
-            cand |= 1
-            if not flint.fmpz(cand).is_prime():
-                continue
-            roots = []
-            for prime in self.ring.surds:
-                r = flint.nmod_poly([-prime, 0, 1], cand).roots()
-                if not r:
-                    break
-                roots.append(int(r[0][0]))
-            else:
-                return cand, roots
-        return None
+        return prime_with_roots(self.rng, self.ring.surds, PRIME_BITS)
 
     def points(self, branch: Branch) -> tuple[int, list[list[int]]] | None:
         """A prime P and ``POINTS`` generator vectors of ``branch`` mod P, or None.
