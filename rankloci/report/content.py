@@ -132,7 +132,7 @@ def summary_table(report, views) -> Table:
         rows.append(row)
     if report.has_limits:
         return Table(("no.", "equations", "reading", "lost motion", "figures", "within limits"),
-                     tuple(rows), "rlllll", widths=(0, 0.27, 0.22, 0.19, 0.07, 0.07), small=True)
+                     tuple(rows), "rlllll", widths=(0, 0.25, 0.21, 0.18, 0.07, 0.07), small=True)
     return Table(("no.", "equations", "reading", "lost motion", "figures"), tuple(rows),
                  "rllll", widths=(0, 0.30, 0.24, 0.21, 0.08), small=True)
 

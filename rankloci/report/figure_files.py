@@ -186,6 +186,23 @@ def _slice_point_without_locus(nm, rng):
     return start, "a random regular configuration"
 
 
+def _solved_variants(c, names) -> list:
+    """The sample point of ``c`` with each solved variable at each of its values in turn: a
+    component made of several leaves (q5 = 0 and q5 = pi) then has a point on each."""
+    out = []
+    solved = {str(k): v for k, v in (c.solved or {}).items()}
+    for var, values in solved.items():
+        if var not in names or len(values) < 2:
+            continue
+        for v in values:
+            try:
+                x = float(v)
+            except (TypeError, ValueError):
+                continue
+            out.append(np.array([x if n == var else c.sample[n] for n in names], dtype=float))
+    return out
+
+
 def report_figures(model, model_tm, locus, nm, params, seed, dot, views=()) -> tuple:
     """The :class:`FigureFile` of each figure of a report.
 
@@ -286,7 +303,8 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot, views=()) -> t
     # the branch tree
     if locus is not None and locus.tree is not None and locus.tree.number_of_nodes():
         points = {idx: [np.array([c.sample[n] for n in names], dtype=float)]
-                  + A.component_points(c, nm, params, rng, 2)[1:] for idx, c in comps}
+                  + A.component_points(c, nm, params, rng, 2)[1:]
+                  + _solved_variants(c, names) for idx, c in comps}
         leaves = component_leaves(locus.tree, points, nm.variables, params)
         summary = tree_summary(locus.tree, components=leaves)
         cut = (f" The tree has {summary.total_nodes} nodes; drawn are the paths to one leaf of "
