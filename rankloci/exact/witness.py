@@ -507,17 +507,7 @@ class _Point:
 
     def value(self, p):
         """The value of an nmod_mpoly in the plane's coordinates at the point."""
-        total = self.F(0)
-        powers = [[self.F(1)] for _ in self.coords]
-        for mon, coeff in zip(p.monoms(), p.coeffs()):
-            term = self.F(int(coeff))
-            for k, e in enumerate(mon):
-                pw = powers[k]
-                while len(pw) <= e:
-                    pw.append(pw[-1] * self.coords[k])
-                term *= pw[e]
-            total += term
-        return total
+        return _value(p, self.coords, self.F)
 
     def rank(self, M):
         """Rank of a matrix of nmod_mpoly at the point (Gaussian elimination over the field)."""
@@ -642,12 +632,18 @@ def _isolated(polys, k, P, rng):
 
 
 def _value(p, coords, F):
+    """The value in the field F of an nmod_mpoly at ``coords`` (powers computed once each)."""
+    powers = [[F(1)] for _ in coords]
     total = F(0)
     for mon, coeff in zip(p.monoms(), p.coeffs()):
         term = F(int(coeff))
         for j, e in enumerate(mon):
-            if e:
-                term *= coords[j] ** e
+            if not e:
+                continue        # also the variables past ``coords``, absent from p
+            pw = powers[j]
+            while len(pw) <= e:
+                pw.append(pw[-1] * coords[j])
+            term *= pw[e]
         total += term
     return total
 
