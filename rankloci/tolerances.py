@@ -406,3 +406,21 @@ PRECISE_FALL = 1e-4
 #: it a stable ratio can come from data rounded to double precision).  Anything else is left
 #: undecided, and the double-precision verdict stands.
 PRECISE_STABLE_RTOL = 1e-6
+
+#: The arm view of the HTML report moves the joints that follow its sliders on a component:
+#: as many as the rank of the gradient of the component's equations, a column counting when
+#: its pivot in a QR factorization with column pivoting is above this times the largest.
+#: Gradients of the built-in components at their sample points have pivots within a factor
+#: 1e3 of each other, or exactly zero (a variable that does not enter); 1e-8 (RANK_RTOL's
+#: value) separates the two and leaves rounding in the gradient (~1e-16) far below.
+FOLLOWER_RTOL = 1e-8
+
+#: The arm view of the HTML report says a pose is on the locus, and its browser test requires,
+#: that sigma_min/sigma_max of the Jacobian the page computes (double precision, from the
+#: chain's numbers) is at most this.  The page's Gauss-Newton steps stop at an equation
+#: residual of 1e-14 times the equations' scale, where sigma_min/sigma_max is ~1e-14 on a simple
+#: component; the page's own Jacobi SVD and kinematics add ~1e-15 (measured on the built-in
+#: models: 1e-19 to 1e-16).  It is RANK_RTOL, the tool's own rank decision, so that the page
+#: calls on the locus exactly what the locus computation would; regular poses of the built-in
+#: models have 1e-3 or more.
+VIEW_ON_LOCUS_RTOL = RANK_RTOL

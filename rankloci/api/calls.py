@@ -502,8 +502,9 @@ def report(model, directory=None, *, formats=("md",), seed=0, samples=10, numeri
         Anything :func:`load_model` accepts.
     directory : path, optional
         Where to write it; without it nothing is written.
-    formats : sequence of {"md", "tex", "pdf"}
-        The PDF needs ``latexmk`` or ``pdflatex`` on the PATH.
+    formats : sequence of {"md", "tex", "pdf", "html"}
+        The PDF needs ``latexmk`` or ``pdflatex`` on the PATH; ``"html"`` is one
+        self-contained page with an interactive view of the arm.
     seed, samples, numeric, timeout
         As for the command line.
     tip, base_link

@@ -452,7 +452,7 @@ def cmd_report(args) -> int:
             progress(f"{model.name}: report written to {out} in {time.perf_counter() - t0:.1f} s")
         clear_status()
         for p in paths:
-            if p.suffix in (".md", ".tex", ".pdf"):
+            if p.suffix in (".md", ".tex", ".pdf", ".html"):
                 print(p)
     return status
 

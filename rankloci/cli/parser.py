@@ -185,11 +185,14 @@ EPILOG_REPORT = """examples:
   rankloci report puma560
   rankloci report planar3r -o out/planar3r --format md --samples 20 --seed 7
   rankloci report ssrms --fragment --format tex,pdf
+  rankloci report puma560 --format html
   rankloci report all -o reports --timeout 120
 
 Writes DIR/NAME.md, DIR/NAME.tex and, when latexmk or pdflatex is installed,
 DIR/NAME.pdf, with the PNG figures beside them (default DIR: reports/NAME/;
-with 'all', one directory per built-in model under -o).  The report holds the
+with 'all', one directory per built-in model under -o); --format html adds
+DIR/NAME.html, one page that needs no network, in which sliders move the arm
+along each component.  The report holds the
 model, the symbolic Jacobian, the locus component by component with its
 reading, heat maps of sigma_min/sigma_max, the branch tree, the numeric
 cross-check, the method comparison and the timings.  Equal seeds give equal
@@ -306,8 +309,9 @@ def build_parser() -> ArgumentParser:
                    help="directory to write into (default reports/NAME; with 'all', the parent "
                         "directory, default reports)")
     p.add_argument("--format", default="md,tex,pdf", metavar="LIST",
-                   help="comma list of md, tex, pdf (default all three; pdf only when latexmk "
-                        "or pdflatex is installed)")
+                   help="comma list of md, tex, pdf, html (default md,tex,pdf; pdf only when "
+                        "latexmk or pdflatex is installed; html is one self-contained page with "
+                        "an interactive view of the arm)")
     p.add_argument("--samples", type=int, default=10,
                    help="cross-check points per component, off-locus points and probe starts "
                         "(default 10)")

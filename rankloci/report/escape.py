@@ -16,7 +16,7 @@ from __future__ import annotations
 import re
 
 __all__ = ["tex_escape", "md_escape", "rich_tex", "rich_md", "literal", "file_stem", "ref",
-           "md_refs", "heading_anchor", "MAX_STEM"]
+           "md_refs", "heading_anchor", "rich_html", "html_id", "MAX_STEM"]
 
 #: The longest file stem :func:`file_stem` returns.
 MAX_STEM = 64
@@ -246,4 +246,57 @@ def rich_md(text: str) -> str:
             out.append(p)
         else:
             out.append(md_escape(p))
+    return "".join(out)
+
+
+def _html_text(text: str) -> str:
+    """Plain text as HTML text."""
+    import html
+
+    return html.escape(text, quote=True)
+
+
+def _literal_html(kind: str, text: str) -> str:
+    """A :func:`literal` segment (or a :func:`ref`) as HTML: a reference links to its heading."""
+    if kind in "fs":
+        label, words = text.split(_SEP, 1)
+        if kind == "f":
+            return _REF_OPEN + kind + label + _SEP + words + _REF_CLOSE
+        return f'<a href="#{_html_text(html_id(label))}">{_html_text(words)}</a>'
+    return f"<code>{_html_text(text)}</code>" if kind == "c" else _html_text(text)
+
+
+def html_id(label: str) -> str:
+    """A block label (``rankloci:MODEL:part``) as an HTML id: letters, digits, ``-`` and ``_``.
+
+    Examples
+    --------
+    >>> html_id("rankloci:puma560:component:2")
+    'rankloci-puma560-component-2'
+    """
+    return re.sub(r"[^A-Za-z0-9_-]", "-", label)
+
+
+def rich_html(text: str) -> str:
+    """Text with ``$math$`` and ```code``` segments as HTML: text escaped, math in a span.
+
+    The math keeps its LaTeX source in the span, which the page's math renderer
+    replaces by MathML.  A figure reference stays a placeholder (``\\x10f label \\x1f words
+    \\x11``) until the figures are numbered.
+
+    Examples
+    --------
+    >>> print(rich_html("a < b and $x_1 < 2$ in `a_b`"))
+    a &lt; b and <span class="math">x_1 &lt; 2</span> in <code>a_b</code>
+    """
+    if _OPEN in text:
+        return _with_literals(text, rich_html, _literal_html)
+    out = []
+    for p in _SEGMENTS.split(text):
+        if len(p) > 1 and p[0] == p[-1] == "$":
+            out.append(f'<span class="math">{_html_text(p[1:-1])}</span>')
+        elif len(p) > 1 and p[0] == p[-1] == "`":
+            out.append(f"<code>{_html_text(p[1:-1])}</code>")
+        else:
+            out.append(_html_text(p))
     return "".join(out)

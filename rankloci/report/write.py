@@ -1,4 +1,4 @@
-"""Reports on disk: :func:`write_report` (Markdown, LaTeX, PDF and the PNG figures) and
+"""Reports on disk: :func:`write_report` (Markdown, LaTeX, PDF, HTML and the PNG figures) and
 :func:`read_model_notes`.
 
 This is the only module of the report package that touches files; it runs
@@ -29,8 +29,9 @@ from pathlib import Path
 
 __all__ = ["write_report", "report_workdir", "read_model_notes", "ReportError", "FORMATS"]
 
-#: The formats :func:`write_report` writes (the PNG figures come with each).
-FORMATS = ("md", "tex", "pdf")
+#: The formats :func:`write_report` writes (the PNG figures come with each; the HTML page
+#: does not need them).
+FORMATS = ("md", "tex", "pdf", "html")
 
 
 class ReportError(Exception):
@@ -87,8 +88,9 @@ def write_report(report, directory, *, formats=FORMATS, fragment: bool = False,
     report : Report
         What :func:`~rankloci.report.build.build_report` returned.
     directory : path
-    formats : sequence of {"md", "tex", "pdf"}
-        The PNG figures are always written beside the text.
+    formats : sequence of {"md", "tex", "pdf", "html"}
+        The PNG figures are always written beside the text.  The HTML page
+        (:func:`~rankloci.report.html.render_html`) is one self-contained file.
     fragment : bool
         Write the LaTeX body without a preamble (for ``\\input`` into a paper).
     latex : (str, str) or None
@@ -104,6 +106,7 @@ def write_report(report, directory, *, formats=FORMATS, fragment: bool = False,
     Everything is first built in a temporary directory (:func:`report_workdir`);
     only when all of it succeeded are the files moved into place.
     """
+    from .html import render_html
     from .latex import render_latex
     from .markdown import render_markdown
 
@@ -127,6 +130,10 @@ def write_report(report, directory, *, formats=FORMATS, fragment: bool = False,
             (tmp / f"{name}.md").write_text(render_markdown(report, timings=timings),
                                             encoding="utf-8")
             produced.append(f"{name}.md")
+        if "html" in formats:
+            (tmp / f"{name}.html").write_text(render_html(report, timings=timings),
+                                              encoding="utf-8")
+            produced.append(f"{name}.html")
         tex = render_latex(report, fragment=fragment, timings=timings)
         if "tex" in formats:
             (tmp / f"{name}.tex").write_text(tex, encoding="utf-8")

@@ -1,0 +1,148 @@
+"""The HTML report: one self-contained page with the summary, every component's equations and
+an arm view whose data put each component's sample on the locus.
+
+The page in a real browser is tested in test_html_browser.py.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+import re
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from rankloci.io import load_model
+from rankloci.report import FORMATS, build_report, write_report
+from rankloci.report.html import blocks_html, render_html, view_data
+from rankloci.report.mathfmt import latex
+from rankloci.tolerances import VIEW_ON_LOCUS_RTOL
+
+pytest.importorskip("matplotlib")
+
+
+@pytest.fixture(scope="module")
+def planar3r():
+    """A report on planar3r and its page (building it takes several seconds: slow tests)."""
+    report = build_report(load_model("planar3r"), samples=2, exact=False)
+    return report, render_html(report, timings=False)
+
+
+def _data(page: str) -> dict:
+    m = re.search(r'<script id="rankloci-data" type="application/json">(.*?)</script>', page,
+                  re.S)
+    assert m, "the page holds no view data"
+    return json.loads(m[1])
+
+
+def test_html_is_a_format():
+    assert "html" in FORMATS
+
+
+@pytest.mark.slow
+def test_page_is_self_contained(planar3r):
+    _, page = planar3r
+    # nothing is fetched: no element refers to anything outside the page
+    assert not re.search(r"""(?:src|href)\s*=\s*["']?\s*(?:https?:|//)""", page, re.I)
+    assert not re.search(r"<link\b", page, re.I)
+    assert not re.search(r"@import|url\(\s*['\"]?https?:", page, re.I)
+    scripts = re.findall(r"<script\b([^>]*)>", page)
+    assert scripts and all("src" not in attrs for attrs in scripts)
+    # the math renderer is inside: KaTeX's own code, not a reference to it
+    assert "katex.render(" in page and 'version:"0.16.4"' in page
+
+
+@pytest.mark.slow
+def test_page_holds_the_summary_and_every_components_equations(planar3r):
+    report, page = planar3r
+    assert "<table>" in page and ">no.</th>" in page      # the summary table
+    for view in report.components:
+        c = view.component
+        # each component's subsection, with the anchor the summary links to ...
+        anchor = f'id="rankloci-{report.name}-component-{view.index}"'
+        assert anchor in page, anchor
+        section = page[page.index(anchor):]
+        section = section[:section.index("<h", 1)]
+        # ... shows its equations: displayed (LaTeX that the page renders to MathML), in the
+        # notation of J or written out, each one there in some form
+        assert '<div class="math display">' in section, view.index
+        for k, e in enumerate(c.equations):
+            forms = [latex(e), html.escape(str(e))]
+            if view.folded:
+                forms.append(latex(view.folded[k]))
+            assert any(html.escape(f) in section or f in section for f in forms), (view.index, e)
+
+
+def test_math_and_text_are_escaped():
+    from rankloci.report.blocks import Para, Table
+    from rankloci.report.escape import literal
+
+    page = blocks_html([Para("a <b> & " + literal("<script>alert(1)</script>") + " $x < 1$"),
+                        Table(("h<",), (("$q_1 & 2$",),))])
+    assert "<script>" not in page and "<b>" not in page
+    assert '<span class="math">x &lt; 1</span>' in page
+    assert "&lt;script&gt;" in page
+
+
+@pytest.mark.slow
+def test_view_data_put_each_sample_on_its_component(planar3r):
+    report, page = planar3r
+    data = _data(page)
+    assert data == json.loads(json.dumps(view_data(report)))
+    chain = data["chain"]
+    assert chain["variables"] == [v.name for v in report.model.variables]
+    assert chain["rtol"] == VIEW_ON_LOCUS_RTOL
+    shown = {c["index"] for c in data["components"]}
+    assert shown == {v.index for v in report.components if not v.special}
+    for comp in data["components"]:
+        q = np.array(comp["sample"])
+        assert report.locus.contains(q), comp["index"]
+        # the equations as the page evaluates them vanish there (scaled)
+        for code, scale in zip(comp["equations"], comp["scales"]):
+            value = eval(code, {"Math": _Math, "q": q})    # the code is checked plain arithmetic
+            assert abs(value) / scale <= 1e-9
+        # as many sliders as the component's dimension, the rest follow or are solved
+        followers = set(comp["moving"]) | {v for v, _ in comp["solved"]}
+        assert set(comp["free"]).isdisjoint(followers)
+        assert len(comp["free"]) + len(followers) == len(chain["variables"])
+
+
+class _Math:
+    sin, cos, tan, sqrt, atan2, pow = np.sin, np.cos, np.tan, np.sqrt, np.arctan2, np.power
+    PI = np.pi
+
+
+def test_code_for_the_page_is_only_arithmetic_in_the_joints():
+    from rankloci.locus import Component
+    from rankloci.report.html import _component_code
+
+    q1, q2, evil = sp.symbols("q1 q2 alert")
+    ok = Component(equations=(sp.sin(q1) + sp.Rational(1, 2) * sp.cos(q2),), free=(q2,))
+    solved, eqs = _component_code(ok, [q1, q2], {}, [0.0, 0.0])
+    assert eqs == ["Math.sin(q[0]) + 0.5*Math.cos(q[1])"] and solved == []
+    # a name that is neither a joint nor a parameter with a value: no code, the view leaves
+    # the component out
+    bad = Component(equations=(sp.sin(q1) + evil,), free=(q2,))
+    assert _component_code(bad, [q1, q2], {}, [0.0, 0.0]) is None
+
+
+@pytest.mark.slow
+def test_write_report_writes_one_html_file(planar3r, tmp_path):
+    report, _ = planar3r
+    paths = write_report(report, tmp_path, formats=("html",), timings=False)
+    pages = [p for p in paths if p.suffix == ".html"]
+    assert [p.name for p in pages] == ["planar3r.html"]
+    assert not [p for p in paths if p.suffix in (".md", ".tex", ".pdf")]
+    assert pages[0].read_text(encoding="utf-8") == render_html(report, timings=False)
+
+
+def test_cli_rejects_an_unknown_format_before_writing(tmp_path, capsys):
+    from rankloci.cli import main
+
+    out = tmp_path / "out"
+    assert main(["report", "planar2r", "-o", str(out), "--format", "html,htm"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "html" in err[0] and "htm'" in err[0]
+    assert not out.exists()
