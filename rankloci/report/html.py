@@ -71,6 +71,9 @@ def render_html(report, *, timings: bool = True) -> str:
     body = blocks_html(blocks, extra={at: view})
     title = html.escape(f"Singularity report: {report.model.name}")
     payload = json.dumps(data, separators=(",", ":")).replace("<", "\\u003c")
+    # the arm view only for a chain of joints (a matrix model has no arm)
+    arm = ([f'<script id="rankloci-data" type="application/json">{payload}</script>',
+            f"<script>\n{_script(_asset('arm_view.js'))}</script>"] if data else ["", ""])
     return "\n".join([
         "<!DOCTYPE html>",
         '<html lang="en">',
@@ -84,10 +87,10 @@ def render_html(report, *, timings: bool = True) -> str:
         "<main>",
         body,
         "</main>",
-        f'<script id="rankloci-data" type="application/json">{payload}</script>',
+        arm[0],
         f"<script>\n{_script(_asset('katex/katex.min.js'))}\n</script>",
         f"<script>\n{_RENDER_MATH}</script>",
-        f"<script>\n{_script(_asset('arm_view.js'))}</script>",
+        arm[1],
         "</body>",
         "</html>",
         "",

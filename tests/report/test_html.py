@@ -114,6 +114,18 @@ class _Math:
     PI = np.pi
 
 
+@pytest.mark.slow
+def test_a_matrix_model_gets_the_page_without_an_arm():
+    from pathlib import Path
+
+    path = Path(__file__).parents[2] / "examples" / "my_matrix.toml"
+    report = build_report(load_model(str(path)), samples=2, exact=False)
+    page = render_html(report, timings=False)
+    assert view_data(report) == {}
+    assert '<script id="rankloci-data"' not in page and "<canvas" not in page
+    assert 'class="math display"' in page and "katex.render(" in page
+
+
 def test_code_for_the_page_is_only_arithmetic_in_the_joints():
     from rankloci.locus import Component
     from rankloci.report.html import _component_code
