@@ -1,4 +1,5 @@
-"""Reports: what rankloci finds about a model, as Markdown, LaTeX and PDF with figures.
+"""Reports: what rankloci finds about a model, as Markdown, LaTeX and PDF with figures, or as
+one HTML page with an interactive view of the arm.
 
 :func:`build_report` computes everything a report shows and returns a frozen
 :class:`Report`; :func:`~rankloci.report.markdown.render_markdown` and
@@ -22,7 +23,8 @@ The modules, in the order of the data:
 - :mod:`~rankloci.report.mathfmt`, :mod:`~rankloci.report.matrixfmt` and
   :mod:`~rankloci.report.escape`: LaTeX math and escaped text;
 - :mod:`~rankloci.report.markdown` and :mod:`~rankloci.report.latex`: the blocks
-  as text;
+  as text; :mod:`~rankloci.report.html`: the blocks as one self-contained HTML page, with
+  the arm view (``assets/arm_view.js``) and the bundled math renderer (``assets/katex/``);
 - :mod:`~rankloci.report.write`: the only module that touches files.
 """
 

@@ -254,8 +254,10 @@ def view_data(report) -> dict:
                 if k not in free and k not in {v for v, _ in solved}]
         moving = _followers(c, variables, params, sample, rest)
         sliders = sorted(free + [k for k in rest if k not in moving])
+        check = report.limit_check(view.index)
         comps.append({"index": view.index, "free": sliders, "sample": sample, "solved": solved,
-                      "equations": equations, "scales": _scales(c, params), "moving": moving})
+                      "equations": equations, "scales": _scales(c, params), "moving": moving,
+                      "outside": bool(check is not None and check.meets is False)})
         poses.append(sample)
     ranges = []
     for k, (lo, hi) in enumerate(strokes):

@@ -150,6 +150,19 @@ def test_write_report_writes_one_html_file(planar3r, tmp_path):
     assert pages[0].read_text(encoding="utf-8") == render_html(report, timings=False)
 
 
+@pytest.mark.slow
+def test_cli_writes_the_page(tmp_path, capsys):
+    from rankloci.cli import main
+
+    out = tmp_path / "out"
+    assert main(["report", "planar2r", "-o", str(out), "--format", "html", "--quiet"]) == 0
+    printed = capsys.readouterr().out.split()
+    assert printed == [str(out / "planar2r.html")]
+    page = (out / "planar2r.html").read_text(encoding="utf-8")
+    assert page.startswith("<!DOCTYPE html>") and page.rstrip().endswith("</html>")
+    assert not (out / "planar2r.md").exists()
+
+
 def test_cli_rejects_an_unknown_format_before_writing(tmp_path, capsys):
     from rankloci.cli import main
 

@@ -319,7 +319,8 @@
     const option = document.createElement("option");
     option.value = String(c.index);
     option.textContent = c.index === 0 ? "none: every joint free"
-      : "Component " + c.index + (c.free.length ? "" : " (no free joint)");
+      : "Component " + c.index + (c.outside ? " (outside the joint limits)" : "")
+        + (c.free.length ? "" : " (no free joint)");
     select.append(option);
   }
   select.addEventListener("change", () => choose(+select.value));
