@@ -201,14 +201,16 @@ def view_data(report) -> dict:
     variable that moves it with its multiple (a mimic joint), the task rows and
     the frame of the Jacobian, a sample pose and a slider range per variable.
     ``components``: per component of the locus that exists for the model's
-    parameters, its number, free variables, sample pose, solved values and
+    parameters, its number, the variables its sliders move (its free variables
+    and as many more as its equations leave free), the variables that follow them
+    (``moving``), its sample pose, solved values and
     equations as JavaScript expressions in ``q[0..n-1]`` (the parameters
     replaced by their values).  A component whose expressions hold anything
     else is left out of ``components`` and named in ``omitted``.  An empty
     dict for a model that is not a chain of joints.
     """
     from ..limits import joint_kinds, joint_strokes
-    from ..model import RobotModel
+    from ..model import TASKS, RobotModel
 
     model = report.model
     if not isinstance(model, RobotModel):
@@ -255,7 +257,7 @@ def view_data(report) -> dict:
         moving = _followers(c, variables, params, sample, rest)
         sliders = sorted(free + [k for k in rest if k not in moving])
         check = report.limit_check(view.index)
-        comps.append({"index": view.index, "free": sliders, "sample": sample, "solved": solved,
+        comps.append({"index": view.index, "sliders": sliders, "sample": sample, "solved": solved,
                       "equations": equations, "scales": _scales(c, params), "moving": moving,
                       "outside": bool(check is not None and check.meets is False)})
         poses.append(sample)
@@ -268,6 +270,7 @@ def view_data(report) -> dict:
                   "tool": tool, "task": list(model.task), "frame": model.frame,
                   "prismatic": [k == "prismatic" for k in kinds], "ranges": ranges,
                   "reach": max(reach, 1e-3), "rtol": VIEW_ON_LOCUS_RTOL,
+                  "planar": tuple(model.task) == TASKS["planar"],
                   "sample": poses[0] if poses else [0.0] * len(variables)},
         "components": comps,
         "omitted": omitted,

@@ -105,8 +105,8 @@ def test_view_data_put_each_sample_on_its_component(planar3r):
             assert abs(value) / scale <= 1e-9
         # as many sliders as the component's dimension, the rest follow or are solved
         followers = set(comp["moving"]) | {v for v, _ in comp["solved"]}
-        assert set(comp["free"]).isdisjoint(followers)
-        assert len(comp["free"]) + len(followers) == len(chain["variables"])
+        assert set(comp["sliders"]).isdisjoint(followers)
+        assert len(comp["sliders"]) + len(followers) == len(chain["variables"])
 
 
 class _Math:

@@ -2,15 +2,16 @@
 //
 // The page embeds, as JSON in <script id="rankloci-data">, the model's numeric chain (4x4
 // transforms row by row, joint axes, which variable moves each joint and by what multiple)
-// and, for each component of the locus, its free joints, a sample point, the solved values
-// of the other joints and its equations, each as a JavaScript expression in the joint
-// variables q[0..n-1] with the parameters replaced by their values.
+// and, for each component of the locus, the joints its sliders move, the joints that follow
+// them, a sample point, the solved values of the other joints and its equations, each as a
+// JavaScript expression in the joint variables q[0..n-1] with the parameters replaced by
+// their values.
 //
 // Forward kinematics, the geometric Jacobian at the tool point and its singular values are
 // computed here, from the chain alone: the ratio sigma_min/sigma_max shown is not taken from
-// the locus computation.  A pose is put on a component by setting its free joints from the
-// sliders, evaluating the solved values, and moving the remaining joints by Gauss-Newton
-// steps (least-norm, on the component's equations) from the previous pose.
+// the locus computation.  A pose is put on a component by setting the slider joints,
+// evaluating the solved values, and moving the joints that follow by Gauss-Newton steps
+// (least-norm, on the component's equations) from the previous pose.
 "use strict";
 (function () {
   const data = JSON.parse(document.getElementById("rankloci-data").textContent);
@@ -182,7 +183,8 @@
   // ---- drawing: an orthographic view turned by dragging ----
   const canvas = document.getElementById("arm-canvas");
   const ctx = canvas.getContext("2d");
-  const view = {azimuth: 0.6, elevation: 0.35};
+  // a planar arm is seen from above, a spatial one from the side
+  const view = {azimuth: chain.planar ? 0 : 0.6, elevation: chain.planar ? 1.5 : 0.35};
   const reach = chain.reach;
 
   function project2d(p) {
@@ -277,8 +279,9 @@
     ratioOut.textContent = ratio.toExponential(2) + (ratio <= chain.rtol
       ? " (rank deficient: at most " + chain.rtol.toExponential(0) + ")" : " (full rank)");
     ratioOut.dataset.value = String(ratio);
-    residualOut.textContent = current && current.index ? residual.toExponential(1)
-      : "(no equations)";
+    residualOut.textContent = !(current && current.index) ? "(no equations)"
+      : residual.toExponential(1) + (residual > 1e-9
+        ? " (the joints that follow could not reach the component here: move back)" : "");
     poseOut.dataset.value = JSON.stringify(q);
     poseOut.textContent = chain.variables.map((name, i) =>
       name + " = " + fmt(q[i]) + (chain.prismatic[i] ? " m" : "")).join(", ");
@@ -290,7 +293,7 @@
     slidersBox.textContent = "";
     if (!current) return;
     q = current.sample.slice();
-    for (const v of current.free) {
+    for (const v of current.sliders) {
       const label = document.createElement("label");
       const name = document.createElement("span");
       name.textContent = chain.variables[v];
@@ -313,14 +316,14 @@
   }
 
   // "every joint free": no component, a slider per joint, nothing keeps the pose on the locus
-  components.unshift({index: 0, free: chain.variables.map((_, k) => k), sample: chain.sample,
+  components.unshift({index: 0, sliders: chain.variables.map((_, k) => k), sample: chain.sample,
                       solvedFns: [], eqFns: [], scales: [], moving: []});
   for (const c of components) {
     const option = document.createElement("option");
     option.value = String(c.index);
     option.textContent = c.index === 0 ? "none: every joint free"
       : "Component " + c.index + (c.outside ? " (outside the joint limits)" : "")
-        + (c.free.length ? "" : " (no free joint)");
+        + (c.sliders.length ? "" : " (no free joint)");
     select.append(option);
   }
   select.addEventListener("change", () => choose(+select.value));
