@@ -199,7 +199,9 @@ def view_data(report) -> dict:
     ``chain``: the model's transforms (base, each joint's ``pre`` and ``post``,
     tool; 16 numbers each, row by row), each joint's unit axis, kind, and the
     variable that moves it with its multiple (a mimic joint), the task rows and
-    the frame of the Jacobian, a sample pose and a slider range per variable.
+    the frame of the Jacobian, the rows that augment it (the gradients of the
+    model's constraint functions, as JavaScript expressions), a sample pose and
+    a slider range per variable.
     ``components``: per component of the locus that exists for the model's
     parameters, its number, the variables its sliders move (its free variables
     and as many more as its equations leave free), the variables that follow them
@@ -207,7 +209,8 @@ def view_data(report) -> dict:
     equations as JavaScript expressions in ``q[0..n-1]`` (the parameters
     replaced by their values).  A component whose expressions hold anything
     else is left out of ``components`` and named in ``omitted``.  An empty
-    dict for a model that is not a chain of joints.
+    dict for a model that is not a chain of joints (or whose constraint
+    gradients are not plain functions of the joints).
     """
     from ..limits import joint_kinds, joint_strokes
     from ..model import TASKS, RobotModel
@@ -231,6 +234,13 @@ def view_data(report) -> dict:
                        "pre": pre, "post": post, "variable": index[var],
                        "multiplier": float(multiple)})
     base, tool = numbers(model.base), numbers(model.tool)
+    # the rows of the constraint gradients that augment J (exact derivatives)
+    from ..kinematics import augmented_rows
+
+    grads = augmented_rows(model, [g for _, g in model.augment])
+    augment = [[_js(x, variables, params) for x in grads.row(r)] for r in range(grads.rows)]
+    if any(x is None for row in augment for x in row):
+        return {}
     kinds = joint_kinds(model)
     strokes = joint_strokes(model)
     reach += _length(tool) + sum(max(abs(lo), abs(hi)) for (lo, hi), k in zip(strokes, kinds)
@@ -268,6 +278,7 @@ def view_data(report) -> dict:
     return {
         "chain": {"variables": [v.name for v in variables], "joints": joints, "base": base,
                   "tool": tool, "task": list(model.task), "frame": model.frame,
+                  "augment": augment,
                   "prismatic": [k == "prismatic" for k in kinds], "ranges": ranges,
                   "reach": max(reach, 1e-3), "rtol": VIEW_ON_LOCUS_RTOL,
                   "planar": tuple(model.task) == TASKS["planar"],
@@ -314,21 +325,30 @@ def _length(T) -> float:
     return (T[3] ** 2 + T[7] ** 2 + T[11] ** 2) ** 0.5
 
 
+def _js(expr, variables, params):
+    """``expr`` as a JavaScript expression in ``q[0..n-1]``, or None if it holds anything else.
+
+    The parameters are replaced by their values; what is left must be numbers, operators and
+    the functions of ``Math`` (checked on the text, so that nothing else reaches the page).
+    """
+    slots = {v: sp.Symbol(f"q[{k}]") for k, v in enumerate(variables)}
+    e = sp.sympify(expr).subs(params).xreplace(slots)
+    if e.free_symbols - set(slots.values()):
+        return None
+    text = sp.jscode(sp.N(e, 17))
+    return text if _JS_SAFE.fullmatch(_JS_NAMES.sub("", text)) else None
+
+
 def _component_code(c, variables, params, sample):
     """(solved, equations) of component ``c`` as JavaScript, or None if one is not plain.
 
     A variable with several solved values takes the one nearest its sample value.
     """
-    slots = {v: sp.Symbol(f"q[{k}]") for k, v in enumerate(variables)}
     index = {v: k for k, v in enumerate(variables)}
     at = {v: sample[k] for k, v in enumerate(variables)}
 
     def code(expr):
-        e = sp.sympify(expr).subs(params).xreplace(slots)
-        if e.free_symbols - set(slots.values()):
-            return None
-        text = sp.jscode(sp.N(e, 17))
-        return text if _JS_SAFE.fullmatch(_JS_NAMES.sub("", text)) else None
+        return _js(expr, variables, params)
 
     solved = []
     for v, values in c.solved.items():

@@ -109,6 +109,23 @@ def test_view_data_put_each_sample_on_its_component(planar3r):
         assert len(comp["sliders"]) + len(followers) == len(chain["variables"])
 
 
+@pytest.mark.slow
+def test_view_data_carry_the_rows_that_augment_j():
+    from rankloci.jacobian import task_matrix
+    from rankloci.numeric.equations import NumericMatrix
+
+    model = load_model("planar3r_orient")           # J is [vx; vy; grad(q1 + q2 + q3)]
+    assert model.augment
+    data = view_data(build_report(model, samples=2, exact=False))
+    tm = task_matrix(model)
+    nm = NumericMatrix(sp.Matrix(tm.matrix).subs(dict(tm.parameters)), tm.variables, tm.angles)
+    rows = data["chain"]["augment"]
+    assert len(rows) == len(model.augment) and data["chain"]["task"] == list(model.task)
+    q = np.array(data["components"][0]["sample"]) + 0.3
+    page_rows = [[eval(code, {"Math": _Math, "q": q}) for code in row] for row in rows]
+    np.testing.assert_allclose(page_rows, nm(q)[len(model.task):], rtol=0, atol=1e-15)
+
+
 class _Math:
     sin, cos, tan, sqrt, atan2, pow = np.sin, np.cos, np.tan, np.sqrt, np.arctan2, np.power
     PI = np.pi

@@ -17,6 +17,9 @@
   const data = JSON.parse(document.getElementById("rankloci-data").textContent);
   const chain = data.chain;
   const n = chain.variables.length;
+  // the gradients of the model's constraint functions: rows under the task rows of J
+  const augment = chain.augment.map((row) =>
+    row.map((code) => new Function("q", "return " + code + ";")));
 
   // ---- 4x4 transforms, row-major arrays of 16 numbers ----
   function mul(A, B) {
@@ -84,7 +87,8 @@
         for (let r = 0; r < 3; r++) { c[r] = a[r]; c[r + 3] = b[r]; }
       }
     }
-    return chain.task.map((r) => cols.map((c) => c[r]));
+    return chain.task.map((r) => cols.map((c) => c[r])).concat(augment.map((row) =>
+      row.map((f) => f(q))));
   }
 
   // Singular values of an m x n matrix (array of rows) by one-sided Jacobi rotations on the
