@@ -197,8 +197,8 @@
     const x = ca * p[0] + sa * p[1];
     const y = -sa * p[0] + ca * p[1];
     const up = ce * p[2] - se * y;
-    const scale = 0.42 * Math.min(canvas.width, canvas.height) / reach;
-    return [canvas.width / 2 + scale * x, canvas.height * 0.6 - scale * up];
+    const scale = (chain.planar ? 0.45 : 0.5) * Math.min(canvas.width, canvas.height) / reach;
+    return [canvas.width / 2 + scale * x, canvas.height * (chain.planar ? 0.5 : 0.6) - scale * up];
   }
 
   function draw(q) {
