@@ -212,7 +212,7 @@ def view_data(report) -> dict:
     dict for a model that is not a chain of joints (or whose constraint
     gradients are not plain functions of the joints).
     """
-    from ..limits import joint_kinds, joint_strokes
+    from ..limits import joint_kinds, joint_limits, joint_strokes
     from ..model import TASKS, RobotModel
 
     model = report.model
@@ -282,6 +282,8 @@ def view_data(report) -> dict:
                   "prismatic": [k == "prismatic" for k in kinds], "ranges": ranges,
                   "reach": max(reach, 1e-3), "rtol": VIEW_ON_LOCUS_RTOL,
                   "planar": tuple(model.task) == TASKS["planar"],
+                  "limits": [None if lim is None else [float(lim[0]), float(lim[1])]
+                             for lim in joint_limits(model)],
                   "sample": poses[0] if poses else [0.0] * len(variables)},
         "components": comps,
         "omitted": omitted,

@@ -147,6 +147,10 @@ def test_sliders_move_the_arm_along_each_component(browser, puma_page):
         _choose(browser, index)
         start = _joints(browser)
         assert _ratio(browser) <= VIEW_ON_LOCUS_RTOL, index
+        # the report's sample point lies within the joint limits, and the page says so
+        assert report.limit_check(index).meets
+        outside = browser.find_element("id", "arm-pose").get_attribute("data-outside")
+        assert json.loads(outside) == [], index
         sliders = browser.find_elements("css selector", "#arm-sliders input[type=range]")
         dimension = next(v.component.dimension for v in report.components if v.index == index)
         assert len(sliders) == dimension
@@ -172,6 +176,13 @@ def test_with_every_joint_free_the_ratio_is_numpys(browser, puma_page):
         for _ in _drag(browser, slider, 0.3):
             pass
     q = _pose(browser)
+    # a joint moved out of its limits is named (the page's own test, against the model's)
+    limits = [j.limits for j in model.joints]
+    outside = [v.name for v, lim, x in zip(model.variables, limits, q)
+               if lim is not None and not any(lim[0] <= x + 2 * np.pi * k <= lim[1]
+                                              for k in (-1, 0, 1))]
+    shown = browser.find_element("id", "arm-pose").get_attribute("data-outside")
+    assert json.loads(shown) == outside
     s = np.linalg.svd(nm(q), compute_uv=False)
     expected = s[-1] / s[0]
     assert expected > REGULAR_MIN_RATIO       # an ordinary pose: the page must not call it on

@@ -266,6 +266,15 @@
   let q = chain.sample.slice();
   let current = null;
 
+  // Is variable k within its limits at x (an angle: some whole number of turns away)?
+  function within(k, x) {
+    const lim = chain.limits[k];
+    if (!lim) return true;
+    if (chain.prismatic[k]) return lim[0] <= x && x <= lim[1];
+    const turn = 2 * Math.PI, y = lim[0] + ((((x - lim[0]) % turn) + turn) % turn);
+    return y <= lim[1] + 1e-12;
+  }
+
   function fmt(x) { return Math.abs(x) < 5e-13 ? "0" : x.toPrecision(4); }
 
   function update() {
@@ -287,8 +296,11 @@
       : residual.toExponential(1) + (residual > 1e-9
         ? " (the joints that follow could not reach the component here: move back)" : "");
     poseOut.dataset.value = JSON.stringify(q);
+    const outside = chain.variables.filter((_, i) => !within(i, q[i]));
+    poseOut.dataset.outside = JSON.stringify(outside);
     poseOut.textContent = chain.variables.map((name, i) =>
-      name + " = " + fmt(q[i]) + (chain.prismatic[i] ? " m" : "")).join(", ");
+      name + " = " + fmt(q[i]) + (chain.prismatic[i] ? " m" : "")).join(", ")
+      + (outside.length ? "; outside the joint limits: " + outside.join(", ") : "");
     draw(q);
   }
 
