@@ -17,7 +17,8 @@ without a network:
   computation that found it.
 
 The figures (PNG) are not embedded, to keep the page small; their captions
-stay, and they lie beside the Markdown report.  Everything here is pure.
+stay and name the files, which :func:`~rankloci.report.write.write_report`
+writes beside the page.  Everything here is pure.
 """
 
 from __future__ import annotations
@@ -34,7 +35,8 @@ from .blocks import Appendix, Bullets, Code, Figure, Heading, Marker, Math, Para
 from .content import report_blocks
 from .escape import _MD_REF, html_id, rich_html
 
-__all__ = ["render_html", "view_data", "KATEX_VERSION"]
+__all__ = ["render_html", "view_data", "blocks_html", "KATEX_VERSION"]
+
 #: The version of the bundled KaTeX (Debian's ``libjs-katex``, from the upstream release).
 KATEX_VERSION = "0.16.4"
 

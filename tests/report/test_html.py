@@ -16,7 +16,7 @@ import sympy as sp
 
 from rankloci.io import load_model
 from rankloci.report import FORMATS, build_report, write_report
-from rankloci.report.html import blocks_html, render_html, view_data
+from rankloci.report.html import KATEX_VERSION, blocks_html, render_html, view_data
 from rankloci.report.mathfmt import latex
 from rankloci.tolerances import VIEW_ON_LOCUS_RTOL
 
@@ -51,7 +51,7 @@ def test_page_is_self_contained(planar3r):
     scripts = re.findall(r"<script\b([^>]*)>", page)
     assert scripts and all("src" not in attrs for attrs in scripts)
     # the math renderer is inside: KaTeX's own code, not a reference to it
-    assert "katex.render(" in page and 'version:"0.16.4"' in page
+    assert "katex.render(" in page and f'version:"{KATEX_VERSION}"' in page
 
 
 @pytest.mark.slow
