@@ -37,6 +37,35 @@ def _data(page: str) -> dict:
     return json.loads(m[1])
 
 
+def _tags(page: str) -> list:
+    """(tag, attributes) of every element of ``page``, as the browser's parser sees them."""
+    from html.parser import HTMLParser
+
+    found = []
+
+    class Tags(HTMLParser):
+        def handle_starttag(self, tag, attrs):
+            found.append((tag, dict(attrs)))
+
+    Tags().feed(page)
+    return found
+
+
+def _fetches(page: str) -> list:
+    """The elements of ``page`` that would load anything from outside it."""
+    return [(tag, attrs) for tag, attrs in _tags(page)
+            if tag in ("link", "iframe", "img", "object", "embed", "base")
+            or any(k in ("src", "href", "data", "srcset", "action")
+                   and not (v or "").startswith("#") for k, v in attrs.items())]
+
+
+def test_the_check_for_fetches_sees_them():
+    assert _fetches('<a href="#x">x</a><p>src=https://a</p><script>"<img src=x>"</script>') == []
+    for markup in ('<script src="https://a/k.js"></script>', '<link rel="stylesheet" href="k">',
+                   '<img src="data:,">', '<a href="https://a">a</a>', '<iframe></iframe>'):
+        assert _fetches(markup), markup
+
+
 def test_html_is_a_format():
     assert "html" in FORMATS
 
@@ -44,12 +73,12 @@ def test_html_is_a_format():
 @pytest.mark.slow
 def test_page_is_self_contained(planar3r):
     _, page = planar3r
-    # nothing is fetched: no element refers to anything outside the page
-    assert not re.search(r"""(?:src|href)\s*=\s*["']?\s*(?:https?:|//)""", page, re.I)
-    assert not re.search(r"<link\b", page, re.I)
-    assert not re.search(r"@import|url\(\s*['\"]?https?:", page, re.I)
-    scripts = re.findall(r"<script\b([^>]*)>", page)
-    assert scripts and all("src" not in attrs for attrs in scripts)
+    # nothing is fetched: no element refers to anything outside the page (links within it
+    # only), no style sheet imports one
+    tags = _tags(page)
+    assert [t for t, _ in tags if t == "script"] and _fetches(page) == []
+    assert any(t == "a" for t, _ in tags)          # the summary's links, to the page's headings
+    assert not re.search(r"@import|url\(", page[page.index("<style>"):page.index("</style>")])
     # the math renderer is inside: KaTeX's own code, not a reference to it
     assert "katex.render(" in page and f'version:"{KATEX_VERSION}"' in page
 
@@ -141,6 +170,28 @@ def test_a_matrix_model_gets_the_page_without_an_arm():
     assert view_data(report) == {}
     assert '<script id="rankloci-data"' not in page and "<canvas" not in page
     assert 'class="math display"' in page and "katex.render(" in page
+
+
+HOSTILE = ("Arm <script>alert(1)</script> <img src=https://example.com/x.png> "
+           "$\\input{/etc/passwd}$ `tick` & </p>")
+
+
+@pytest.mark.slow
+def test_model_text_is_text_in_the_page():
+    from rankloci.io.toml_model import parse_model
+
+    text = (f'name = "hostile"\nvariables = ["x", "y"]\n'
+            f'matrix = [["cos(x)", "y"], ["sin(x)", "1"]]\n'
+            f"title = {json.dumps(HOSTILE)}\nsource = {json.dumps(HOSTILE)}\n")
+    report = build_report(parse_model(text), samples=2, exact=False, model_notes=HOSTILE)
+    page = render_html(report, timings=False)
+    body = page[page.index("<body>"):]
+    assert body.count("<script>") == 2           # KaTeX and the call that renders the math
+    assert _fetches(page) == [] and "example.com/x.png" in page
+    escaped = html.escape(HOSTILE)
+    assert page.count(escaped) >= 2               # the title and the source, as text
+    # the model's dollars are not math: no span holds the model's LaTeX
+    assert '<span class="math">\\input' not in page
 
 
 def test_code_for_the_page_is_only_arithmetic_in_the_joints():
