@@ -198,17 +198,18 @@ def as_model(model, *, variables=None, parameters=None, tip=None, base_link=None
 
     Parameters
     ----------
-    model : str, os.PathLike, RobotModel, MatrixModel, sympy.Matrix, DHRobot or pinocchio.Model
+    model : str, os.PathLike, RobotModel, MatrixModel, sympy.Matrix, DHRobot, pinocchio.Model or RobotWrapper
         A built-in model name or a ``.toml`` / ``.urdf`` path; a model; a
         symbolic matrix (see :func:`matrix_model`); a Robotics Toolbox DH
         robot (:func:`~rankloci.adapters.from_rtb`); a Pinocchio model
-        (:func:`~rankloci.adapters.from_pinocchio`, ``tip`` names the frame).
+        or RobotWrapper (:func:`~rankloci.adapters.from_pinocchio`, ``tip`` and
+        ``base_link`` name its frames).
     variables, parameters
         For a sympy matrix only.
     tip : str, optional
         For a URDF file or a Pinocchio model: the chain's last link or frame.
     base_link : str, optional
-        For a URDF file: the chain's first link.
+        For a URDF file or a Pinocchio model: the chain's first link or frame.
 
     Returns
     -------
@@ -246,7 +247,7 @@ def as_model(model, *, variables=None, parameters=None, tip=None, base_link=None
             raise ArgumentError(f"tip= and base_link= apply to URDF files and Pinocchio models; "
                              f"{spec!r} is neither")
         try:
-            return load(spec, base_link=base_link, tip_link=tip)
+            return load(spec, base_link=base_link, tip=tip)
         except ModelError as e:
             raise _in_api_words(e) from None
     if isinstance(model, sp.MatrixBase):
@@ -261,10 +262,7 @@ def as_model(model, *, variables=None, parameters=None, tip=None, base_link=None
     if _is_from(model, "pinocchio"):
         from ..adapters import from_pinocchio
 
-        if base_link is not None:
-            raise ArgumentError("base_link= applies to URDF files; a Pinocchio chain starts at "
-                             "the model's root")
-        return from_pinocchio(model, tip=tip)
+        return from_pinocchio(model, tip=tip, base_link=base_link)
     raise ArgumentError(f"cannot use a {type(model).__module__}.{type(model).__name__} as a model; "
                     "give a built-in model name, a .toml or .urdf path, a sympy Matrix, a "
                     "Robotics Toolbox DHRobot or a Pinocchio Model")
