@@ -490,8 +490,8 @@ def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
                            should_stop=should_stop, progress=log_progress)
 
 
-def report(model, directory=None, *, formats=("md",), seed=0, samples=10, numeric=False,
-           timeout=None, tip=None, base_link=None):
+def report(model, directory=None, *, formats=("md", "tex", "pdf"), seed=0, samples=10,
+           numeric=False, timeout=None, tip=None, base_link=None, fragment=False, timings=True):
     """Build a report on a model and, given a directory, write it (``rankloci report``).
 
     Needs matplotlib (the ``report`` extra).
@@ -502,12 +502,20 @@ def report(model, directory=None, *, formats=("md",), seed=0, samples=10, numeri
         Anything :func:`load_model` accepts.
     directory : path, optional
         Where to write it; without it nothing is written.
-    formats : sequence of {"md", "tex", "pdf"}
-        The PDF needs ``latexmk`` or ``pdflatex`` on the PATH.
+    formats : str or sequence of {"md", "tex", "pdf"}
+        What to write, as ``rankloci report --format md,tex,pdf``; the default,
+        all three, is the command's.  The PDF needs ``latexmk`` or ``pdflatex``
+        on the PATH: without either it is skipped with a warning on the
+        ``rankloci`` logger, as the command skips it with a note.  A string
+        may be one format or a comma list (``"md,tex"``).
     seed, samples, numeric, timeout
         As for the command line.
     tip, base_link
         See :func:`load_model`.
+    fragment : bool
+        The LaTeX without a preamble, to ``\\input`` into a paper (``--fragment``).
+    timings : bool
+        Include the timing table (``--no-timings`` leaves it out).
 
     Returns
     -------
@@ -522,8 +530,13 @@ def report(model, directory=None, *, formats=("md",), seed=0, samples=10, numeri
     check_arguments(seed=seed, numeric=numeric, timeout=timeout, tip=tip, base_link=base_link)
     check_samples(samples)
     if isinstance(formats, str):
+        formats = tuple(f.strip() for f in formats.split(",") if f.strip())
+    try:
+        formats = tuple(formats)
+    except TypeError:
         formats = (formats,)
-    bad = [f for f in formats if f not in FORMATS]
+    bad = [f for f in formats if not isinstance(f, str) or f not in FORMATS] or (
+        [] if formats else [""])
     if bad:
         from ..errors import ArgumentError
 
@@ -537,7 +550,15 @@ def report(model, directory=None, *, formats=("md",), seed=0, samples=10, numeri
         return built, []
     latex = next(((kind, exe) for kind in ("latexmk", "pdflatex")
                   if (exe := shutil.which(kind))), None) if "pdf" in formats else None
-    return built, write_report(built, directory, formats=formats, latex=latex)
+    if "pdf" in formats and latex is None:
+        import logging
+
+        from .progress import LOGGER_NAME
+
+        logging.getLogger(LOGGER_NAME).warning("PDF skipped: neither latexmk nor pdflatex is "
+                                               "installed")
+    return built, write_report(built, directory, formats=formats, latex=latex,
+                               fragment=bool(fragment), timings=bool(timings))
 
 
 def require_matplotlib(what: str) -> None:

@@ -19,7 +19,7 @@ from pathlib import Path
 from ..errors import ModelError, RanklociError
 from .commands import COMMANDS, EXIT_OK, EXIT_USAGE
 from .output import detach_progress, show_warning
-from .parser import UsageError, build_parser
+from .parser import OLD_OPTIONS, UsageError, build_parser
 
 __all__ = ["main", "main_exit", "build_parser"]
 
@@ -51,6 +51,8 @@ def _run(argv, started) -> int:
     try:
         args = parser.parse_args(argv)
         args.started = started
+        for old in getattr(args, "old_options", ()):
+            print(f"rankloci: note: {old} is deprecated; use {OLD_OPTIONS[old]}", file=sys.stderr)
         if args.command is None:
             parser.print_help()
             return EXIT_USAGE

@@ -92,7 +92,7 @@ def test_jacobian_and_locus_of_a_robot_agree_with_the_command_line(capsys):
     J = rankloci.jacobian("puma560", numeric=True)
     assert J.matrix.shape == (6, 6) and J.row_labels == ("vx", "vy", "vz", "wx", "wy", "wz")
     L = rankloci.locus("puma560", numeric=True)
-    assert main(["locus", "puma560", "--numeric-parameters", "--format", "json", "--quiet"]) == 0
+    assert main(["locus", "puma560", "--numeric", "--format", "json", "--quiet"]) == 0
     cli = json.loads(capsys.readouterr().out)
     assert [c["equations"] for c in cli["components"]] == \
         [c.to_dict()["equations"] for c in L.components]
@@ -142,7 +142,7 @@ def test_check_and_is_singular():
 
 
 def test_report_builds_and_writes(tmp_path):
-    built, paths = rankloci.report("planar2r", tmp_path / "out", samples=3)
+    built, paths = rankloci.report("planar2r", tmp_path / "out", formats="md", samples=3)
     assert [p.name for p in paths if p.suffix == ".md"] == ["planar2r.md"]
     assert "sin(q2)" in (tmp_path / "out" / "planar2r.md").read_text()   # the component
     assert any(p.suffix == ".png" for p in paths)
