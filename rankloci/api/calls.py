@@ -425,6 +425,13 @@ def check_model(model, given=None, *, samples=10, seed=0, numeric=False, should_
         checked = certified_locus(model, seed=seed, numeric=numeric, should_stop=should_stop,
                                   progress=progress)[0]
     J = task_matrix(model)  # the model's own frame; parameters substituted by cross_check
+    if given is not None and tuple(given.shape) != tuple(J.shape):
+        from ..errors import LocusError
+
+        raise LocusError(f"the locus is of a {given.shape[0]}x{given.shape[1]} matrix and "
+                         f"{model.name}'s task matrix is {J.shape[0]}x{J.shape[1]}: a locus is "
+                         "checked against the model's own task, and this one was computed for "
+                         "other rows (a task or constraint rows the model does not have)")
     certificate = checked.certificate if given is None else None
     if certificate is None:
         from ..certify import certify_locus

@@ -166,9 +166,9 @@ EPILOG_JACOBIAN = """examples:
   rankloci jacobian planar2r
   rankloci jacobian puma560 --frame tool --format latex
   rankloci jacobian ssrms --augment q3 --numeric --format json
-  rankloci jacobian kinematics_models/extra/iiwa_offsets.urdf --tip link_7
+  rankloci jacobian examples/arm.urdf --tip tool0 --task position
 
-Paths in these examples are files of rankloci's source tree.
+Paths in these examples are files of rankloci's source tree (examples/).
 """
 
 EPILOG_LOCUS = """examples:
@@ -178,10 +178,11 @@ EPILOG_LOCUS = """examples:
   rankloci locus pa10 --augment "lock(q3)"      # J, J_aug, kinds of J_aug's components
   rankloci locus pa10 --augment "elbow(z)" --format json
   rankloci locus examples/my_matrix.toml --method subdeterminant --show-tree
+  rankloci locus examples/arm.urdf --tip tool0 --task position
 
 The locus is printed as components: equations that vanish on each, the solved
 form where there is one, dimension, rank drop and the lost task direction.
-Paths in these examples are files of rankloci's source tree.
+Paths in these examples are files of rankloci's source tree (examples/).
 """
 
 EPILOG_CHECK = """examples:
@@ -189,8 +190,8 @@ EPILOG_CHECK = """examples:
   rankloci check puma560 --numeric --samples 20 --seed 7
   rankloci locus puma560 --numeric --format json > puma.json
   rankloci check puma560 --locus puma.json --format json
-  rankloci locus kinematics_models/extra/iiwa_offsets.urdf --tip link_7 --format json > iiwa.json
-  rankloci check kinematics_models/extra/iiwa_offsets.urdf --tip link_7 --locus iiwa.json
+  rankloci locus examples/arm.urdf --tip tool0 --format json > arm.json
+  rankloci check examples/arm.urdf --tip tool0 --locus arm.json
 
 Samples points on each component (J must be rank deficient there), random
 configurations away from every component (J must be full rank) and minima of
@@ -199,8 +200,10 @@ decides; where its double-precision ratio lies above 1e-14 a point of a
 component is decided again in 50 and 100 digits (singular where the ratio falls
 with the digits, regular where it stays).  FSP reducer and maximal-minor
 disagreements are listed as findings.
-Exit 0 when every check passes, 1 when one fails, 2 on bad input.  Paths in
-these examples are files of rankloci's source tree.
+A locus file is checked against the model's own task (a locus computed with
+--task or --augment is refused).  Exit 0 when every check passes, 1 when one
+fails, 2 on bad input.  Paths in these examples are files of rankloci's source
+tree (examples/).
 """
 
 EPILOG_MODELS = """examples:
