@@ -82,9 +82,16 @@ def matrix_model(matrix, *, variables=None, parameters=None, name: str = "matrix
 
     The matrix goes through the parser of raw-matrix model files, so it is
     validated as a file would be: floats become the exact rationals of their
-    shortest decimal form, only ``sin cos tan sqrt ...`` are accepted, an entry
-    may have up to 2000 characters (:data:`rankloci.expr.MAX_LENGTH`), and the
-    symbols come back as real symbols of the same names.
+    shortest decimal form, an entry may have up to 2000 characters
+    (:data:`rankloci.expr.MAX_LENGTH`), and the symbols come back as real
+    symbols of the same names.  Symbols of any name are accepted (``θ``,
+    ``q'``): a name a model file cannot hold is carried under a stand-in
+    (``_s0``, ``_s1``, ... in the returned model), and :func:`rankloci.locus`
+    and :func:`rankloci.jacobian` give the caller's own symbol back.
+    Each entry must be a polynomial in the variables and in sines and cosines
+    of them, with parameters and numbers as coefficients; one that is not
+    (``Abs(x)``, ``exp(x)``, ``1/x``, ``tan(x)``) is refused here, before any
+    computation, naming the entry.
 
     Parameters
     ----------
@@ -124,6 +131,11 @@ def matrix_model(matrix, *, variables=None, parameters=None, name: str = "matrix
     from ..io.toml_model import parse_model
 
     params = {str(k): v for k, v in (parameters or {}).items()}
+    if isinstance(matrix, sp.MatrixBase):
+        _check_functions(matrix)
+        stand_ins = _stand_ins(matrix, variables, params)
+        if stand_ins:
+            return _with_stand_ins(matrix, variables, params, name, stand_ins)
     M = _sympy_matrix(matrix, [str(v) for v in variables or ()] + list(params))
     symbols = set().union(*(e.free_symbols for e in M)) if M else set()
     if variables is None:
@@ -143,7 +155,94 @@ def matrix_model(matrix, *, variables=None, parameters=None, name: str = "matrix
             f"matrix = [\n  {rows}\n]\n")
     if params:
         text += "[parameters]\n" + "".join(f"{k} = {_toml_value(v)}\n" for k, v in params.items())
-    return parse_model(text)
+    model = parse_model(text)
+    _check_polynomial(model)
+    return model
+
+
+def _stand_ins(matrix, variables, params) -> dict:
+    """Name -> a stand-in name a model file can hold, for each symbol name it cannot."""
+    names = {s.name for e in matrix for s in e.free_symbols}
+    names |= {str(v) for v in variables or ()} | set(params)
+    bad = sorted(n for n in names if not _IDENT.match(n))
+    out, k = {}, 0
+    for n in bad:
+        while f"_s{k}" in names:
+            k += 1
+        out[n] = f"_s{k}"
+        k += 1
+    return out
+
+
+def _with_stand_ins(matrix, variables, params, name, stand_ins):
+    """:func:`matrix_model` of the matrix with its unusable symbol names replaced."""
+    import sympy as sp
+
+    def renamed(x):
+        text = str(x)
+        return stand_ins.get(text, text)
+
+    to_stand_in = {s: sp.Symbol(stand_ins[s.name], **s.assumptions0)
+                   for e in matrix for s in e.free_symbols if s.name in stand_ins}
+    if variables is None:       # the default order is that of the caller's names
+        symbols = {s for e in matrix for s in e.free_symbols if s.name not in params}
+        variables = sorted(symbols, key=_natural_key)
+    return matrix_model(sp.Matrix(matrix).xreplace(to_stand_in),
+                        variables=None if variables is None else [renamed(v) for v in variables],
+                        parameters={renamed(k): v for k, v in params.items()}, name=name)
+
+
+_NOT_POLYNOMIAL = ("not a polynomial in the variables and in sines and cosines of them (with "
+                   "parameters and numbers as coefficients)")
+
+
+def _check_functions(matrix) -> None:
+    """Refuse at once an entry of a sympy matrix with a function other than sin and cos."""
+    import sympy as sp
+
+    for (i, j), entry in sorted(sp.Matrix(matrix).todok().items()):
+        if not isinstance(entry, sp.Basic):
+            continue
+        bad = sorted({type(f).__name__ for f in entry.atoms(sp.Function)
+                      if not isinstance(f, (sp.sin, sp.cos))})
+        if bad:
+            raise ModelError(f"matrix entry [{i}][{j}] {sp.sstr(entry)[:80]}: "
+                             f"{_NOT_POLYNOMIAL}; it uses {', '.join(bad)}")
+
+
+def _check_polynomial(model) -> None:
+    """Refuse, before any computation, an entry the algebra could not take: one that is no
+    polynomial in the variables and in sines and cosines (the parameters at their values),
+    a sine or cosine of anything but a whole-number combination of variables plus a
+    constant, or a variable both inside a sine or cosine and outside."""
+    import sympy as sp
+
+    M = sp.Matrix(model.matrix).subs(dict(model.parameters))
+    variables = set(model.variables)
+    entries = sorted(M.todok().items())
+    inside, outside = set(), set()
+
+    def refuse(i, j, why=""):
+        raise ModelError(f"matrix entry [{i}][{j}] {sp.sstr(model.matrix[i, j])[:80]}: "
+                         f"{_NOT_POLYNOMIAL}" + (f": {why}" if why else ""))
+
+    for (i, j), entry in entries:
+        trig = {a: sp.Dummy() for a in entry.atoms(sp.sin, sp.cos)}
+        if not entry.xreplace(trig).is_polynomial(*variables, *trig.values()):
+            refuse(i, j)
+        outside |= entry.xreplace(trig).free_symbols & variables
+        for f in trig:
+            arg = sp.expand(f.args[0])
+            used = arg.free_symbols & variables
+            inside |= used
+            rest = arg - sum(arg.coeff(v) * v for v in used)
+            if any(not arg.coeff(v).is_Integer for v in used) or rest.free_symbols & variables:
+                refuse(i, j, f"{sp.sstr(f)}: sines and cosines are of whole-number combinations "
+                             "of the variables (plus a constant)")
+    for (i, j), entry in entries:
+        mixed = sorted(v.name for v in inside & outside & entry.free_symbols)
+        if mixed:
+            refuse(i, j, f"{mixed[0]} appears both inside sin/cos and outside them")
 
 
 def _sympy_matrix(matrix, names):
