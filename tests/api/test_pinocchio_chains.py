@@ -111,3 +111,23 @@ def test_a_free_flyer_between_the_frames_is_refused(two_arms):
         from_pinocchio(two_arms, base_link="nowhere", tip="l_hand")
     with pytest.raises(ModelError, match="no joint between the base and the tip"):
         from_pinocchio(two_arms, base_link="l_hand", tip="l_hand")
+
+
+def test_a_urdf_loaded_on_a_free_flyer_gives_the_fixed_arms_chain(robots):
+    """example-robot-data's UR5 read by Pinocchio with a free-flyer root (as a mobile base or
+    a humanoid is read): its chain to tool0 is the one of the fixed arm, free-flyer left out."""
+    urdf = str(robots / "ur_description" / "urdf" / "ur5_robot.urdf")
+    fixed = pin.buildModelFromUrdf(urdf)
+    floating = pin.buildModelFromUrdf(urdf, pin.JointModelFreeFlyer())
+    assert floating.joints[1].shortname() == "JointModelFreeFlyer"
+    assert from_pinocchio(floating, tip="tool0") == from_pinocchio(fixed, tip="tool0")
+    # a sub-chain between two links: the chain rankloci reads from the file between them (the
+    # file's rounded angles are snapped to exact ones alike in both)
+    wrist = from_pinocchio(floating, base_link="forearm_link", tip="tool0")
+    assert [j.name for j in wrist.joints] == ["wrist_1_joint", "wrist_2_joint", "wrist_3_joint"]
+    mine = rankloci.jacobian(wrist, numeric=True)
+    read = rankloci.jacobian(urdf, base_link="forearm_link", tip="tool0", numeric=True)
+    Q = np.random.default_rng(SEED).uniform(-np.pi, np.pi, (5, 3))
+    A, B = mine.evaluate(Q), read.evaluate(Q)
+    scale = np.linalg.svd(B, compute_uv=False)[:, 0]
+    assert np.all(np.abs(A - B).max(axis=(1, 2)) <= FOREIGN_JACOBIAN_RTOL * scale)
