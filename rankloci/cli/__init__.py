@@ -51,13 +51,15 @@ def _run(argv, started) -> int:
     try:
         args = parser.parse_args(argv)
         args.started = started
-        for old in getattr(args, "old_options", ()):
-            print(f"rankloci: note: {old} is deprecated; use {OLD_OPTIONS[old]}", file=sys.stderr)
         if args.command is None:
             parser.print_help()
             return EXIT_USAGE
         _check_chain_options(args)
-        return COMMANDS[args.command](args)
+        code = COMMANDS[args.command](args)
+        # after the run, so that bad input stays one line on stderr
+        for old in getattr(args, "old_options", ()):
+            print(f"rankloci: note: {old} is deprecated; use {OLD_OPTIONS[old]}", file=sys.stderr)
+        return code
     except (UsageError, RanklociError) as e:
         print(f"rankloci: error: {_error_line(e, args)}", file=sys.stderr)
         return EXIT_USAGE

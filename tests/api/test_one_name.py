@@ -60,6 +60,12 @@ def test_the_old_spelling_gives_the_same_output_with_a_note(capsys, argv):
     assert err == "rankloci: note: --numeric-parameters is deprecated; use --numeric\n"
 
 
+def test_bad_input_with_the_old_spelling_is_still_one_line(capsys):
+    code, out, err = run(capsys, "locus", "nowhere", "--numeric-parameters")
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert err.startswith("rankloci: error: no built-in model or file 'nowhere'")
+
+
 def test_the_readers_take_tip_and_the_old_tip_link_with_a_warning():
     text = IIWA.read_text()
     new = read_urdf(IIWA, tip="link_7")
