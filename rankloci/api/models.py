@@ -82,9 +82,10 @@ def matrix_model(matrix, *, variables=None, parameters=None, name: str = "matrix
 
     The matrix goes through the parser of raw-matrix model files, so it is
     validated as a file would be: floats become the exact rationals of their
-    shortest decimal form, an entry may have up to 2000 characters
-    (:data:`rankloci.expr.MAX_LENGTH`), and the symbols come back as real
-    symbols of the same names.  Symbols of any name are accepted (``θ``,
+    shortest decimal form and the symbols come back as real symbols of the
+    same names.  A sympy entry longer than a file's expression
+    (:data:`rankloci.expr.MAX_LENGTH` characters) is taken as it is, by the
+    same rules.  Symbols of any name are accepted (``θ``,
     ``q'``): a name a model file cannot hold is carried under a stand-in
     (``_s0``, ``_s1``, ... in the returned model), and :func:`rankloci.locus`
     and :func:`rankloci.jacobian` give the caller's own symbol back.
@@ -149,15 +150,46 @@ def matrix_model(matrix, *, variables=None, parameters=None, name: str = "matrix
     for n in names + list(params):
         if not _IDENT.match(n):
             raise ModelError(f"{n!r} is not a usable symbol name (letters, digits and _)")
-    rows = ",\n  ".join("[" + ", ".join(json.dumps(sp.sstr(e)) for e in M.row(i)) + "]"
-                        for i in range(M.rows))
+    from ..expr import MAX_LENGTH
+
+    texts = [[sp.sstr(e) for e in M.row(i)] for i in range(M.rows)]
+    # an entry longer than a model file's expression is the caller's sympy object already:
+    # it is not read back from text, but taken with the parser's rules (below)
+    long = {(i, j) for i, row in enumerate(texts) for j, t in enumerate(row)
+            if len(t) > MAX_LENGTH} if isinstance(matrix, sp.MatrixBase) else set()
+    rows = ",\n  ".join("[" + ", ".join(json.dumps("0" if (i, j) in long else t)
+                                        for j, t in enumerate(row)) + "]"
+                        for i, row in enumerate(texts))
     text = (f"name = {json.dumps(name)}\nvariables = {json.dumps(names)}\n"
             f"matrix = [\n  {rows}\n]\n")
     if params:
         text += "[parameters]\n" + "".join(f"{k} = {_toml_value(v)}\n" for k, v in params.items())
     model = parse_model(text)
+    if long:
+        model = _with_entries(model, {ij: M[ij] for ij in long})
     _check_polynomial(model)
     return model
+
+
+def _with_entries(model, entries):
+    """``model`` with the given sympy entries, as the parser would read them: each symbol the
+    real symbol of its name, each float the exact rational of its shortest decimal form."""
+    import dataclasses
+
+    import sympy as sp
+
+    from ..errors import ExpressionError
+    from ..expr import exact_number
+
+    A = sp.Matrix(model.matrix)
+    for (i, j), e in sorted(entries.items()):
+        try:
+            exact = {f: exact_number(float(f)) for f in e.atoms(sp.Float)}
+        except ExpressionError as err:
+            raise ModelError(f"matrix entry [{i}][{j}]: {err}") from None
+        real = {s: sp.Symbol(s.name, real=True) for s in e.free_symbols}
+        A[i, j] = e.xreplace(exact).xreplace(real)
+    return dataclasses.replace(model, matrix=sp.ImmutableMatrix(A))
 
 
 def _stand_ins(matrix, variables, params) -> dict:

@@ -55,3 +55,25 @@ def test_a_parameter_under_a_root_needs_its_value():
         rankloci.locus(M, parameters={k: 2})
     L = rankloci.locus(M, parameters={k: 2}, numeric=True)
     assert sorted(str(c.equations[0]) for c in L.components) == ["sin(t)", "y - sqrt(2)"]
+
+
+def test_an_entry_longer_than_a_files_expression_is_taken_as_it_is():
+    """A model file's expression has at most MAX_LENGTH characters; the caller's sympy entry is
+    data already, taken by the same rules (floats exact, symbols real, caller's back)."""
+    import numpy as np
+
+    from rankloci.expr import MAX_LENGTH
+
+    x, y = sp.symbols("x y")
+    long = sum(sp.Float(k / 8) * sp.cos(x) ** k * y ** (k % 3) for k in range(1, 120))
+    assert len(sp.sstr(long)) > MAX_LENGTH
+    M = sp.Matrix([[long, y], [sp.sin(x), 1]])
+    m = rankloci.load_model(M)
+    entry = m.matrix[0, 0]
+    assert not entry.atoms(sp.Float) and all(s.is_real for s in entry.free_symbols)
+    assert entry.coeff(sp.cos(m.variables[0]) ** 4 * m.variables[1]) == sp.Rational(1, 2)
+    J = rankloci.jacobian(M)
+    assert J.variables == (x, y)
+    q = np.array([0.3, -0.7])
+    want = np.array(M.subs({x: q[0], y: q[1]}).evalf(), dtype=float)
+    np.testing.assert_allclose(J.evaluate(q), want, rtol=1e-13)
