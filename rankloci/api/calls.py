@@ -425,7 +425,8 @@ def check_model(model, given=None, *, samples=10, seed=0, numeric=False, should_
         checked = certified_locus(model, seed=seed, numeric=numeric, should_stop=should_stop,
                                   progress=progress)[0]
     J = task_matrix(model)  # the model's own frame; parameters substituted by cross_check
-    if given is not None and tuple(given.shape) != tuple(J.shape):
+    # (a locus file of schema /1, or one without "matrix", has no shape: 0x0)
+    if given is not None and any(given.shape) and tuple(given.shape) != tuple(J.shape):
         from ..errors import LocusError
 
         raise LocusError(f"the locus is of a {given.shape[0]}x{given.shape[1]} matrix and "
