@@ -8,7 +8,7 @@ file).  The task is the tip position for chains of up to 3 joints and the full
 6-row task otherwise.
 
 For each chain, in its own process with a time limit, the locus is computed as
-``rankloci locus FILE --base-link ROOT --tip TIP --task TASK --numeric-parameters``
+``rankloci locus FILE --base-link ROOT --tip TIP --task TASK --numeric``
 does
 (``task_matrix(model, frame="auto", numeric=True)``, the method of
 ``method_for``, seed 0) and graded against an independent Jacobian: Pinocchio's
@@ -594,7 +594,7 @@ def run_case(chain: Chain, root: Path, *, time_limit: float | None = 60.0, seed:
     path = root / chain.file
     t0 = time.perf_counter()
     try:
-        model = load_model(str(path), base_link=chain.base, tip_link=chain.tip)
+        model = load_model(str(path), base_link=chain.base, tip=chain.tip)
         tm = task_matrix(model, task=chain.task, frame="auto", numeric=True)
     except RanklociError as e:
         out["reason"] = f"rankloci: {e}"
@@ -802,7 +802,7 @@ def render_markdown(rows, skipped, outside, meta) -> str:
         "link of the chain's last movable joint (paths that differ only after it, and chains "
         "with the same joints, origins and axes, kept once per file). Task: tip position for up "
         f"to {POSITION_TASK_MAX_JOINTS} joints, full otherwise. Each locus is computed as by "
-        "`rankloci locus FILE --base-link ROOT --tip TIP --task TASK --numeric-parameters` and "
+        "`rankloci locus FILE --base-link ROOT --tip TIP --task TASK --numeric` and "
         f"graded against Pinocchio {meta['pinocchio']}'s frame Jacobian of the tip link "
         "(LOCAL_WORLD_ALIGNED), read from a copy of the URDF with the angles snapped as "
         "rankloci snaps them:",

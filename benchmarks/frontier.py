@@ -42,7 +42,7 @@ def _urdf(file: str, base: str, tip: str) -> list:
 #: ``robots`` directory), what the case shows
 CASES = (
     ("snake9", 9, [str(EXTRA / "snake9.toml")], "9R, equal links, twists +-pi/2; parameters symbolic"),
-    ("snake9 numeric", 9, [str(EXTRA / "snake9.toml"), "--numeric-parameters"],
+    ("snake9 numeric", 9, [str(EXTRA / "snake9.toml"), "--numeric"],
      "the same with l = 0.1 put in first"),
     ("jaco2", 6, [str(EXTRA / "jaco2.toml")], "twists pi/3: sqrt(3) in J"),
     ("baxter_dh", 7, [str(EXTRA / "baxter_dh.toml")], "special values a1 = a3"),
@@ -109,7 +109,7 @@ def reference_time(root: Path) -> dict:
         "from rankloci.io import load_model\n"
         "from rankloci.jacobian import task_matrix\n"
         "from rankloci.methods import compute_locus\n"
-        "m = load_model(sys.argv[1], base_link=sys.argv[2], tip_link=sys.argv[3])\n"
+        "m = load_model(sys.argv[1], base_link=sys.argv[2], tip=sys.argv[3])\n"
         "tm = task_matrix(m, task='full', frame='auto', numeric=True)\n"
         "t = time.perf_counter(); compute_locus(tm, 'svm')\n"
         "print(json.dumps(time.perf_counter() - t))\n")

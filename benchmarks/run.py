@@ -4,8 +4,9 @@ Each case runs in its own process (so peak memory is its own) with a time
 limit, and the figures are written to benchmarks/results.json and
 benchmarks/results.md.  Usage::
 
-    python benchmarks/run.py [--timeout SECONDS] [--models a,b,...] [--numeric-parameters]
-                             [--repeat N]
+    python benchmarks/run.py [--timeout SECONDS] [--models a,b,...] [--numeric] [--repeat N]
+
+``--numeric`` is rankloci's ``--numeric`` (``--numeric-parameters``, its old name, also works).
 """
 
 from __future__ import annotations
@@ -77,7 +78,8 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--timeout", type=float, default=300.0)
     ap.add_argument("--models", default="")
-    ap.add_argument("--numeric-parameters", action="store_true")
+    ap.add_argument("--numeric", "--numeric-parameters", dest="numeric_parameters",
+                    action="store_true")
     ap.add_argument("--output", default=str(HERE / "results"))
     ap.add_argument("--repeat", type=int, default=3,
                     help="runs per case; the fastest is kept (the machine's load varies)")

@@ -60,7 +60,7 @@ def spec_text(robots: Path, timeout: float) -> str:
     """The sweep spec of the corpus chains."""
     return f"""# the chains of benchmarks/corpus.py
 timeout = {timeout:g}
-numeric_parameters = true
+numeric = true
 
 [[model]]
 path = {json.dumps(str(robots))}

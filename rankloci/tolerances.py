@@ -83,6 +83,14 @@ URDF_LENGTH_SNAP_ATOL = 1e-6
 #: 10 significant digits) and of URDF_ANGLE_SNAP_ATOL.
 URDF_ROTATION_ATOL = 1e-9
 
+#: A chain taken from another library (a Pinocchio model between two frames) has the Jacobian
+#: that library computes for it, to this relative to its largest singular value: the chain's
+#: transforms are the library's own floats composed once more (each product rounds at ~1e-16)
+#: and its lengths are written to 15 significant digits (``adapters.transforms.length_text``),
+#: so the two agree to ~1e-14; a wrong axis, sign or placement moves entries by the size of
+#: the arm.
+FOREIGN_JACOBIAN_RTOL = 1e-12
+
 # ---------------------------------------------------------------------------
 # FSP reducer (rankloci.numeric.fsp)
 #

@@ -2,8 +2,10 @@
 
 Pinocchio keeps each joint's placement in its parent joint's frame
 (``model.jointPlacements``) and each frame's placement in its joint's.  The
-chain from the root to a frame is written as a URDF document, one joint per
-Pinocchio joint and a fixed joint for the frame, and read by
+chain from one frame to another (by default from the root, or from the body a
+free-flyer root joint carries, to the one chain end) is written as a URDF
+document, one joint per Pinocchio joint and a fixed joint for the frame, and
+read by
 :func:`rankloci.io.urdf.parse_urdf`: its angles and lengths become exact as a
 URDF file's do (angles within 1e-5 of a multiple of pi/12 snap to it, other
 rotations become exact rational rotations).
@@ -33,10 +35,36 @@ _JOINTS = {
 }
 
 
-def _origin(placement) -> str:
-    xyz, rpy = xyz_rpy(np.asarray(placement.homogeneous))
+def _origin(T) -> str:
+    xyz, rpy = xyz_rpy(np.asarray(T, dtype=float))
     return (f'<origin xyz="{" ".join(length_text(x) for x in xyz)}" '
             f'rpy="{" ".join(repr(a) for a in rpy)}"/>')
+
+
+def _homogeneous(placement) -> np.ndarray:
+    return np.asarray(placement.homogeneous, dtype=float)
+
+
+def _inverse(T) -> np.ndarray:
+    """The inverse of a rigid transform (R^T, -R^T p), without a general matrix inverse."""
+    out = np.eye(4)
+    out[:3, :3] = T[:3, :3].T
+    out[:3, 3] = -T[:3, :3].T @ T[:3, 3]
+    return out
+
+
+def _frame(model, name, role):
+    """(joint, placement in that joint's frame) of the frame, or joint, ``name``."""
+    if not isinstance(name, str):
+        raise ModelError(f"{role} must be a frame name, not {type(name).__name__}")
+    if model.existFrame(name):
+        frame = model.frames[model.getFrameId(name)]
+        return int(frame.parentJoint), _homogeneous(frame.placement)
+    if name in list(model.names):          # a joint without a frame of its own (a model built
+        return int(model.getJointId(name)), np.eye(4)     # by hand): the joint's frame
+    names = sorted({f.name for f in model.frames})
+    raise ModelError(f"no frame {name!r} in the model ({role}); frames: {', '.join(names[:20])}"
+                     + (" ..." if len(names) > 20 else ""))
 
 
 def _tip_joint(model, tip):
@@ -46,36 +74,82 @@ def _tip_joint(model, tip):
         if len(leaves) != 1:
             raise ModelError("the model has several chain ends; give tip= (a frame name)")
         return leaves[0], None
-    if not isinstance(tip, str):
-        raise ModelError(f"tip must be a frame name, not {type(tip).__name__}")
-    if model.existFrame(tip):
-        frame = model.frames[model.getFrameId(tip)]
-        return int(frame.parentJoint), frame.placement
-    names = sorted({f.name for f in model.frames})
-    raise ModelError(f"no frame {tip!r} in the model; frames: {', '.join(names[:20])}"
-                     + (" ..." if len(names) > 20 else ""))
+    return _frame(model, tip, "tip")
 
 
-def urdf_text(model, tip=None) -> str:
-    """The URDF document of the chain of ``model`` from its root to the frame ``tip``."""
-    j, placement = _tip_joint(model, tip)
-    chain = []
+def _ancestors(model, j) -> list[int]:
+    """``j`` and the joints above it, up to the universe (0) included."""
+    out = [j]
     while j > 0:
-        chain.append(j)
         j = int(model.parents[j])
-    chain.reverse()
+        out.append(j)
+    return out
+
+
+def _supported(model, j) -> bool:
+    return model.joints[j].shortname() in _JOINTS
+
+
+def _chain(model, tip, base_link):
+    """(joints up from the base, joints down to the tip, base placement, tip placement).
+
+    The path between two frames of the kinematic tree climbs from the base's
+    joint to the deepest joint both hang from, then descends to the tip's
+    joint.  Without ``base_link`` the chain starts at the root, below a run
+    of joints at the root that are not revolute or prismatic (a free-flyer):
+    in the frame of the body they carry.
+    """
+    jt, tip_placement = _tip_joint(model, tip)
+    if base_link is None:
+        down = _ancestors(model, jt)[::-1][1:]        # root -> tip, the universe left out
+        k = 0
+        while k < len(down) and not _supported(model, down[k]):
+            k += 1
+        jb = down[k - 1] if k else 0
+        base_placement = np.eye(4)
+    else:
+        jb, base_placement = _frame(model, base_link, "base_link")
+    above_tip, above_base = _ancestors(model, jt), _ancestors(model, jb)
+    common = next(j for j in above_base if j in set(above_tip))
+    up = above_base[:above_base.index(common)]             # base's joint first
+    down = above_tip[:above_tip.index(common)][::-1]       # ends with the tip's joint
+    if not up and not down:
+        skipped = ("" if base_link is not None or jb == 0 else
+                   f" (the chain starts below the root joint {model.names[jb]!r}, a "
+                   f"{model.joints[jb].shortname()})")
+        raise ModelError(f"no joint between the base and the tip{skipped}; give tip= a frame "
+                         "further down the chain")
+    return up, down, base_placement, tip_placement
+
+
+def urdf_text(model, tip=None, base_link=None) -> str:
+    """The URDF document of the chain of ``model`` from the frame ``base_link`` to ``tip``.
+
+    A joint on the climbing part of the path (from the base up to the joint
+    both frames hang from) moves the base relative to the tip the other way:
+    it is written with its axis reversed, so its variable keeps its value and
+    sign, and with the inverse of its placement after it.
+    """
+    up, down, base_placement, tip_placement = _chain(model, tip, base_link)
     lines = ['<robot name="chain">', '<link name="root"/>']
     parent = "root"
     lower, upper = np.asarray(model.lowerPositionLimit), np.asarray(model.upperPositionLimit)
-    for k in chain:
+    pending = _inverse(base_placement) if base_link is not None else np.eye(4)
+    for k, reverse in [(j, True) for j in up] + [(j, False) for j in down]:
         joint = model.joints[k]
         kind = joint.shortname()
         if kind not in _JOINTS:
             raise ModelError(f"joint {model.names[k]!r} is a {kind}; only revolute and "
-                             "prismatic joints (one axis each) are supported")
+                             "prismatic joints (one axis each) are supported between the base "
+                             "and the tip (base_link= may start the chain below it)")
         urdf_type, axis = _JOINTS[kind]
         if axis is None:
             axis = tuple(float(x) for x in joint.axis)
+        if reverse:
+            axis = tuple(-a for a in axis)
+            origin = pending
+        else:
+            origin = pending @ _homogeneous(model.jointPlacements[k])
         limit = ""
         if urdf_type != "continuous":
             lo, hi = float(lower[joint.idx_q]), float(upper[joint.idx_q])
@@ -85,29 +159,39 @@ def urdf_text(model, tip=None) -> str:
         child = f"{model.names[k]}_link"
         lines += [f"<joint name={quoteattr(model.names[k])} type=\"{urdf_type}\">",
                   f'<parent link={quoteattr(parent)}/><child link={quoteattr(child)}/>',
-                  _origin(model.jointPlacements[k]),
+                  _origin(origin),
                   f'<axis xyz="{" ".join(repr(float(a)) for a in axis)}"/>{limit}</joint>',
                   f"<link name={quoteattr(child)}/>"]
         parent = child
-    if placement is not None:
+        pending = _inverse(_homogeneous(model.jointPlacements[k])) if reverse else np.eye(4)
+    if tip_placement is not None or not np.array_equal(pending, np.eye(4)):
+        last = pending if tip_placement is None else pending @ tip_placement
         lines += ['<joint name="tip_joint" type="fixed">',
                   f'<parent link={quoteattr(parent)}/><child link="tip"/>',
-                  _origin(placement), "</joint>", '<link name="tip"/>']
+                  _origin(last), "</joint>", '<link name="tip"/>']
     return "\n".join(lines + ["</robot>"])
 
 
-def from_pinocchio(model, *, tip=None, name=None):
-    """A rankloci model of the chain of a Pinocchio model from its root to a frame.
+def from_pinocchio(model, *, tip=None, base_link=None, name=None):
+    """A rankloci model of the chain of a Pinocchio model from one frame to another.
 
     Parameters
     ----------
-    model : pinocchio.Model
-        With revolute (``RX``, ``RY``, ``RZ``, unaligned, unbounded) and
-        prismatic joints on the chain; a free-flyer, spherical or planar
-        joint is refused.
+    model : pinocchio.Model or pinocchio.RobotWrapper
+        A wrapper's ``model`` is taken.  The joints on the chain must be
+        revolute (``RX``, ``RY``, ``RZ``, unaligned, unbounded) or prismatic;
+        a free-flyer, spherical or planar joint between the base and the tip
+        is refused.
     tip : str, optional
-        The frame the task point is at (a link, joint or operational frame);
-        default: the one chain end when the model has one.
+        The frame the task point is at (a link, joint or operational frame,
+        or a joint's name); default: the one chain end when the model has one.
+    base_link : str, optional
+        The frame the chain starts at, whose axes the Jacobian is expressed
+        in: any frame of the model, also one that is not above the tip (the
+        chain then climbs to the joint both hang from and descends to the
+        tip).  Default: the root; when the model's root joint is a free-flyer
+        (a legged or humanoid robot, ``pin.JointModelFreeFlyer()``), the body
+        it carries (the floating base), so the free-flyer is left out.
     name : str, optional
         Model name (default: the Pinocchio model's name, made a valid name).
 
@@ -115,9 +199,11 @@ def from_pinocchio(model, *, tip=None, name=None):
     -------
     RobotModel
         Joint variables ``q1..qn`` are the chain's joints in order from the
-        root: Pinocchio's configuration entries of those joints.  The task is
-        the full Jacobian of the tip's origin in the root frame (Pinocchio's
-        ``LOCAL_WORLD_ALIGNED`` frame Jacobian, linear rows first).
+        base (``RobotModel.joints[k].name`` is the Pinocchio joint's name):
+        Pinocchio's configuration entries of those joints, with their own
+        signs.  The task is the full Jacobian of the tip's origin in the base
+        frame (from the root: Pinocchio's ``LOCAL_WORLD_ALIGNED`` frame
+        Jacobian, linear rows first).
 
     Examples
     --------
@@ -137,7 +223,12 @@ def from_pinocchio(model, *, tip=None, name=None):
     """
     from ..io.urdf import parse_urdf
 
+    inner = getattr(model, "model", None)
+    if not hasattr(model, "jointPlacements") and inner is not None:
+        model = inner                                   # a RobotWrapper
     if not all(hasattr(model, a) for a in ("jointPlacements", "parents", "frames")):
-        raise ModelError(f"from_pinocchio takes a pinocchio.Model, not {type(model).__name__}")
+        raise ModelError("from_pinocchio takes a pinocchio.Model or RobotWrapper, not "
+                         f"{type(model).__name__}")
     label = name or re.sub(r"[^a-z0-9_-]+", "_", str(model.name or "model").lower()).strip("_-")
-    return parse_urdf(urdf_text(model, tip), name=label or "model", file=f"{label}.urdf")
+    return parse_urdf(urdf_text(model, tip, base_link), name=label or "model",
+                      file=f"{label}.urdf")

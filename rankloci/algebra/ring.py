@@ -395,7 +395,11 @@ class PolyRing:
         try:
             poly = sp.Poly(e, *gens, domain="QQ")
         except (sp.PolynomialError, sp.polys.polyerrors.CoercionFailed, sp.GeneratorsNeeded) as exc:
-            raise LocusError(f"entry {sp.sstr(expr)} is not polynomial in the chosen variables: {exc}") from None
+            raise LocusError(
+                f"entry {sp.sstr(expr)} is not a polynomial in sin/cos of the angles, the other "
+                "variables and the parameters (a root, a power that is not a whole number, a "
+                "denominator or a function of one of them; a parameter's value is substituted "
+                "with numeric=True, --numeric)") from exc
         terms = poly.terms()
         degs = [0] * self.n_angles
         for mon, _ in terms:

@@ -425,6 +425,14 @@ def check_model(model, given=None, *, samples=10, seed=0, numeric=False, should_
         checked = certified_locus(model, seed=seed, numeric=numeric, should_stop=should_stop,
                                   progress=progress)[0]
     J = task_matrix(model)  # the model's own frame; parameters substituted by cross_check
+    # (a locus file of schema /1, or one without "matrix", has no shape: 0x0)
+    if given is not None and any(given.shape) and tuple(given.shape) != tuple(J.shape):
+        from ..errors import LocusError
+
+        raise LocusError(f"the locus is of a {given.shape[0]}x{given.shape[1]} matrix and "
+                         f"{model.name}'s task matrix is {J.shape[0]}x{J.shape[1]}: a locus is "
+                         "checked against the model's own task, and this one was computed for "
+                         "other rows (a task or constraint rows the model does not have)")
     certificate = checked.certificate if given is None else None
     if certificate is None:
         from ..certify import certify_locus
@@ -490,8 +498,8 @@ def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
                            should_stop=should_stop, progress=log_progress)
 
 
-def report(model, directory=None, *, formats=("md",), seed=0, samples=10, numeric=False,
-           timeout=None, tip=None, base_link=None):
+def report(model, directory=None, *, formats=("md", "tex", "pdf"), seed=0, samples=10,
+           numeric=False, timeout=None, tip=None, base_link=None, fragment=False, timings=True):
     """Build a report on a model and, given a directory, write it (``rankloci report``).
 
     Needs matplotlib (the ``report`` extra).
@@ -502,13 +510,21 @@ def report(model, directory=None, *, formats=("md",), seed=0, samples=10, numeri
         Anything :func:`load_model` accepts.
     directory : path, optional
         Where to write it; without it nothing is written.
-    formats : sequence of {"md", "tex", "pdf", "html"}
-        The PDF needs ``latexmk`` or ``pdflatex`` on the PATH; ``"html"`` is one
-        self-contained page with an interactive view of the arm.
+    formats : str or sequence of {"md", "tex", "pdf", "html"}
+        What to write, as ``rankloci report --format md,tex,pdf``; the default,
+        md, tex and pdf, is the command's.  The PDF needs ``latexmk`` or
+        ``pdflatex`` on the PATH: without either it is skipped with a warning on
+        the ``rankloci`` logger, as the command skips it with a note.  ``"html"``
+        is one self-contained page with an interactive view of the arm.  A
+        string may be one format or a comma list (``"md,tex"``).
     seed, samples, numeric, timeout
         As for the command line.
     tip, base_link
         See :func:`load_model`.
+    fragment : bool
+        The LaTeX without a preamble, to ``\\input`` into a paper (``--fragment``).
+    timings : bool
+        Include the timing table (``--no-timings`` leaves it out).
 
     Returns
     -------
@@ -523,8 +539,13 @@ def report(model, directory=None, *, formats=("md",), seed=0, samples=10, numeri
     check_arguments(seed=seed, numeric=numeric, timeout=timeout, tip=tip, base_link=base_link)
     check_samples(samples)
     if isinstance(formats, str):
+        formats = tuple(f.strip() for f in formats.split(",") if f.strip())
+    try:
+        formats = tuple(formats)
+    except TypeError:
         formats = (formats,)
-    bad = [f for f in formats if f not in FORMATS]
+    bad = [f for f in formats if not isinstance(f, str) or f not in FORMATS] or (
+        [] if formats else [""])
     if bad:
         from ..errors import ArgumentError
 
@@ -538,7 +559,15 @@ def report(model, directory=None, *, formats=("md",), seed=0, samples=10, numeri
         return built, []
     latex = next(((kind, exe) for kind in ("latexmk", "pdflatex")
                   if (exe := shutil.which(kind))), None) if "pdf" in formats else None
-    return built, write_report(built, directory, formats=formats, latex=latex)
+    if "pdf" in formats and latex is None:
+        import logging
+
+        from .progress import LOGGER_NAME
+
+        logging.getLogger(LOGGER_NAME).warning("PDF skipped: neither latexmk nor pdflatex is "
+                                               "installed")
+    return built, write_report(built, directory, formats=formats, latex=latex,
+                               fragment=bool(fragment), timings=bool(timings))
 
 
 def require_matplotlib(what: str) -> None:

@@ -82,9 +82,17 @@ def matrix_model(matrix, *, variables=None, parameters=None, name: str = "matrix
 
     The matrix goes through the parser of raw-matrix model files, so it is
     validated as a file would be: floats become the exact rationals of their
-    shortest decimal form, only ``sin cos tan sqrt ...`` are accepted, an entry
-    may have up to 2000 characters (:data:`rankloci.expr.MAX_LENGTH`), and the
-    symbols come back as real symbols of the same names.
+    shortest decimal form and the symbols come back as real symbols of the
+    same names.  A sympy entry longer than a file's expression
+    (:data:`rankloci.expr.MAX_LENGTH` characters) is taken as it is, by the
+    same rules.  Symbols of any name are accepted (``θ``,
+    ``q'``): a name a model file cannot hold is carried under a stand-in
+    (``_s0``, ``_s1``, ... in the returned model), and :func:`rankloci.locus`
+    and :func:`rankloci.jacobian` give the caller's own symbol back.
+    Each entry must be a polynomial in the variables and in sines and cosines
+    of them, with parameters and numbers as coefficients; one that is not
+    (``Abs(x)``, ``exp(x)``, ``1/x``, ``tan(x)``) is refused here, before any
+    computation, naming the entry.
 
     Parameters
     ----------
@@ -124,6 +132,11 @@ def matrix_model(matrix, *, variables=None, parameters=None, name: str = "matrix
     from ..io.toml_model import parse_model
 
     params = {str(k): v for k, v in (parameters or {}).items()}
+    if isinstance(matrix, sp.MatrixBase):
+        _check_functions(matrix)
+        stand_ins = _stand_ins(matrix, variables, params)
+        if stand_ins:
+            return _with_stand_ins(matrix, variables, params, name, stand_ins)
     M = _sympy_matrix(matrix, [str(v) for v in variables or ()] + list(params))
     symbols = set().union(*(e.free_symbols for e in M)) if M else set()
     if variables is None:
@@ -137,13 +150,131 @@ def matrix_model(matrix, *, variables=None, parameters=None, name: str = "matrix
     for n in names + list(params):
         if not _IDENT.match(n):
             raise ModelError(f"{n!r} is not a usable symbol name (letters, digits and _)")
-    rows = ",\n  ".join("[" + ", ".join(json.dumps(sp.sstr(e)) for e in M.row(i)) + "]"
-                        for i in range(M.rows))
+    from ..expr import MAX_LENGTH
+
+    texts = [[sp.sstr(e) for e in M.row(i)] for i in range(M.rows)]
+    # an entry longer than a model file's expression is the caller's sympy object already:
+    # it is not read back from text, but taken with the parser's rules (below)
+    long = {(i, j) for i, row in enumerate(texts) for j, t in enumerate(row)
+            if len(t) > MAX_LENGTH} if isinstance(matrix, sp.MatrixBase) else set()
+    rows = ",\n  ".join("[" + ", ".join(json.dumps("0" if (i, j) in long else t)
+                                        for j, t in enumerate(row)) + "]"
+                        for i, row in enumerate(texts))
     text = (f"name = {json.dumps(name)}\nvariables = {json.dumps(names)}\n"
             f"matrix = [\n  {rows}\n]\n")
     if params:
         text += "[parameters]\n" + "".join(f"{k} = {_toml_value(v)}\n" for k, v in params.items())
-    return parse_model(text)
+    model = parse_model(text)
+    if long:
+        model = _with_entries(model, {ij: M[ij] for ij in long})
+    _check_polynomial(model)
+    return model
+
+
+def _with_entries(model, entries):
+    """``model`` with the given sympy entries, as the parser would read them: each symbol the
+    real symbol of its name, each float the exact rational of its shortest decimal form."""
+    import dataclasses
+
+    import sympy as sp
+
+    from ..errors import ExpressionError
+    from ..expr import exact_number
+
+    A = sp.Matrix(model.matrix)
+    for (i, j), e in sorted(entries.items()):
+        try:
+            exact = {f: exact_number(float(f)) for f in e.atoms(sp.Float)}
+        except ExpressionError as err:
+            raise ModelError(f"matrix entry [{i}][{j}]: {err}") from None
+        real = {s: sp.Symbol(s.name, real=True) for s in e.free_symbols}
+        A[i, j] = e.xreplace(exact).xreplace(real)
+    return dataclasses.replace(model, matrix=sp.ImmutableMatrix(A))
+
+
+def _stand_ins(matrix, variables, params) -> dict:
+    """Name -> a stand-in name a model file can hold, for each symbol name it cannot."""
+    names = {s.name for e in matrix for s in e.free_symbols}
+    names |= {str(v) for v in variables or ()} | set(params)
+    bad = sorted(n for n in names if not _IDENT.match(n))
+    out, k = {}, 0
+    for n in bad:
+        while f"_s{k}" in names:
+            k += 1
+        out[n] = f"_s{k}"
+        k += 1
+    return out
+
+
+def _with_stand_ins(matrix, variables, params, name, stand_ins):
+    """:func:`matrix_model` of the matrix with its unusable symbol names replaced."""
+    import sympy as sp
+
+    def renamed(x):
+        text = str(x)
+        return stand_ins.get(text, text)
+
+    to_stand_in = {s: sp.Symbol(stand_ins[s.name], **s.assumptions0)
+                   for e in matrix for s in e.free_symbols if s.name in stand_ins}
+    if variables is None:       # the default order is that of the caller's names
+        symbols = {s for e in matrix for s in e.free_symbols if s.name not in params}
+        variables = sorted(symbols, key=_natural_key)
+    return matrix_model(sp.Matrix(matrix).xreplace(to_stand_in),
+                        variables=None if variables is None else [renamed(v) for v in variables],
+                        parameters={renamed(k): v for k, v in params.items()}, name=name)
+
+
+_NOT_POLYNOMIAL = ("not a polynomial in the variables and in sines and cosines of them (with "
+                   "parameters and numbers as coefficients)")
+
+
+def _check_functions(matrix) -> None:
+    """Refuse at once an entry of a sympy matrix with a function other than sin and cos."""
+    import sympy as sp
+
+    for (i, j), entry in sorted(sp.Matrix(matrix).todok().items()):
+        if not isinstance(entry, sp.Basic):
+            continue
+        bad = sorted({type(f).__name__ for f in entry.atoms(sp.Function)
+                      if not isinstance(f, (sp.sin, sp.cos))})
+        if bad:
+            raise ModelError(f"matrix entry [{i}][{j}] {sp.sstr(entry)[:80]}: "
+                             f"{_NOT_POLYNOMIAL}; it uses {', '.join(bad)}")
+
+
+def _check_polynomial(model) -> None:
+    """Refuse, before any computation, an entry the algebra could not take: one that is no
+    polynomial in the variables and in sines and cosines (the parameters at their values),
+    a sine or cosine of anything but a whole-number combination of variables plus a
+    constant, or a variable both inside a sine or cosine and outside."""
+    import sympy as sp
+
+    M = sp.Matrix(model.matrix).subs(dict(model.parameters))
+    variables = set(model.variables)
+    entries = sorted(M.todok().items())
+    inside, outside = set(), set()
+
+    def refuse(i, j, why=""):
+        raise ModelError(f"matrix entry [{i}][{j}] {sp.sstr(model.matrix[i, j])[:80]}: "
+                         f"{_NOT_POLYNOMIAL}" + (f": {why}" if why else ""))
+
+    for (i, j), entry in entries:
+        trig = {a: sp.Dummy() for a in entry.atoms(sp.sin, sp.cos)}
+        if not entry.xreplace(trig).is_polynomial(*variables, *trig.values()):
+            refuse(i, j)
+        outside |= entry.xreplace(trig).free_symbols & variables
+        for f in trig:
+            arg = sp.expand(f.args[0])
+            used = arg.free_symbols & variables
+            inside |= used
+            rest = arg - sum(arg.coeff(v) * v for v in used)
+            if any(not arg.coeff(v).is_Integer for v in used) or rest.free_symbols & variables:
+                refuse(i, j, f"{sp.sstr(f)}: sines and cosines are of whole-number combinations "
+                             "of the variables (plus a constant)")
+    for (i, j), entry in entries:
+        mixed = sorted(v.name for v in inside & outside & entry.free_symbols)
+        if mixed:
+            refuse(i, j, f"{mixed[0]} appears both inside sin/cos and outside them")
 
 
 def _sympy_matrix(matrix, names):
@@ -198,17 +329,18 @@ def as_model(model, *, variables=None, parameters=None, tip=None, base_link=None
 
     Parameters
     ----------
-    model : str, os.PathLike, RobotModel, MatrixModel, sympy.Matrix, DHRobot or pinocchio.Model
+    model : str, os.PathLike, RobotModel, MatrixModel, sympy.Matrix, DHRobot, pinocchio.Model or RobotWrapper
         A built-in model name or a ``.toml`` / ``.urdf`` path; a model; a
         symbolic matrix (see :func:`matrix_model`); a Robotics Toolbox DH
         robot (:func:`~rankloci.adapters.from_rtb`); a Pinocchio model
-        (:func:`~rankloci.adapters.from_pinocchio`, ``tip`` names the frame).
+        or RobotWrapper (:func:`~rankloci.adapters.from_pinocchio`, ``tip`` and
+        ``base_link`` name its frames).
     variables, parameters
         For a sympy matrix only.
     tip : str, optional
         For a URDF file or a Pinocchio model: the chain's last link or frame.
     base_link : str, optional
-        For a URDF file: the chain's first link.
+        For a URDF file or a Pinocchio model: the chain's first link or frame.
 
     Returns
     -------
@@ -246,7 +378,7 @@ def as_model(model, *, variables=None, parameters=None, tip=None, base_link=None
             raise ArgumentError(f"tip= and base_link= apply to URDF files and Pinocchio models; "
                              f"{spec!r} is neither")
         try:
-            return load(spec, base_link=base_link, tip_link=tip)
+            return load(spec, base_link=base_link, tip=tip)
         except ModelError as e:
             raise _in_api_words(e) from None
     if isinstance(model, sp.MatrixBase):
@@ -261,10 +393,7 @@ def as_model(model, *, variables=None, parameters=None, tip=None, base_link=None
     if _is_from(model, "pinocchio"):
         from ..adapters import from_pinocchio
 
-        if base_link is not None:
-            raise ArgumentError("base_link= applies to URDF files; a Pinocchio chain starts at "
-                             "the model's root")
-        return from_pinocchio(model, tip=tip)
+        return from_pinocchio(model, tip=tip, base_link=base_link)
     raise ArgumentError(f"cannot use a {type(model).__module__}.{type(model).__name__} as a model; "
                     "give a built-in model name, a .toml or .urdf path, a sympy Matrix, a "
                     "Robotics Toolbox DHRobot or a Pinocchio Model")

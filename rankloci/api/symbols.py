@@ -19,7 +19,8 @@ def caller_symbols(model, variables=None, parameters=None) -> dict:
 
     The free symbols of a sympy matrix ``model``, and the symbols among
     ``variables`` and the keys of ``parameters`` (names given as strings
-    bring no symbol of their own).
+    bring no symbol of their own); a name a model file cannot hold is keyed
+    by its stand-in (:func:`~rankloci.api.models.matrix_model`).
 
     Examples
     --------
@@ -30,12 +31,17 @@ def caller_symbols(model, variables=None, parameters=None) -> dict:
     """
     import sympy as sp
 
+    from .models import _stand_ins
+
     found = []
     if isinstance(model, sp.MatrixBase):
         found += sorted(model.free_symbols, key=lambda s: s.name)
     found += [v for v in variables or () if isinstance(v, sp.Symbol)]
     found += [k for k in dict(parameters or {}) if isinstance(k, sp.Symbol)]
-    return {s.name: s for s in sorted(found, key=lambda s: s.name)}
+    # a name a model file cannot hold is carried under a stand-in (matrix_model)
+    ins = (_stand_ins(model, variables, {str(k): v for k, v in dict(parameters or {}).items()})
+           if isinstance(model, sp.MatrixBase) else {})
+    return {ins.get(s.name, s.name): s for s in sorted(found, key=lambda s: s.name)}
 
 
 def with_symbols(result, symbols):

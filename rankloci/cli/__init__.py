@@ -19,7 +19,7 @@ from pathlib import Path
 from ..errors import ModelError, RanklociError
 from .commands import COMMANDS, EXIT_OK, EXIT_USAGE
 from .output import detach_progress, show_warning
-from .parser import UsageError, build_parser
+from .parser import OLD_OPTIONS, UsageError, build_parser
 
 __all__ = ["main", "main_exit", "build_parser"]
 
@@ -55,7 +55,11 @@ def _run(argv, started) -> int:
             parser.print_help()
             return EXIT_USAGE
         _check_chain_options(args)
-        return COMMANDS[args.command](args)
+        code = COMMANDS[args.command](args)
+        # after the run, so that bad input stays one line on stderr
+        for old in getattr(args, "old_options", ()):
+            print(f"rankloci: note: {old} is deprecated; use {OLD_OPTIONS[old]}", file=sys.stderr)
+        return code
     except (UsageError, RanklociError) as e:
         print(f"rankloci: error: {_error_line(e, args)}", file=sys.stderr)
         return EXIT_USAGE

@@ -74,7 +74,7 @@ def _load_model(args):
     from ..io import load_model
 
     model = load_model(args.model, base_link=getattr(args, "base_link", None),
-                       tip_link=getattr(args, "tip_link", None))
+                       tip=getattr(args, "tip_link", None))
     _check_link_numbers(args, model)
     return model, parse_augment(model, args.augment or ())
 
@@ -102,7 +102,7 @@ def _limited(args, work, progress, what):
     except LocusTimeout as e:
         clear_status()
         print(f"rankloci: error: {e}; raise --timeout (now {args.timeout:g} s) or try "
-              f"--numeric-parameters", file=sys.stderr)
+              f"--numeric", file=sys.stderr)
     except LimitExceeded as e:
         clear_status()
         print(f"rankloci: error: {what} {e}", file=sys.stderr)
@@ -277,7 +277,7 @@ def cmd_check(args) -> int:
     if args.samples < 1:
         raise UsageError(f"--samples must be at least 1, got {args.samples}")
     progress = progress_printer(args.quiet)
-    model = load_model(args.model, base_link=args.base_link, tip_link=args.tip_link)
+    model = load_model(args.model, base_link=args.base_link, tip=args.tip_link)
     raw = None
     if args.locus:
         from ..io.files import read_bounded
@@ -363,7 +363,7 @@ def cmd_report(args) -> int:
     if args.samples < 1:
         raise UsageError(f"--samples must be at least 1, got {args.samples}")
     specs = builtin_models() if args.model == "all" else [args.model]
-    models = [load_model(spec, base_link=args.base_link, tip_link=args.tip_link)
+    models = [load_model(spec, base_link=args.base_link, tip=args.tip_link)
               for spec in specs]  # bad input fails here, before any writing
     if args.model == "all":
         targets = [Path(args.output or "reports") / file_stem(m.name) for m in models]

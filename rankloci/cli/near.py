@@ -165,7 +165,7 @@ def _robot(args):
     from ..io import load_model
     from ..model import RobotModel
 
-    model = load_model(args.model, base_link=args.base_link, tip_link=args.tip_link)
+    model = load_model(args.model, base_link=args.base_link, tip=args.tip_link)
     if not isinstance(model, RobotModel):
         raise UsageError(f"{args.command} needs a robot model; {args.model!r} is a raw matrix")
     if any(getattr(j, "mimic", None) is not None for j in model.joints):
@@ -309,8 +309,8 @@ def cmd_ik(args) -> int:
     if args.plot:
         from ..near.figures import path_figure
 
-        fig = path_figure(path, None if distance is None else distance[0], labels)
-        _save(fig, args.plot)
+        axes = path_figure(path, None if distance is None else distance[0], labels)
+        _save(axes[0].figure, args.plot)
     if args.output:
         write_atomic(args.output, text, "-o")
     else:
@@ -345,7 +345,7 @@ def _ik_table(model, path, distance, labels, fmt) -> str:
         D, comp = distance
         columns += ["distance", "nearest_component"]
         finite = np.where(np.isfinite(D), D, np.inf)
-        data += [finite.min(axis=1, initial=np.inf)[:, None], (comp + 1)[:, None]]
+        data += [finite.min(axis=1, initial=np.inf)[:, None], comp[:, None]]
     rows = np.hstack(data) if len(path.t) else np.zeros((0, len(columns)))
     if fmt == "json":
         doc = {"model": model.name, "norm": path.norm,
@@ -418,10 +418,10 @@ def cmd_manipulability(args) -> int:
         if got is None:
             return EXIT_FAILED
         near, labels = got
-        if near.component >= 0:
+        if near.component > 0:
             s = np.linalg.svd(kin.jacobian(near.point), compute_uv=False)
             result["nearest_component"] = {
-                "component": near.component + 1, "equations": labels[near.component],
+                "component": near.component, "equations": labels[near.component - 1],
                 "distance": near.distance, "point": near.point.tolist(),
                 "sigma_ratio_at_point": float(s[-1] / s[0]) if s[0] > 0 else 0.0,
                 "distances": [_num(d) for d in near.distances]}
@@ -430,7 +430,7 @@ def cmd_manipulability(args) -> int:
     if args.plot:
         from ..near.figures import plot_manipulability
 
-        _save(plot_manipulability(J[pos]), args.plot)
+        _save(plot_manipulability(J[pos]).figure, args.plot)
     if args.format == "json":
         print(json.dumps(result, indent=1))
     else:

@@ -12,7 +12,8 @@ import argparse
 
 from .limits import DEFAULT_MEMORY_MB, MAX_MEMORY_MB, MAX_TIMEOUT_S
 
-__all__ = ["UsageError", "ArgumentParser", "build_parser", "frame_arg", "task_arg", "seed_arg"]
+__all__ = ["UsageError", "ArgumentParser", "build_parser", "frame_arg", "task_arg", "seed_arg",
+           "OLD_OPTIONS"]
 
 
 class UsageError(Exception):
@@ -24,6 +25,32 @@ class ArgumentParser(argparse.ArgumentParser):
 
     def error(self, message):
         raise UsageError(message)
+
+
+#: Options renamed to one spelling across the subcommands: old spelling -> new.  The old
+#: one still works, with a note on stderr (:func:`rankloci.cli.main`).
+OLD_OPTIONS = {"--numeric-parameters": "--numeric"}
+
+
+class _OldSpelling(argparse.Action):
+    """A flag's old spelling: stores True, as the new one does, and remembers that it was used."""
+
+    def __init__(self, option_strings, dest, **kwargs):
+        super().__init__(option_strings, dest, nargs=0, default=argparse.SUPPRESS,
+                         help=argparse.SUPPRESS)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        setattr(namespace, self.dest, True)
+        used = list(getattr(namespace, "old_options", ()))
+        if option_string not in used:
+            used.append(option_string)
+        namespace.old_options = used
+
+
+def _numeric_flag(p, help_text):
+    """``--numeric``, and its old spelling ``--numeric-parameters`` (hidden from the help)."""
+    p.add_argument("--numeric", dest="numeric", action="store_true", help=help_text)
+    p.add_argument("--numeric-parameters", dest="numeric", action=_OldSpelling)
 
 
 def frame_arg(text: str):
@@ -139,31 +166,32 @@ EPILOG_JACOBIAN = """examples:
   rankloci jacobian planar2r
   rankloci jacobian puma560 --frame tool --format latex
   rankloci jacobian ssrms --augment q3 --numeric --format json
-  rankloci jacobian kinematics_models/extra/iiwa_offsets.urdf --tip link_7
+  rankloci jacobian examples/arm.urdf --tip tool0 --task position
 
-Paths in these examples are files of rankloci's source tree.
+Paths in these examples are files of rankloci's source tree (examples/).
 """
 
 EPILOG_LOCUS = """examples:
   rankloci locus puma560
-  rankloci locus ssrms --numeric-parameters --format json > ssrms.json
+  rankloci locus ssrms --numeric --format json > ssrms.json
   rankloci locus planar4r --augment "q1 + q2 + q3 + q4" --tree tree.dot
   rankloci locus pa10 --augment "lock(q3)"      # J, J_aug, kinds of J_aug's components
   rankloci locus pa10 --augment "elbow(z)" --format json
   rankloci locus examples/my_matrix.toml --method subdeterminant --show-tree
+  rankloci locus examples/arm.urdf --tip tool0 --task position
 
 The locus is printed as components: equations that vanish on each, the solved
 form where there is one, dimension, rank drop and the lost task direction.
-Paths in these examples are files of rankloci's source tree.
+Paths in these examples are files of rankloci's source tree (examples/).
 """
 
 EPILOG_CHECK = """examples:
   rankloci check planar2r
-  rankloci check puma560 --numeric-parameters --samples 20 --seed 7
-  rankloci locus puma560 --numeric-parameters --format json > puma.json
+  rankloci check puma560 --numeric --samples 20 --seed 7
+  rankloci locus puma560 --numeric --format json > puma.json
   rankloci check puma560 --locus puma.json --format json
-  rankloci locus kinematics_models/extra/iiwa_offsets.urdf --tip link_7 --format json > iiwa.json
-  rankloci check kinematics_models/extra/iiwa_offsets.urdf --tip link_7 --locus iiwa.json
+  rankloci locus examples/arm.urdf --tip tool0 --format json > arm.json
+  rankloci check examples/arm.urdf --tip tool0 --locus arm.json
 
 Samples points on each component (J must be rank deficient there), random
 configurations away from every component (J must be full rank) and minima of
@@ -172,8 +200,10 @@ decides; where its double-precision ratio lies above 1e-14 a point of a
 component is decided again in 50 and 100 digits (singular where the ratio falls
 with the digits, regular where it stays).  FSP reducer and maximal-minor
 disagreements are listed as findings.
-Exit 0 when every check passes, 1 when one fails, 2 on bad input.  Paths in
-these examples are files of rankloci's source tree.
+A locus file is checked against the model's own task (a locus computed with
+--task or --augment is refused).  Exit 0 when every check passes, 1 when one
+fails, 2 on bad input.  Paths in these examples are files of rankloci's source
+tree (examples/).
 """
 
 EPILOG_MODELS = """examples:
@@ -249,7 +279,7 @@ def build_parser() -> ArgumentParser:
     _model_args(p)
     p.add_argument("--point", type=frame_arg, default="tool",
                    help="reference point: origin of base, tool, or link frame 0..n (default tool)")
-    p.add_argument("--numeric", action="store_true", help="replace parameters by their values")
+    _numeric_flag(p, "replace the geometric parameters by their values")
     p.add_argument("--timeout", type=timeout_arg, default=600.0,
                    help="give up after this many seconds (default 600; 0 = never)")
     p.add_argument("--memory", type=memory_arg, default=DEFAULT_MEMORY_MB, metavar="MIB",
@@ -262,8 +292,7 @@ def build_parser() -> ArgumentParser:
     p.add_argument("--method", choices=("svm", "subdeterminant", "determinant"), default=None,
                    help="svm (default) or subdeterminant; determinant for a square matrix "
                         "(the default when the matrix is square)")
-    p.add_argument("--numeric-parameters", dest="numeric", action="store_true",
-                   help="replace the geometric parameters by their values before the algebra")
+    _numeric_flag(p, "replace the geometric parameters by their values before the algebra")
     p.add_argument("--format", choices=("text", "json", "latex"), default="text")
     p.add_argument("--tree", metavar="FILE", help="write the branch tree to FILE.dot, FILE.json or FILE.txt")
     p.add_argument("--show-tree", action="store_true", help="also draw the branch tree in the terminal")
@@ -293,8 +322,7 @@ def build_parser() -> ArgumentParser:
                    help="points per component, off-locus points and probe starts (default 10)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed of the random points (default 0)")
     p.add_argument("--format", choices=("text", "json"), default="text")
-    p.add_argument("--numeric-parameters", dest="numeric", action="store_true",
-                   help="replace the geometric parameters by their values before the algebra")
+    _numeric_flag(p, "replace the geometric parameters by their values before the algebra")
     p.add_argument("--timeout", type=timeout_arg, default=600.0,
                    help="give up after this many seconds (default 600; 0 = never)")
     p.add_argument("--memory", type=memory_arg, default=DEFAULT_MEMORY_MB, metavar="MIB",
@@ -318,8 +346,7 @@ def build_parser() -> ArgumentParser:
     p.add_argument("--seed", type=seed_arg, default=0, help="seed of every random choice (default 0)")
     p.add_argument("--fragment", action="store_true",
                    help="write the .tex without a preamble, to \\input into a paper")
-    p.add_argument("--numeric-parameters", dest="numeric", action="store_true",
-                   help="replace the geometric parameters by their values before the algebra")
+    _numeric_flag(p, "replace the geometric parameters by their values before the algebra")
     p.add_argument("--timeout", type=timeout_arg, default=600.0,
                    help="seconds per locus computation (default 600; 0 = never); when it runs "
                         "out the report is written without the locus and says so")

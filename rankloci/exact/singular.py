@@ -75,7 +75,7 @@ def singular_cross_check(tm, locus, *, rng, parameters=None) -> SingularResult:
     if not singular_available():
         return SingularResult("skipped", "Singular is not installed (Debian package 'singular')")
     if tm.parameters:
-        return SingularResult("skipped", "needs numeric parameters (--numeric-parameters)")
+        return SingularResult("skipped", "needs numeric parameters (--numeric)")
     if set(tm.variables) != set(tm.angles):
         return SingularResult("skipped", "only matrices in angles are supported")
     if square_root_primes(tm.matrix):

@@ -32,9 +32,18 @@ def builtin_models() -> list[str]:
     return sorted(p.stem for p in d.glob("*.toml")) if d.is_dir() else []
 
 
-def load_model(spec: str, *, base_link: str | None = None, tip_link: str | None = None):
-    """Model from a file path (``.toml`` or ``.urdf``) or a built-in model name."""
+def load_model(spec: str, *, base_link: str | None = None, tip: str | None = None,
+               tip_link: str | None = None):
+    """Model from a file path (``.toml`` or ``.urdf``) or a built-in model name.
+
+    ``base_link`` and ``tip`` choose the chain of a URDF file
+    (:func:`~rankloci.io.urdf.parse_urdf`); ``tip_link`` is the deprecated
+    old name of ``tip``.
+    """
+    from ..renamed import renamed_argument
     from .toml_model import read_model
+
+    tip = renamed_argument(tip, tip_link, new="tip", old="tip_link", where="load_model")
 
     path = Path(spec)
     try:
@@ -46,7 +55,7 @@ def load_model(spec: str, *, base_link: str | None = None, tip_link: str | None 
             raise ModelError("no such file", file=str(spec))
         if path.suffix.lower() == ".urdf":
             from .urdf import read_urdf
-            return read_urdf(path, base_link=base_link, tip_link=tip_link)
+            return read_urdf(path, base_link=base_link, tip=tip)
         if path.suffix.lower() != ".toml":
             raise ModelError("unknown file type (expected .toml or .urdf)", file=path.name)
         return read_model(path)

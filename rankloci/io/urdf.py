@@ -94,8 +94,8 @@ MAX_MOVABLE_JOINTS = 64
 
 
 def parse_urdf(text: str, *, name: str, file: str = "", base_link: str | None = None,
-               tip_link: str | None = None) -> RobotModel:
-    """Robot model of the serial chain ``base_link -> tip_link`` of a URDF document.
+               tip: str | None = None, tip_link: str | None = None) -> RobotModel:
+    """Robot model of the serial chain ``base_link -> tip`` of a URDF document.
 
     Parameters
     ----------
@@ -108,9 +108,12 @@ def parse_urdf(text: str, *, name: str, file: str = "", base_link: str | None = 
     base_link : str, optional
         First link of the chain; default: the root link (the one link that is
         no joint's child).
-    tip_link : str, optional
+    tip : str, optional
         Last link of the chain; default: the only leaf link below
-        ``base_link``.  Required when there are several.
+        ``base_link``.  Required when there are several.  The same name as
+        :func:`rankloci.locus`'s ``tip=``.
+    tip_link : str, optional
+        Deprecated: the old name of ``tip`` (a :class:`DeprecationWarning`).
 
     Returns
     -------
@@ -164,6 +167,9 @@ def parse_urdf(text: str, *, name: str, file: str = "", base_link: str | None = 
     >>> m.variables, m.joint_coordinates
     ((q1, q2), (q1, q2, -q2))
     """
+    from ..renamed import renamed_argument
+
+    tip = renamed_argument(tip, tip_link, new="tip", old="tip_link", where="parse_urdf")
     where = file or None
     root = parse_document(text, where)
     links = link_names(root, where)
@@ -175,18 +181,18 @@ def parse_urdf(text: str, *, name: str, file: str = "", base_link: str | None = 
     elif base_link not in links:
         raise ModelError(f"base link {base_link!r} is not a link of this robot "
                          f"({name_list(links)})", file=where, field="base_link")
-    if tip_link is None:
-        tip_link = single_leaf(base_link, joints, where)
-    elif tip_link not in links:
-        raise ModelError(f"tip link {tip_link!r} is not a link of this robot "
+    if tip is None:
+        tip = single_leaf(base_link, joints, where)
+    elif tip not in links:
+        raise ModelError(f"tip link {tip!r} is not a link of this robot "
                          f"({name_list(links)})", file=where, field="tip_link")
-    chain = chain_joints(base_link, tip_link, parent_of, where)
+    chain = chain_joints(base_link, tip, parent_of, where)
     if len(chain) > MAX_CHAIN_JOINTS:
-        raise ModelError(f"the chain {base_link} -> {tip_link} has {len(chain)} joints, more than "
+        raise ModelError(f"the chain {base_link} -> {tip} has {len(chain)} joints, more than "
                          f"{MAX_CHAIN_JOINTS}", file=where)
     movable = sum(j.type in JOINT_KINDS for j in chain)
     if movable > MAX_MOVABLE_JOINTS:
-        raise ModelError(f"the chain {base_link} -> {tip_link} has {movable} movable joints, more "
+        raise ModelError(f"the chain {base_link} -> {tip} has {movable} movable joints, more "
                          f"than {MAX_MOVABLE_JOINTS}", file=where)
 
     index = {}  # joint name -> 1-based index among the chain's movable joints
@@ -201,8 +207,8 @@ def parse_urdf(text: str, *, name: str, file: str = "", base_link: str | None = 
         check_joint_numbers(j, index.get(j.name), where)
     if not index:
         raise ModelError(f"no revolute, continuous or prismatic joint between "
-                         f"{base_link!r} and {tip_link!r}", file=where)
-    chain_text = f"{base_link} -> {tip_link}"
+                         f"{base_link!r} and {tip!r}", file=where)
+    chain_text = f"{base_link} -> {tip}"
     followed = {j.name: _followed_joint(j, joints, index, chain_text, where)
                 for j in chain if j.name in index and j.element.find("mimic") is not None}
     carried = _carried_leaders(followed, joints, index, chain_text, where)
@@ -248,7 +254,7 @@ def parse_urdf(text: str, *, name: str, file: str = "", base_link: str | None = 
         variables=tuple(sp.Symbol(f"q{i}", real=True) for i in range(1, free + 1)),
         parameters={},
         title=title,
-        source=f"URDF robot {title!r}, chain {base_link} -> {tip_link}",
+        source=f"URDF robot {title!r}, chain {base_link} -> {tip}",
         base=sp.ImmutableMatrix(sp.eye(4)),
         tool=sp.ImmutableMatrix(fixed),
         task=TASKS["full"],
@@ -355,22 +361,28 @@ def _carried_leaders(followed: dict, joints: dict[str, UrdfJoint], index: dict[s
     return carried
 
 
-def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None) -> RobotModel:
+def read_urdf(path, *, base_link: str | None = None, tip: str | None = None,
+              tip_link: str | None = None) -> RobotModel:
     """Read a URDF file: :func:`parse_urdf` with name = file stem, file = base name.
 
     Parameters
     ----------
     path : str or os.PathLike
-    base_link, tip_link : str, optional
+    base_link, tip : str, optional
         See :func:`parse_urdf`.
+    tip_link : str, optional
+        Deprecated: the old name of ``tip``.
 
     Raises
     ------
     ModelError
         If the file cannot be read or decoded as UTF-8, or does not parse.
     """
-    p = Path(path)
+    from ..renamed import renamed_argument
     from .files import read_bounded
+
+    tip = renamed_argument(tip, tip_link, new="tip", old="tip_link", where="read_urdf")
+    p = Path(path)
 
     try:
         text = read_bounded(p, MAX_FILE_BYTES).decode("utf-8-sig")
@@ -378,5 +390,5 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
         raise ModelError(f"cannot read file: {e.strerror or e}", file=p.name) from None
     except UnicodeDecodeError as e:
         raise ModelError(f"not UTF-8 text ({e.reason} at byte {e.start})", file=p.name) from None
-    model = parse_urdf(text, name=p.stem, file=p.name, base_link=base_link, tip_link=tip_link)
+    model = parse_urdf(text, name=p.stem, file=p.name, base_link=base_link, tip=tip)
     return dataclasses.replace(model, path=str(p))

@@ -110,13 +110,17 @@ def nearest_component(model, q, *, seed: int = 0, tip: str | None = None,
                       base_link: str | None = None):
     """The component of the model's locus nearest to ``q`` (joint space): a ``Nearest``.
 
-    ``tip`` and ``base_link`` choose the chain of a URDF file (:func:`rankloci.load_model`).
+    ``Nearest.component`` is the component's number, 1-based as the locus's
+    text and JSON number components and as the ``nearest_component`` column
+    of ``rankloci ik`` (``locus.components[near.component - 1]``); 0 when no
+    component was reached.  ``tip`` and ``base_link`` choose the chain of a
+    URDF file (:func:`rankloci.load_model`).
 
     Examples
     --------
     >>> near = nearest_component("planar2r", [0.3, 0.5])
     >>> near.component, round(near.distance, 12)
-    (0, 0.5)
+    (1, 0.5)
     """
     from .nearest import ComponentDistance
 

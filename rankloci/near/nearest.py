@@ -33,7 +33,9 @@ class Nearest:
     Attributes
     ----------
     component : int
-        0-based index into the locus's components (-1 when none was reached).
+        The component's number, 1-based as in the locus's text and JSON and in
+        the ``nearest_component`` column of ``rankloci ik`` (``locus.components
+        [component - 1]``); 0 when no component was reached.
     distance : float
         Joint-space distance to its nearest point found (inf when none).
     point : numpy.ndarray
@@ -175,6 +177,6 @@ class ComponentDistance:
             if p is not None:
                 self._last[i] = (p, q)
         if not dists or not np.isfinite(min(dists)):
-            return Nearest(-1, np.inf, np.full(len(q), np.nan), tuple(dists))
+            return Nearest(0, np.inf, np.full(len(q), np.nan), tuple(dists))
         k = int(np.argmin(dists))
-        return Nearest(k, float(dists[k]), points[k], tuple(float(d) for d in dists))
+        return Nearest(k + 1, float(dists[k]), points[k], tuple(float(d) for d in dists))

@@ -478,7 +478,7 @@ def _reproduce_section(report):
     args = [f"rankloci report {_model_argument(report.model)}", f"--seed {report.seed}",
             f"--samples {report.samples}"]
     if report.numeric:
-        args.append("--numeric-parameters")
+        args.append("--numeric")
     if report.timeout:
         args.append(f"--timeout {report.timeout:g}")
     return [Heading(2, "Reproducing this report", block_label(report, "reproduce")),

@@ -1,12 +1,20 @@
-"""The report's figures as matplotlib Figures: a plotting API, and PNG bytes for the report.
+"""The report's figures: a plotting API that starts from a locus, and PNG bytes for the report.
 
-Every ``plot_*`` function draws into ``ax`` when given (a 3-D axes for
-:func:`plot_robot`) and otherwise into a new :class:`matplotlib.figure.Figure`,
-which it returns.  No backend is chosen here (a Figure made without pyplot
-saves under any backend); :func:`figure_png` turns a Figure into PNG bytes
-without a timestamp or software version, so equal data give equal bytes.
-The ``*_png`` functions are what the report uses.  matplotlib is imported
-inside the functions (the command line's ``--help`` stays fast).
+Every ``plot_*`` function takes a :class:`~rankloci.locus.Locus` (or, for
+:func:`plot_robot`, also a model and a configuration) and draws into ``ax``
+when given (a 3-D axes for :func:`plot_robot`), otherwise into a new
+:class:`matplotlib.figure.Figure`; it returns the Axes it drew into, as
+matplotlib's own plotting functions do.  The functions that draw several
+panels (:func:`plot_augmented`, :func:`plot_manipulability_paths`,
+:func:`robot_figure`) take and return an array of Axes.  Each also takes the
+report's own data (``SliceData``, ``PathData``, ``RobotPose``,
+``TreeSummary``), which is what the report passes.
+
+No backend is chosen here (a Figure made without pyplot saves under any
+backend); :func:`figure_png` turns a Figure into PNG bytes without a
+timestamp or software version, so equal data give equal bytes.  The ``*_png``
+functions are what the report uses.  matplotlib is imported inside the
+functions (the command line's ``--help`` stays fast).
 """
 
 from __future__ import annotations
@@ -17,7 +25,7 @@ import subprocess
 import numpy as np
 
 __all__ = ["plot_sigma_slice", "locus_slice", "plot_augmented", "plot_manipulability_path",
-           "plot_manipulability_paths", "plot_tree", "plot_robot", "robot_figure", "figure_png",
+           "plot_manipulability_paths", "manipulability_paths", "plot_tree", "plot_robot", "robot_figure", "figure_png",
            "heatmap_png", "augmented_png", "manipulability_png", "tree_png", "robot_png",
            "tree_dot_source", "HEATMAP_SIZE", "PATH_SIZE", "AUGMENTED_SIZE", "ROBOT_SIZE", "DPI"]
 
@@ -188,28 +196,16 @@ def locus_slice(locus, jacobian=None, *, component: int = 1, axes=None):
 
     See :func:`plot_sigma_slice` for the arguments.
     """
-    from ..api import jacobian as task_jacobian
     from ..errors import ArgumentError
-    from ..jacobian import TaskMatrix
-    from ..numeric.equations import NumericMatrix
     from . import analysis as A
 
-    tm = jacobian if isinstance(jacobian, TaskMatrix) else task_jacobian(
-        locus.model if jacobian is None else jacobian)
-    names = [v.name for v in tm.variables]
-    if names != [str(v) for v in locus.variables]:
-        raise ArgumentError(f"jacobian=: its variables {names} are not the locus's "
-                            f"{[str(v) for v in locus.variables]}", argument="jacobian")
+    tm, nm, names = _locus_matrix(locus, jacobian)
     if len(names) < 2:
         raise ArgumentError("a slice needs two joint variables; the locus has one",
                             argument="locus")
     comps = A.model_components(locus)
-    chosen = dict(comps).get(component)
-    if chosen is None:
-        raise ArgumentError(f"component={component!r} is not a component of the locus (1.."
-                            f"{len(locus.components)})", argument="component", value=component)
-    nm = NumericMatrix(_with_values(tm), tm.variables, tm.angles)
-    point = np.array([chosen.sample[n] for n in names], dtype=float)
+    chosen = _component(locus, component)
+    point = _sample(chosen, names)
     if axes is None:
         axes = A.slice_joints(nm, point, A.equation_weights([(component, chosen)], nm.variables))
     axes = tuple(int(a) for a in axes)
@@ -227,13 +223,106 @@ def _with_values(tm):
     return sp.Matrix(tm.matrix).subs(tm.parameters)
 
 
-def plot_augmented(plain, augmented, names, prismatic, *, title: str = "", ax=None):
+def _locus_matrix(locus, jacobian=None, *, rows=None):
+    """(TaskMatrix, NumericMatrix, variable names) of the matrix a locus is of.
+
+    ``jacobian``: the matrix (:func:`rankloci.jacobian`) or anything
+    :func:`rankloci.load_model` takes; default ``locus.model`` as a built-in
+    model name.  ``rows``: keep only the first ``rows`` rows (J without its
+    constraint rows).
+    """
+    from ..api import jacobian as task_jacobian
+    from ..errors import ArgumentError
+    from ..jacobian import TaskMatrix
+    from ..numeric.equations import NumericMatrix
+
+    tm = jacobian if isinstance(jacobian, TaskMatrix) else task_jacobian(
+        locus.model if jacobian is None else jacobian)
+    names = [v.name for v in tm.variables]
+    if names != [str(v) for v in locus.variables]:
+        raise ArgumentError(f"jacobian=: its variables {names} are not the locus's "
+                            f"{[str(v) for v in locus.variables]}", argument="jacobian")
+    M = _with_values(tm)
+    if rows is not None:
+        M = M[:rows, :]
+    return tm, NumericMatrix(M, tm.variables, tm.angles), names
+
+
+def _component(locus, component):
+    """The component numbered ``component`` (1-based) that exists for the model's values."""
+    from ..errors import ArgumentError
+    from . import analysis as A
+
+    chosen = dict(A.model_components(locus)).get(component)
+    if chosen is None:
+        raise ArgumentError(f"component={component!r} is not a component of the locus (1.."
+                            f"{len(locus.components)})", argument="component", value=component)
+    return chosen
+
+
+def _sample(component, names) -> np.ndarray:
+    return np.array([component.sample[n] for n in names], dtype=float)
+
+
+def _is_locus(obj) -> bool:
+    from ..locus import Locus
+
+    return isinstance(obj, Locus)
+
+
+def plot_augmented(plain, augmented=None, names=None, prismatic=None, *, jacobian=None,
+                   component: int = 1, axes=None, title: str = "", ax=None):
     """Two heat maps on one slice and one colour scale: J and J augmented.
 
-    ``ax`` is a pair of axes, or None for a new Figure.
+    Parameters
+    ----------
+    plain : Locus or SliceData
+        The locus of an augmented matrix (``Locus.base`` is J's own locus):
+        the slice passes through the sample point of its component
+        ``component`` along ``axes`` (as :func:`plot_sigma_slice`); left J
+        with the components of ``locus.base``, right the augmented J with
+        the locus's components.  Or J's slice data, with ``augmented``,
+        ``names`` and ``prismatic``.
+    augmented : SliceData, optional
+        For slice data: the augmented matrix's slice.
+    names, prismatic : sequence, optional
+        For slice data: as :func:`plot_sigma_slice`.
+    jacobian : TaskMatrix or model, optional
+        For a locus: the augmented matrix (``rankloci.jacobian(model,
+        augment=[...])``), or a model whose file declares the constraint
+        rows; default: ``locus.model`` as a built-in model name.
+    component : int
+        For a locus: the 1-based component of the augmented locus.
+    axes : (int, int), optional
+        For a locus: the joints on the x and y axes.
+    title : str
+    ax : pair of matplotlib.axes.Axes, optional
+        Drawn into; two panels of a new Figure otherwise.
+
+    Returns
+    -------
+    numpy.ndarray of two matplotlib.axes.Axes
+
+    Examples
+    --------
+    >>> import rankloci
+    >>> from rankloci.report.figures import plot_augmented
+    >>> J = rankloci.jacobian("planar3r", augment=["q1 + q2 + q3"], numeric=True)
+    >>> L = rankloci.locus("planar3r", augment=["q1 + q2 + q3"], numeric=True)
+    >>> left, right = plot_augmented(L, jacobian=J)
+    >>> left.get_title(), right.get_title()
+    ('J (task rows only)', 'J augmented with the constraint rows')
     """
     from matplotlib.figure import Figure
 
+    if _is_locus(plain):
+        plain, augmented, names, prismatic = _augmented_slices(
+            plain, jacobian, component=component, axes=axes)
+    elif augmented is None or names is None or prismatic is None:
+        from ..errors import ArgumentError
+
+        raise ArgumentError("augmented=, names= and prismatic= are needed with slice data (a "
+                            "Locus needs none of them)", argument="augmented")
     with _rc():
         if ax is None:
             fig = Figure(figsize=AUGMENTED_SIZE, layout="constrained")
@@ -248,7 +337,27 @@ def plot_augmented(plain, augmented, names, prismatic, *, title: str = "", ax=No
         fig.colorbar(mesh, ax=list(ax)).set_label(r"$\sigma_{\min}/\sigma_{\max}$ (log scale)")
         if title:
             fig.suptitle(title)
-    return fig
+    return np.asarray(ax)
+
+
+def _augmented_slices(locus, jacobian, *, component, axes):
+    """(J's slice, J_aug's slice, names, prismatic) through a component of an augmented locus."""
+    from ..errors import ArgumentError
+    from . import analysis as A
+
+    if locus.base is None:
+        raise ArgumentError("the locus is not of an augmented matrix (Locus.base is None); "
+                            "compute it with augment=", argument="locus")
+    data, names, prismatic = locus_slice(locus, jacobian, component=component, axes=axes)
+    tm, _, _ = _locus_matrix(locus, jacobian)
+    if not tm.n_constraint_rows:
+        raise ArgumentError("jacobian=: the matrix has no constraint rows; give the augmented "
+                            "matrix (rankloci.jacobian(model, augment=[...]))",
+                            argument="jacobian")
+    _, nm_plain, _ = _locus_matrix(locus, tm, rows=tm.shape[0] - tm.n_constraint_rows)
+    plain = A.slice_grid(nm_plain, A.model_components(locus.base), dict(tm.parameters),
+                         data.axes, data.point, through=None)
+    return plain, data, names, prismatic
 
 
 def _units_math(units: str) -> str:
@@ -259,13 +368,42 @@ def _units_math(units: str) -> str:
     return rf"$\mathrm{{m}}^{{{m.group(1)}}}$" if m else units
 
 
-def plot_manipulability_path(path, *, units: str = "", ax=None):
+def plot_manipulability_path(path, *, units: str = "", jacobian=None, component: int = 1,
+                             seed: int = 0, ax=None):
     """w = sqrt(det(J J^T)) along one path, with every singular crossing marked.
 
-    ``path`` is a :class:`~rankloci.report.analysis.PathData`; its ``zeros``
-    (the parameters where the path meets the locus) get a red marker and a
-    dotted line each.
+    Parameters
+    ----------
+    path : Locus or PathData
+        A locus: the path is a straight joint-space line through the sample
+        point of its component ``component``, across it, between two regular
+        configurations (as the report draws it; :func:`manipulability_paths`).
+        Or the path's data.  The parameters where the path meets the locus
+        get a red marker and a dotted line each.
+    units : str
+        The unit of w, on the y axis (``"m^3"``).
+    jacobian : TaskMatrix or model, optional
+        For a locus: as :func:`plot_sigma_slice`.
+    component : int
+        For a locus: the 1-based component the path crosses.
+    seed : int
+        For a locus: the seed of the path's random direction.
+    ax : matplotlib.axes.Axes, optional
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+
+    Examples
+    --------
+    >>> import rankloci
+    >>> from rankloci.report.figures import plot_manipulability_path
+    >>> ax = plot_manipulability_path(rankloci.locus("planar2r"))
+    >>> ax.get_xlabel()
+    'path parameter t'
     """
+    if _is_locus(path):
+        path = manipulability_paths(path, jacobian, components=(component,), seed=seed)[0]
     with _rc():
         ax = _new_axes(ax, (4.0, 3.0))
         ax.plot(path.t, path.w, color="#1f77b4", linewidth=1.4)
@@ -282,15 +420,73 @@ def plot_manipulability_path(path, *, units: str = "", ax=None):
         if units:
             ax.set_ylabel(rf"$w = \sqrt{{\det(J J^T)}}$ [{_units_math(units)}]")
         ax.set_xlabel("path parameter t")
-    return ax.figure
+    return ax
 
 
-def plot_manipulability_paths(paths, *, units: str, title: str = "", ax=None):
+def manipulability_paths(locus, jacobian=None, *, components=None, seed: int = 0) -> list:
+    """The report's manipulability paths of a locus: one ``PathData`` per component.
+
+    Each is a straight joint-space path through the component's sample point,
+    mostly across the component, between two regular configurations; every
+    crossing of the locus on it is in ``zeros``.
+
+    Parameters
+    ----------
+    locus : Locus
+    jacobian : TaskMatrix or model, optional
+        As :func:`plot_sigma_slice`.
+    components : sequence of int, optional
+        1-based components (default: every one that exists for the model's values).
+    seed : int
+        Seed of the random part of each direction.
+    """
+    from . import analysis as A
+
+    tm, nm, names = _locus_matrix(locus, jacobian)
+    chosen = ([(k, _component(locus, k)) for k in components] if components is not None
+              else A.model_components(locus))
+    rng = np.random.default_rng(seed)
+    paths = []
+    for idx, c in chosen:
+        q0 = _sample(c, names)
+        normals = A.normal_directions(A.component_equations(c, nm, dict(tm.parameters)), q0)
+        paths.append(A.path_through(nm, q0, rng, component=idx, normals=normals))
+    return paths
+
+
+def plot_manipulability_paths(paths, *, units: str = "", title: str = "", jacobian=None,
+                              seed: int = 0, ax=None):
     """One panel per path (each with its own w scale), in a grid of up to three columns.
 
-    ``ax``: an array of at least ``len(paths)`` axes, or None for a new Figure.
+    Parameters
+    ----------
+    paths : Locus or sequence of PathData
+        A locus: one path across each of its components
+        (:func:`manipulability_paths`).
+    units, title : str
+    jacobian : TaskMatrix or model, optional
+        For a locus: as :func:`plot_sigma_slice`.
+    seed : int
+        For a locus: the seed of the paths' random directions.
+    ax : array of matplotlib.axes.Axes, optional
+        At least one per path; a new Figure otherwise.
+
+    Returns
+    -------
+    numpy.ndarray of matplotlib.axes.Axes
+        Every panel, flattened (the unused ones switched off).
+
+    Examples
+    --------
+    >>> import rankloci
+    >>> from rankloci.report.figures import plot_manipulability_paths
+    >>> len(plot_manipulability_paths(rankloci.locus("puma560", numeric=True)))
+    3
     """
     from matplotlib.figure import Figure
+
+    if _is_locus(paths):
+        paths = manipulability_paths(paths, jacobian, seed=seed)
 
     n = max(len(paths), 1)
     cols = min(n, 3)
@@ -312,7 +508,7 @@ def plot_manipulability_paths(paths, *, units: str, title: str = "", ax=None):
             axes[0].legend(loc="upper left", fontsize=7, framealpha=0.85)
         if title:
             fig.suptitle(title + "  (q(t) = q0 + t d; t = 0 on the component)")
-    return fig
+    return axes
 
 
 # --- the robot ---------------------------------------------------------------------------------
@@ -334,14 +530,61 @@ def _ellipsoid(ax, centre, Jv, size, colour):
                       alpha=0.6)
 
 
-def plot_robot(pose, *, highlight=(), arrow=None, arrow_label="", Jv=None, title: str = "",
-               ax=None):
+def _robot_and_q(robot, q, *, model=None, component: int = 1):
+    """(RobotModel, {name: value}) for a locus's component sample or a model and q."""
+    from ..api import load_model
+    from ..errors import ArgumentError
+    from ..model import RobotModel
+
+    if _is_locus(robot):
+        locus = robot
+        m = load_model(locus.model if model is None else model)
+        if q is None:
+            q = _component(locus, component).sample
+    else:
+        if model is not None:
+            raise ArgumentError("model= goes with a Locus; the robot is the first argument",
+                                argument="model")
+        m = load_model(robot)
+    if not isinstance(m, RobotModel):
+        raise ArgumentError(f"a robot is needed to draw an arm, not a {type(m).__name__}",
+                            argument="robot")
+    names = [v.name for v in m.variables]
+    if q is None:
+        raise ArgumentError("q= is needed with a model: the configuration to draw", argument="q")
+    if hasattr(q, "items"):
+        values = {str(k): float(v) for k, v in q.items()}
+        missing = [n for n in names if n not in values]
+        if missing:
+            raise ArgumentError(f"q=: no value for {missing[0]!r}", argument="q")
+    else:
+        arr = np.asarray(q, dtype=float).reshape(-1)
+        if arr.shape != (len(names),):
+            raise ArgumentError(f"q= must have {len(names)} values (one per joint), got "
+                                f"{arr.size}", argument="q")
+        values = dict(zip(names, arr.tolist()))
+    if not all(np.isfinite(values[n]) for n in names):
+        raise ArgumentError("q= must be finite numbers", argument="q")
+    return m, values
+
+
+def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), arrow=None,
+               arrow_label="", Jv=None, title: str = "", ax=None):
     """The arm at one configuration in 3-D: links, joint axes, task point.
 
     Parameters
     ----------
-    pose : RobotPose
-        From :func:`~rankloci.report.robot.robot_pose`.
+    pose : Locus, model or RobotPose
+        A locus: the arm at the sample point of its component ``component``
+        (the robot is ``model``, default ``locus.model`` as a built-in name).
+        A model (anything :func:`rankloci.load_model` takes): the arm at
+        ``q``.  Or the pose from :func:`~rankloci.report.robot.robot_pose`.
+    q : array_like or mapping, optional
+        For a model: one value per joint variable, or variable name -> value.
+    component : int
+        For a locus: the 1-based component.
+    model : optional
+        For a locus: the robot it is of.
     highlight : sequence of int
         1-based joints whose axes are drawn long and red (the axes a reading names).
     arrow : array_like of 3 floats, optional
@@ -353,8 +596,21 @@ def plot_robot(pose, *, highlight=(), arrow=None, arrow_label="", Jv=None, title
 
     Returns
     -------
-    matplotlib.figure.Figure
+    mpl_toolkits.mplot3d.axes3d.Axes3D
+
+    Examples
+    --------
+    >>> import rankloci
+    >>> from rankloci.report.figures import plot_robot
+    >>> plot_robot(rankloci.locus("puma560", numeric=True), component=2).name
+    '3d'
+    >>> ax = plot_robot("planar2r", [0.3, 0.5])
     """
+    from .robot import RobotPose, robot_pose
+
+    if not isinstance(pose, RobotPose):
+        robot, values = _robot_and_q(pose, q, model=model, component=component)
+        pose = robot_pose(robot, values)
     with _rc():
         ax = _new_axes(ax, (5.0, 4.8), projection="3d")
         chain = np.asarray(pose.chain)
@@ -395,25 +651,70 @@ def plot_robot(pose, *, highlight=(), arrow=None, arrow_label="", Jv=None, title
         if title:
             ax.set_title(title, fontsize=9)
         ax.legend(loc="upper left", fontsize=7)
-    return ax.figure
+    return ax
 
 
-def robot_figure(singular, regular, *, highlight=(), arrow=None, arrow_label="",
-                 Jv_singular=None, Jv_regular=None, title: str = ""):
-    """Two 3-D panels: the arm at a component's sample point and at a nearby regular pose."""
+def robot_figure(singular, regular=None, *, component: int = 1, model=None, seed: int = 0,
+                 highlight=(), arrow=None, arrow_label="", Jv_singular=None, Jv_regular=None,
+                 title: str = "", ax=None):
+    """Two 3-D panels: the arm at a component's sample point and at a nearby regular pose.
+
+    Parameters
+    ----------
+    singular : Locus or RobotPose
+        A locus: the arm at the sample point of its component ``component``
+        and at a regular pose across it, as the report draws them: a step
+        along the report's manipulability path (:func:`manipulability_paths`, ``seed``) away;
+        the robot is ``model`` (default ``locus.model`` as a built-in name).
+        Or the singular pose, with ``regular``.
+    regular : RobotPose, optional
+    highlight, arrow, arrow_label, Jv_singular, Jv_regular, title
+        As :func:`plot_robot`.
+    ax : pair of 3-D axes, optional
+        A new Figure's otherwise.
+
+    Returns
+    -------
+    numpy.ndarray of two 3-D Axes
+
+    Examples
+    --------
+    >>> import rankloci
+    >>> from rankloci.report.figures import robot_figure
+    >>> [a.get_title() for a in robot_figure(rankloci.locus("planar2r"))]
+    ['singular: the sample point', 'regular: a nearby configuration']
+    """
     from matplotlib.figure import Figure
 
+    if _is_locus(singular):
+        from .figure_files import ROBOT_REGULAR_T
+        from .robot import robot_pose
+
+        locus = singular
+        robot, values = _robot_and_q(locus, None, model=model, component=component)
+        path = manipulability_paths(locus, robot, components=(component,), seed=seed)[0]
+        names = [v.name for v in robot.variables]
+        q1 = path.point + ROBOT_REGULAR_T * path.step
+        singular = robot_pose(robot, values)
+        regular = robot_pose(robot, dict(zip(names, q1.tolist())))
+    elif regular is None:
+        from ..errors import ArgumentError
+
+        raise ArgumentError("regular= is needed with a pose (a Locus needs none)",
+                            argument="regular")
     with _rc():
-        fig = Figure(figsize=ROBOT_SIZE, layout="constrained")
-        a = fig.add_subplot(1, 2, 1, projection="3d")
-        b = fig.add_subplot(1, 2, 2, projection="3d")
+        if ax is None:
+            fig = Figure(figsize=ROBOT_SIZE, layout="constrained")
+            ax = [fig.add_subplot(1, 2, 1, projection="3d"),
+                  fig.add_subplot(1, 2, 2, projection="3d")]
+        a, b = ax
         plot_robot(singular, highlight=highlight, arrow=arrow, arrow_label=arrow_label,
                    Jv=Jv_singular, title="singular: the sample point", ax=a)
         plot_robot(regular, highlight=highlight, Jv=Jv_regular,
                    title="regular: a nearby configuration", ax=b)
         if title:
-            fig.suptitle(title)
-    return fig
+            a.figure.suptitle(title)
+    return np.asarray([a, b], dtype=object)
 
 
 # --- the branch tree ---------------------------------------------------------------------------
@@ -529,17 +830,17 @@ def heatmap_png(data, names, prismatic, *, title: str) -> bytes:
 
 def augmented_png(plain, augmented, names, prismatic, *, title: str) -> bytes:
     """:func:`plot_augmented` as PNG bytes."""
-    return figure_png(plot_augmented(plain, augmented, names, prismatic, title=title))
+    return figure_png(plot_augmented(plain, augmented, names, prismatic, title=title)[0].figure)
 
 
 def manipulability_png(paths, *, units: str, title: str) -> bytes:
     """:func:`plot_manipulability_paths` as PNG bytes."""
-    return figure_png(plot_manipulability_paths(paths, units=units, title=title))
+    return figure_png(plot_manipulability_paths(paths, units=units, title=title)[0].figure)
 
 
 def robot_png(singular, regular, **kwargs) -> bytes:
     """:func:`robot_figure` as PNG bytes."""
-    return figure_png(robot_figure(singular, regular, **kwargs))
+    return figure_png(robot_figure(singular, regular, **kwargs)[0].figure)
 
 
 def tree_png(summary, *, dot: str | None = None) -> bytes:

@@ -227,7 +227,7 @@ def _locus_section(report):
     if report.locus is None:
         out.append(Para(report.locus_status, lead="Not computed."))
         out.append(Para("The model, the Jacobian and the heat maps are still given; rerun with a "
-                        "larger `--timeout` (or `--numeric-parameters`) for the rest."))
+                        "larger `--timeout` (or `--numeric`) for the rest."))
         return out
     loc = report.locus
     out.append(Para(f"Method: {loc.method} (seed {report.seed}). Each component is the set "

@@ -164,7 +164,7 @@ def near_data(model, locus, nm, params, seed: int, stem: str) -> NearData | None
         path = NearPath(idx, start, float(got.t[j]), float(np.abs(got.rates_inf[j]).max()),
                         float(np.abs(got.rates_inf[0]).max()), float(got.index[j]),
                         float(got.sigma_ratio[j]), float(dist), got.stopped)
-        fig = path_figure(got)
+        fig = path_figure(got)[0].figure
         for ax in fig.axes:
             _fixed_legend(ax, fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
         figs.append(FigureFile(f"{stem}-near-path.png", figure_png(fig),

@@ -182,7 +182,7 @@ class _Models:
             from ..io.urdf import parse_urdf
 
             model = parse_urdf(text, name=path.stem, file=path.name, base_link=entry.base_link,
-                               tip_link=entry.tip)
+                               tip=entry.tip)
             name = rel if entry.base_link is None and entry.tip is None else (
                 f"{rel}:{entry.base_link or 'root'}->{entry.tip or 'leaf'}")
             yield name, "urdf", key, path.name, model.dof, entry.base_link, entry.tip, model, ""

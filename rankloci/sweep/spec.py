@@ -5,7 +5,7 @@ constraint rows, and how each case is computed::
 
     task = "position"          # optional: as --task (default: each model's own)
     method = "svm"             # optional: svm, subdeterminant or determinant
-    numeric_parameters = true  # default true: each case's values substituted
+    numeric = true             # default true: each case's values substituted (as --numeric)
     seed = 0
     timeout = 60               # seconds per case (0 = none)
     memory = 4096              # MiB per case (0 = none)
@@ -65,8 +65,8 @@ MAX_AXIS_VALUES = 10_000
 DEFAULT_TIMEOUT = 600.0
 DEFAULT_MEMORY_MB = 8192
 
-_TOP_KEYS = {"models", "model", "task", "method", "numeric_parameters", "seed", "timeout",
-             "memory", "verify", "grid"}
+_TOP_KEYS = {"models", "model", "task", "method", "numeric", "numeric_parameters", "seed",
+             "timeout", "memory", "verify", "grid"}
 _ENTRY_KEYS = {"name", "path", "base_link", "tip", "chains", "min_joints", "max_joints",
                "pattern", "task", "grid"}
 
@@ -374,14 +374,23 @@ def parse_spec(text: str, *, base: Path | str = ".", file: str = "") -> SweepSpe
     method = data.get("method")
     if method is not None and method not in METHODS:
         raise _err(file, "method", f"{str(method)[:40]!r} is not one of {', '.join(METHODS)}")
+    if "numeric_parameters" in data:     # the old name of numeric (as --numeric-parameters)
+        if "numeric" in data:
+            raise _err(file, "numeric_parameters", "give numeric only (numeric_parameters is "
+                       "its old name)")
+        import warnings
+
+        warnings.warn(f"{Path(file).name if file else 'the spec'}: numeric_parameters is "
+                      "deprecated; use numeric", FutureWarning, stacklevel=2)
+        data = {**data, "numeric": data["numeric_parameters"]}
     flags = {}
-    for k, default in (("numeric_parameters", True), ("verify", True)):
+    for k, default in (("numeric", True), ("verify", True)):
         flags[k] = data.get(k, default)
         if not isinstance(flags[k], bool):
             raise _err(file, k, "must be true or false")
     return SweepSpec(
         entries=entries, task=_task(data.get("task"), file, "task"), method=method,
-        numeric=flags["numeric_parameters"], verify=flags["verify"],
+        numeric=flags["numeric"], verify=flags["verify"],
         seed=_number(data.get("seed", 0), file, "seed", integer=True, minimum=0),
         timeout=float(_number(data.get("timeout", DEFAULT_TIMEOUT), file, "timeout", minimum=0,
                               maximum=MAX_TIMEOUT_S)),

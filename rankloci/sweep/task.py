@@ -36,7 +36,7 @@ def _model(case, text):
         from ..io.urdf import parse_urdf
 
         model = parse_urdf(text, name=case.file.rsplit(".", 1)[0], file=case.file,
-                           base_link=case.base_link, tip_link=case.tip)
+                           base_link=case.base_link, tip=case.tip)
     else:
         model = parse_model(text, file=case.file)
     values = case.parameter_values

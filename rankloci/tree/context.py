@@ -389,7 +389,7 @@ class Context:
             return
         if self.probe.vanishes(f, [vals]):
             note = (f"the model's parameter values satisfy {text} = 0, a special case of the "
-                    f"symbolic analysis ({where}); rerun with --numeric-parameters")
+                    f"symbolic analysis ({where}); rerun with --numeric")
         else:
             note = f"for parameters with {text} = 0 the analysis differs ({where}); not pursued"
         if note not in self.notes:

@@ -117,7 +117,7 @@ def test_refusals_name_the_problem():
     assert any("constant angle 3/10" in n for n in locus.notes)
     free = pin.Model()
     free.addJoint(0, pin.JointModelFreeFlyer(), pin.SE3.Identity(), "base")
-    with pytest.raises(ModelError, match="'base' is a JointModelFreeFlyer"):
+    with pytest.raises(ModelError, match="below the root joint 'base', a JointModelFreeFlyer"):
         from_pinocchio(free)
     with pytest.raises(ModelError, match="no frame 'nowhere'"):
         from_pinocchio(free, tip="nowhere")

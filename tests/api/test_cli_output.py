@@ -50,7 +50,7 @@ def test_status_line_on_a_terminal_after_the_delay(attached, monkeypatch):
 
 def test_quiet_attaches_nothing_and_main_detaches(capsys):
     assert output.progress_printer(True) is None and output._handler() is None
-    assert main(["locus", "planar2r", "--numeric-parameters"]) == 0
+    assert main(["locus", "planar2r", "--numeric"]) == 0
     assert "rankloci: planar2r: 2x2 matrix" in capsys.readouterr().err
     assert output._handler() is None and logger.level == logging.NOTSET
 

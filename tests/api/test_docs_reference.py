@@ -92,3 +92,23 @@ def test_the_limits_page_states_the_bounds_in_the_code():
     assert len(rows) >= 10
     for value, constant in rows:
         assert _resolve(constant) == int(value), constant
+
+
+@pytest.mark.slow
+def test_the_quickstart_runs_as_a_script(tmp_path):
+    """A new user's path: the quickstart's code cells, one after another in a plain Python
+    process (no Jupyter), from a Robotics Toolbox robot to its locus and a figure."""
+    import os
+    import subprocess
+    import sys
+
+    cells = json.loads((DOCS / "quickstart.ipynb").read_text())["cells"]
+    script = tmp_path / "quickstart.py"
+    script.write_text("\n\n".join("".join(c["source"]) for c in cells
+                                  if c["cell_type"] == "code") + "\n")
+    env = dict(os.environ, MPLBACKEND="Agg")
+    run = subprocess.run([sys.executable, str(script)], cwd=tmp_path, env=env,
+                         capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert "(2, 3, 3)" in run.stdout                      # J.evaluate at two configurations
+    assert "[0.3, 0.5, 0.0] True" in run.stdout           # the stretched elbow is singular

@@ -16,7 +16,7 @@ def puma_json(tmp_path_factory):
 
     out = io.StringIO()
     with contextlib.redirect_stdout(out):
-        assert main(["locus", "puma560", "--numeric-parameters", "--format", "json", "--quiet"]) == 0
+        assert main(["locus", "puma560", "--numeric", "--format", "json", "--quiet"]) == 0
     return json.loads(out.getvalue())
 
 
@@ -33,13 +33,13 @@ def _check(capsys, *argv):
 
 @pytest.mark.parametrize("name", ["planar2r", "planar3r", "puma560"])
 def test_check_passes(capsys, name):
-    code, out = _check(capsys, name, "--numeric-parameters")
+    code, out = _check(capsys, name, "--numeric")
     assert code == 0, out.out
     assert "seed 7" in out.out and "PASS" in out.out
 
 
 def test_check_json_report(capsys):
-    code, out = _check(capsys, "planar2r", "--numeric-parameters", "--format", "json")
+    code, out = _check(capsys, "planar2r", "--numeric", "--format", "json")
     report = json.loads(out.out)
     assert code == 0 and report["schema"] == "rankloci.check/1" and report["seed"] == 7
     assert report["ok"] and report["on_locus"][0]["n_points"] == 6

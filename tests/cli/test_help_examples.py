@@ -56,4 +56,31 @@ def test_the_examples_name_files_at_all():
     """The check above has something to check: the examples read shipped files."""
     named = {p for _, epilog in _epilogs() for p in input_paths(epilog)}
     assert {"examples/my_matrix.toml", "examples/waypoints.csv", "examples/sweeps/designs.toml",
-            "kinematics_models/extra/iiwa_offsets.urdf"} <= named
+            "examples/arm.urdf"} <= named
+
+
+
+@pytest.mark.slow
+def test_the_check_example_runs_as_written(capsys, tmp_path, monkeypatch):
+    """`rankloci check --help`'s URDF lines, run from the source tree: the locus file of
+    examples/arm.urdf (six joints: shoulder, elbow and wrist singularities) checks."""
+    from rankloci.cli import main
+
+    monkeypatch.chdir(ROOT)
+    arm = ["examples/arm.urdf", "--tip", "tool0"]
+    assert main(["locus", *arm, "--format", "json", "--quiet"]) == 0
+    (tmp_path / "arm.json").write_text(capsys.readouterr().out)
+    assert main(["check", *arm, "--locus", str(tmp_path / "arm.json"), "--quiet"]) == 0
+    assert "result: PASS" in capsys.readouterr().out
+
+
+def test_a_locus_of_another_task_is_refused_by_check(capsys, tmp_path):
+    """A locus computed with --task is not the model's own: check says so in one line."""
+    from rankloci.cli import main
+
+    assert main(["locus", "planar3r", "--task", "0,1,5", "--format", "json", "--quiet"]) == 0
+    (tmp_path / "l.json").write_text(capsys.readouterr().out)
+    assert main(["check", "planar3r", "--locus", str(tmp_path / "l.json"), "--quiet"]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and err.count("\n") == 1
+    assert "the locus is of a 3x3 matrix and planar3r's task matrix is 2x3" in err

@@ -81,8 +81,8 @@ def test_planar2r_json_schema_and_equations(capsys):
 
 
 def test_json_agrees_with_seed_and_is_reproducible(capsys):
-    a = locus_json(capsys, "puma560", "--numeric-parameters", "--seed", "3")
-    b = locus_json(capsys, "puma560", "--numeric-parameters", "--seed", "3")
+    a = locus_json(capsys, "puma560", "--numeric", "--seed", "3")
+    b = locus_json(capsys, "puma560", "--numeric", "--seed", "3")
     assert a["seed"] == 3
     a.pop("seconds"), b.pop("seconds")
     a["certificate"].pop("seconds"), b["certificate"].pop("seconds")
@@ -112,7 +112,7 @@ def test_latex_format(capsys):
 
 
 def test_text_format_lists_components(capsys):
-    code, out, err = run(capsys, "locus", "puma560", "--numeric-parameters", "--quiet")
+    code, out, err = run(capsys, "locus", "puma560", "--numeric", "--quiet")
     assert code == 0 and err == ""
     lines = out.splitlines()
     assert lines[0].startswith("puma560: 6x6 matrix"), lines[0]

@@ -1,4 +1,4 @@
-"""README's "What it does" shows what `rankloci locus puma560 --numeric-parameters --quiet`
+"""README's "What it does" shows what `rankloci locus puma560 --numeric --quiet`
 prints, the time aside."""
 
 import re
@@ -7,7 +7,7 @@ from pathlib import Path
 from rankloci.cli import main
 
 README = Path(__file__).resolve().parents[2] / "README.md"
-COMMAND = "rankloci locus puma560 --numeric-parameters --quiet"
+COMMAND = "rankloci locus puma560 --numeric --quiet"
 
 
 def _without_time(text: str) -> str:

@@ -15,7 +15,7 @@ SAMPLES = 3
 
 @pytest.mark.parametrize("name", MODELS)
 def test_check_passes_on_builtin_model(name, capsys):
-    code = main(["check", name, "--numeric-parameters", "--quiet", "--samples", str(SAMPLES),
+    code = main(["check", name, "--numeric", "--quiet", "--samples", str(SAMPLES),
                  "--seed", "5", "--format", "json"])
     out, err = capsys.readouterr()
     assert err == ""

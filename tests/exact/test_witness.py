@@ -216,4 +216,4 @@ def test_every_command_shows_the_locus_rankloci_locus_certified():
     shown = rankloci.locus(model)
     assert certified_locus(model)[0] is shown
     assert check(model, samples=2).certificate is shown.certificate
-    assert nearest_component(model, [0.3, 0.5]).component == 0
+    assert nearest_component(model, [0.3, 0.5]).component == 1

@@ -297,7 +297,7 @@ def ur5_case(robots, chains):
 
     chain = chains[("ur_description/urdf/ur5_robot.urdf", "wrist_3_link")]
     path = robots / chain.file
-    model = load_model(str(path), base_link=chain.base, tip_link=chain.tip)
+    model = load_model(str(path), base_link=chain.base, tip=chain.tip)
     tm = task_matrix(model, task=chain.task, frame="auto", numeric=True)
     locus = compute_locus(tm, method_for(tm.shape), rng=np.random.default_rng(SEED))
     ref = corpus.PinocchioJacobian(path.read_text(encoding="utf-8"), chain.joints, chain.tip,
@@ -380,7 +380,7 @@ def test_mapping_to_the_base_frame_equals_the_base_frame_jacobian(robots, chains
     from rankloci.numeric.equations import NumericMatrix
 
     chain = chains[(file, tip)]
-    model = load_model(str(robots / chain.file), base_link=chain.base, tip_link=chain.tip)
+    model = load_model(str(robots / chain.file), base_link=chain.base, tip=chain.tip)
     tm = task_matrix(model, task=chain.task, frame="auto", numeric=True)
     assert tm.frame != "base"
     mapped = corpus._in_base_frame(model, tm, NumericMatrix(tm.matrix, tm.variables, tm.angles))

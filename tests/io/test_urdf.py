@@ -62,7 +62,7 @@ _model_cache: dict[str, object] = {}
 def load(robots: Path, key: str):
     if key not in _model_cache:
         file, base, tip, _, _ = ROBOTS[key]
-        _model_cache[key] = read_urdf(robots / file, base_link=base, tip_link=tip)
+        _model_cache[key] = read_urdf(robots / file, base_link=base, tip=tip)
     return _model_cache[key]
 
 
@@ -366,7 +366,7 @@ def test_fixed_joints_fold_into_pre_and_tool():
 def test_base_and_tip_choose_a_sub_chain():
     doc = _urdf(_joint("j1", "revolute", "a", "b") + _joint("j2", "revolute", "b", "c")
                 + _joint("j3", "prismatic", "c", "d"), links=("a", "b", "c", "d"))
-    m = parse_urdf(doc, name="s", base_link="b", tip_link="c")
+    m = parse_urdf(doc, name="s", base_link="b", tip="c")
     assert [j.name for j in m.joints] == ["j2"]
 
 
@@ -593,9 +593,9 @@ MALFORMED = {
     "two leaves": (
         _urdf(_joint("j1", "revolute", "a", "b") + _joint("j2", "revolute", "a", "c")),
         {}, ["'b'", "'c'", "--tip"], None, "tip_link"),
-    "unknown tip": (TWO_R, {"tip_link": "nope"}, ["'nope'"], None, "tip_link"),
+    "unknown tip": (TWO_R, {"tip": "nope"}, ["'nope'"], None, "tip_link"),
     "unknown base": (TWO_R, {"base_link": "nope"}, ["'nope'"], None, "base_link"),
-    "tip not below base": (TWO_R, {"base_link": "c", "tip_link": "a"}, ["not below"], None,
+    "tip not below base": (TWO_R, {"base_link": "c", "tip": "a"}, ["not below"], None,
                            "tip_link"),
     "no movable joint": (
         _urdf(_joint("f", "fixed", "a", "b"), links=("a", "b")), {}, ["no revolute"], None,

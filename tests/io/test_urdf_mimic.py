@@ -129,7 +129,7 @@ DOCS = {
 
 def _model(case):
     text, tip, _, _ = DOCS[case]
-    return parse_urdf(text, name="m", tip_link=tip)
+    return parse_urdf(text, name="m", tip=tip)
 
 
 def _without_mimic(text: str) -> str:
@@ -276,7 +276,7 @@ def test_jacobian_is_the_uncoupled_jacobian_times_the_coupling(case):
     """J(q) = J_all(q_all(q)) @ d q_all / d q, with J_all the chain without <mimic>."""
     text, tip, nvars, _ = DOCS[case]
     m = _model(case)
-    free = parse_urdf(_without_mimic(text), name="free", tip_link=tip)
+    free = parse_urdf(_without_mimic(text), name="free", tip=tip)
     assert free.variables == free.joint_coordinates and len(free.variables) == m.dof
     _, jac = _numeric(m)
     _, jac_all = _numeric(free)
@@ -322,10 +322,10 @@ def test_integer_multiple_stays_polynomial_in_cos_and_sin_of_the_variable():
 
 def test_content_key_sees_the_coupling():
     text, tip, _, _ = DOCS["finger follows an earlier joint, with offset"]
-    m = parse_urdf(text, name="m", tip_link=tip)
-    other = parse_urdf(text.replace('multiplier="-1"', 'multiplier="1"'), name="m", tip_link=tip)
+    m = parse_urdf(text, name="m", tip=tip)
+    other = parse_urdf(text.replace('multiplier="-1"', 'multiplier="1"'), name="m", tip=tip)
     assert m != other and m.content_key() != other.content_key()
-    assert m == parse_urdf(text, name="m", tip_link=tip)
+    assert m == parse_urdf(text, name="m", tip=tip)
 
 
 # --- refused documents ----------------------------------------------------------
@@ -382,7 +382,7 @@ REFUSED = {
 def test_refused_mimics_raise_one_line_model_errors(case):
     text, tip, words, joint, field = REFUSED[case]
     with pytest.raises(ModelError) as info:
-        parse_urdf(text, name="bad", file="bad.urdf", tip_link=tip)
+        parse_urdf(text, name="bad", file="bad.urdf", tip=tip)
     e = info.value
     assert str(e).startswith("bad.urdf: ") and "\n" not in str(e)
     for w in words:
@@ -401,7 +401,7 @@ PR2_CHAIN = ("r_forearm_link", "r_gripper_l_finger_tip_link")
 
 @pytest.fixture(scope="module")
 def pr2(robots):
-    return read_urdf(robots / PR2, base_link=PR2_CHAIN[0], tip_link=PR2_CHAIN[1])
+    return read_urdf(robots / PR2, base_link=PR2_CHAIN[0], tip=PR2_CHAIN[1])
 
 
 def test_pr2_finger_tip_follows_the_finger(pr2):
@@ -437,7 +437,7 @@ def test_pr2_chain_matches_pinocchio_mimic_joints(robots, tip):
     """Pinocchio's own mimic joints give the column of each leader, on the chain or not."""
     pin = pytest.importorskip("pinocchio", reason="Pinocchio (PyPI package 'pin', in the test "
                                                   "extra) is the reference")
-    pr2 = read_urdf(robots / PR2, base_link=PR2_CHAIN[0], tip_link=tip)
+    pr2 = read_urdf(robots / PR2, base_link=PR2_CHAIN[0], tip=tip)
     model = pin.buildModelFromXML((robots / PR2).read_text(encoding="utf-8"), mimic=True)
     data = model.createData()
     leaders = PR2_LEADERS[tip]
@@ -464,13 +464,13 @@ def test_pr2_chain_matches_pinocchio_mimic_joints(robots, tip):
 def test_pr2_right_finger_carries_the_left_fingers_variable(robots):
     """Both joints of the right finger follow the left finger, which is on another branch: the
     right finger moves by the left finger's variable, its tip follows the right finger."""
-    pr2 = read_urdf(robots / PR2, base_link=PR2_CHAIN[0], tip_link="r_gripper_r_finger_tip_link")
+    pr2 = read_urdf(robots / PR2, base_link=PR2_CHAIN[0], tip="r_gripper_r_finger_tip_link")
     assert [j.name for j in pr2.joints] == ["r_wrist_flex_joint", "r_wrist_roll_joint",
                                             "r_gripper_r_finger_joint",
                                             "r_gripper_r_finger_tip_joint"]
     assert pr2.joints[2].mimic is None and pr2.joints[3].mimic == Mimic(joint=2, multiplier=1)
     assert len(pr2.variables) == 3
-    leader = read_urdf(robots / PR2, base_link=PR2_CHAIN[0], tip_link=PR2_CHAIN[1])
+    leader = read_urdf(robots / PR2, base_link=PR2_CHAIN[0], tip=PR2_CHAIN[1])
     assert pr2.joints[2].limits == leader.joints[2].limits
 
 
@@ -478,7 +478,7 @@ def test_real_mimics_that_cannot_be_followed(robots):
     # the hand's mimic elements name joints the file does not define ("index_q1")
     with pytest.raises(ModelError, match="'index_q1', which is not a joint"):
         read_urdf(robots / "alex_description/urdf/alex_psyonic_hands.urdf",
-                  base_link="Left_thumb_base", tip_link="Left_index_L2")
+                  base_link="Left_thumb_base", tip="Left_index_L2")
 
 
 def test_the_one_follower_of_a_leader_off_the_chain_moves_as_a_joint_of_its_own():
@@ -488,6 +488,6 @@ def test_the_one_follower_of_a_leader_off_the_chain_moves_as_a_joint_of_its_own(
     from rankloci.io.urdf import parse_urdf
 
     model = parse_urdf(_two(_mimic("s1", 2, 0.1), "", "revolute", "revolute", SIDE),
-                       name="m", tip_link="c")
+                       name="m", tip="c")
     assert len(model.variables) == 2
     assert all(j.mimic is None for j in model.joints)

@@ -63,7 +63,7 @@ def test_offset_arm_locus_is_not_called_complete_while_a_component_is_missing(ur
     assert any("800*sin(q4)" in e and "cos(q4)" in e for e in equations), equations
     # Pinocchio-free check that a point of the missing component is singular: q2 = atan(1/1600)
     # and q4 = atan(1/800) whatever the other joints
-    tm = task_matrix(load_model(str(urdf), tip_link="link_7"), numeric=True)
+    tm = task_matrix(load_model(str(urdf), tip="link_7"), numeric=True)
     f = sp.lambdify(tm.variables, tm.matrix, "numpy")
     q = np.random.default_rng(2).uniform(-np.pi, np.pi, 7)
     q[1], q[3] = np.arctan2(1.0, 1600.0), np.arctan2(1.0, 800.0)
@@ -73,7 +73,7 @@ def test_offset_arm_locus_is_not_called_complete_while_a_component_is_missing(ur
 
 def test_the_straight_elbow_alone_is_not_singular(urdf):
     # sigma_min/sigma_max ~1e-7 on 800 sin q4 + cos q4 = 0: near the tolerance, but regular
-    tm = task_matrix(load_model(str(urdf), tip_link="link_7"), numeric=True)
+    tm = task_matrix(load_model(str(urdf), tip="link_7"), numeric=True)
     f = sp.lambdify(tm.variables, tm.matrix, "numpy")
     rng = np.random.default_rng(1)
     q4 = -np.arctan2(1.0, 800.0)                  # tan q4 = -1/800
@@ -107,7 +107,7 @@ def test_the_check_rejects_a_nearly_singular_component(urdf):
     from rankloci.numeric.crosscheck import cross_check, render_check_text
     from rankloci.tolerances import ON_LOCUS_RTOL
 
-    tm = task_matrix(load_model(str(urdf), tip_link="link_7"), numeric=True)
+    tm = task_matrix(load_model(str(urdf), tip="link_7"), numeric=True)
     q = {v.name: v for v in tm.variables}
     # a component of the offset arm's locus: singular, though double precision shows 1e-11
     flipped = (sp.cos(q["q3"] / 2), 800 * sp.sin(q["q4"]) - 1,

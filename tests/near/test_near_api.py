@@ -16,7 +16,7 @@ def test_top_level_functions():
     assert m.rows == (0, 1, 2) and m.J.shape == (3, 6)
     assert m.polytope.volume / m.ellipsoid.volume == pytest.approx(6 / np.pi, rel=1e-10)
     near = rankloci.nearest_component("planar4r", [0.2, 0.6, 0.6, 0.6])
-    assert near.component == 0 and near.distance == pytest.approx(np.sqrt(3 * 0.36), abs=1e-9)
+    assert near.component == 1 and near.distance == pytest.approx(np.sqrt(3 * 0.36), abs=1e-9)
     path = rankloci.joint_rates("planar4r", [0.62, 0.23, 1.0, 0.46],
                                 [[0.524572, 3.032596], [0.0, 3.0]], norm="2", steps=5)
     assert path.norm == "2" and path.q.shape == (6, 4)

@@ -27,7 +27,7 @@ def test_planar4r_distance_to_the_stretched_or_folded_arm():
     rng = np.random.default_rng(1)
     for q in rng.uniform(-np.pi, np.pi, size=(12, 4)):
         near = cd.nearest(q)
-        assert near.component == 0
+        assert near.component == 1
         assert near.distance == pytest.approx(np.linalg.norm(to_multiple_of_pi(q[1:])), abs=1e-8)
         assert near.point[0] == pytest.approx(q[0], abs=1e-8), "q1 stays: it is free"
 

@@ -27,6 +27,17 @@ def test_defaults_are_those_of_rankloci_locus_with_parameters_substituted():
     assert spec.timeout == 600 and spec.memory == 8192
 
 
+def test_numeric_is_the_key_and_numeric_parameters_its_old_name():
+    """One name, as on the command line (--numeric); the old key still works, with a warning
+    the command line shows (a FutureWarning: the spec is the user's file)."""
+    assert parse_spec('models = ["planar2r"]\nnumeric = false\n').numeric is False
+    with pytest.warns(FutureWarning, match="s.toml: numeric_parameters is deprecated; use numeric"):
+        old = parse_spec('models = ["planar2r"]\nnumeric_parameters = false\n', file="s.toml")
+    assert old == parse_spec('models = ["planar2r"]\nnumeric = false\n', file="s.toml")
+    with pytest.raises(SpecError, match="give numeric only"):
+        parse_spec('models = ["planar2r"]\nnumeric = true\nnumeric_parameters = true\n')
+
+
 @pytest.mark.parametrize("text, key", [
     ('models = ["planar2r"]\nfoo = 1\n', "foo"),
     ('models = ["planar2r"]\nmethod = "newton"\n', "method"),
