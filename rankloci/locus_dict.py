@@ -173,7 +173,8 @@ def _component(c, where, symbols, schema_1, special, n_variables=0):
         for_model=not special and bool(c.get("for_model", True))
         and not (schema_1 and c.get("parameter_conditions")),
         excluding=exprs(c.get("excluding", []), "excluding", everywhere=True),
-        kind=kind, meets=tuple(meets))
+        kind=kind, meets=tuple(meets),
+        real_points_of=exprs(c.get("real_points_of", []), "real_points_of", everywhere=True))
 
 
 def parse_locus_dict(data, model=None):

@@ -180,6 +180,45 @@ def _slice_recovery(locus, cert, reference, seed, should_stop, progress, slice_c
     return trial, certify_locus(trial, reference, seed=seed, should_stop=should_stop)
 
 
+def _real_part_recovery(locus, cert, reference, seed, should_stop, progress):
+    """Complex components that are sums of squares, whose witness points lie on no component:
+    their real points added as components (the certificate counts the complex component as
+    covering its witness points), and those without real points as complex only."""
+    from .certify import certify_locus, completed_component, real_part_components
+
+    progress("certificate: looking for complex components with fewer real points")
+    found, without = real_part_components(locus, reference, seed=seed)
+    if not found and not without:
+        return locus, cert
+    # the rank drop was computed exactly; the sample and the lost directions numerically
+    added = tuple(completed_component(c, reference, seed=seed, rank_drop=c.rank_drop)
+                  for _, comps in found for c in comps)
+    complex_only = tuple(cert.discovered_complex) + tuple(c for _, c in without)
+    trial = dataclasses.replace(locus, components=locus.components + added)
+    again = certify_locus(trial, reference, seed=seed, should_stop=should_stop,
+                          progress=progress, complex_only=complex_only)
+    if again.verdict == "failed" and again.uncovered >= cert.uncovered:
+        return locus, cert
+    notes = []
+    index = len(locus.components)
+    for part, comps in found:
+        numbers = ", ".join(str(index + k) for k in range(1, len(comps) + 1))
+        index += len(comps)
+        notes.append(f"component{'s' * (len(comps) != 1)} {numbers}: the real points of the "
+                     f"complex component {sp.sstr(part.equation)} = 0, which has no real "
+                     f"point of its own dimension ({sp.sstr(part.equation)} is a weighted sum "
+                     f"of the squares of {', '.join(sp.sstr(e) for e in part.squares)}, so its "
+                     "real points are where these all vanish)")
+    for part, _ in without:
+        notes.append(f"the complex component {sp.sstr(part.equation)} = 0 has no real point "
+                     f"(a weighted sum of the squares of "
+                     f"{', '.join(sp.sstr(e) for e in part.squares)}, which have no common "
+                     "real zero): not part of the robot's locus")
+    locus = dataclasses.replace(trial, notes=trial.notes + tuple(notes))
+    return locus, dataclasses.replace(again, complex_components=tuple(
+        cert.complex_components) + tuple((part.equation,) for part, _ in without))
+
+
 def _value_equation(var, value, is_angle=True):
     """An equation in ``var`` that vanishes at ``value`` (of an angle: in its half angle)."""
     if not is_angle:
@@ -255,6 +294,8 @@ def _certified(locus, reference, seed, should_stop, progress, slice_compute=None
             locus = dataclasses.replace(trial, notes=trial.notes + tuple(notes))
             cert = dataclasses.replace(again, complex_components=tuple(
                 tuple(c.equations) for c in cert.discovered_complex))
+    if cert.verdict == "failed" and cert.uncovered:
+        locus, cert = _real_part_recovery(locus, cert, reference, seed, should_stop, progress)
     computed = {}
     for _ in range(SLICE_ROUNDS):
         if cert.verdict != "failed" or not cert.slices or slice_compute is None:

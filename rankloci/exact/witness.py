@@ -58,6 +58,7 @@ angles included), the other variables and square roots of integers.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
@@ -130,8 +131,15 @@ class Certificate:
         a passing certificate is about.
     complex_components : tuple of tuple of sympy.Expr
         The equations of components of the complex locus that have no real point (proved:
-        they fix a variable at values none of which is real); they are no part of a robot's
-        locus, and the certificate counts their witness points as covered.
+        they fix a variable at values none of which is real, or are a sum of squares without
+        a common real zero); they are no part of a robot's locus, and the certificate counts
+        their witness points as covered.
+    real_parts : tuple of dict
+        Components of the complex locus whose real points are fewer or of lower dimension
+        (reported components with ``real_points_of``): per complex component its equation,
+        the polynomials whose squares it is a weighted sum of, and its real points, which the
+        certificate proved lie on the reported components (see
+        :mod:`rankloci.exact.real_points`).
     """
 
     verdict: str
@@ -150,6 +158,7 @@ class Certificate:
     discovered_merged: tuple = field(default=(), compare=False, repr=False)
     uncovered: int = field(default=0, compare=False)
     complex_components: tuple = ()
+    real_parts: tuple = ()
 
     @property
     def passed(self) -> bool:
@@ -198,12 +207,17 @@ class Certificate:
 
         complex_components = tuple(tuple(parse_expression(e) for e in eqs)
                                    for eqs in complex_components[:50])
+        real_parts = data.get("real_parts", [])
+        if not isinstance(real_parts, list) or not all(
+                isinstance(r, dict) and all(isinstance(k, str) for k in r) for r in real_parts):
+            raise ValueError("real_parts must be a list of objects")
         return cls(verdict, kind=str(data.get("kind", CERTIFICATE_KIND))[:80], prime=prime,
                    seed=data.get("seed", 0), codimensions=tuple(data.get("codimensions", [])),
                    witness_points={int(k): v for k, v in counts.items()},
                    findings=tuple(f[:2000] for f in findings[:200]),
                    error_bound=float(numbers[0]), seconds=float(numbers[1]),
-                   redundant=tuple(redundant), complex_components=complex_components)
+                   redundant=tuple(redundant), complex_components=complex_components,
+                   real_parts=tuple(real_parts[:50]))
 
     def to_dict(self) -> dict:
         return {"kind": self.kind, "verdict": self.verdict, "prime": self.prime,
@@ -213,6 +227,7 @@ class Certificate:
                 "redundant": list(self.redundant),
                 "complex_components": [[sp.sstr(e) for e in eqs]
                                        for eqs in self.complex_components],
+                **({"real_parts": list(self.real_parts)} if self.real_parts else {}),
                 "seconds": round(self.seconds, 4)}
 
 
@@ -692,6 +707,7 @@ class _ComponentData:
     excluding: list
     pieces: list | None = None   # per variable: None (free) or the list of its exact values
     real: bool = True            # False: a component without real points, reported apart
+    real_part: bool = False      # the real points of a complex component (below the bound)
 
     @property
     def label(self) -> str:
@@ -804,6 +820,9 @@ def certify_components(matrix, variables, angles, components, *, seed: int = 0,
     surds = sorted({p for e in exprs for a in e.atoms(sp.Pow)
                     if a.is_number and _integer_root(a) for p in sp.factorint(_integer_root(a)[0])})
 
+    covers, claims, real_parts = _real_part_claims(components, variables, angles, N)
+    complex_only = tuple(complex_only) + tuple(covers)
+
     if n == 0:
         return result("passed" if not components else "failed",
                       [] if not components else ["a matrix without rows has full rank"])
@@ -828,7 +847,8 @@ def certify_components(matrix, variables, angles, components, *, seed: int = 0,
                     pieces = None
             real = k <= len(components)
             comps.append(_ComponentData(k if real else k - len(components), N - c.dimension,
-                                        c.dimension, c.rank_drop, eqs, exc, pieces, real))
+                                        c.dimension, c.rank_drop, eqs, exc, pieces, real,
+                                        real and bool(getattr(c, "real_points_of", ()))))
     except NotCertifiable as exc:
         return result("undecided", [f"not certifiable: {exc}"])
 
@@ -836,8 +856,12 @@ def certify_components(matrix, variables, angles, components, *, seed: int = 0,
     for _ in range(RETRIES):
         P, roots = _random_prime(rng, surds)
         try:
-            return _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed,
+            cert = _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed,
                             deadline, progress, t0)
+            if claims and cert.verdict != "failed":
+                cert = dataclasses.replace(cert, verdict="failed")
+            return dataclasses.replace(cert, findings=tuple(claims) + cert.findings,
+                                       real_parts=tuple(real_parts))
         except _TooLarge as exc:
             return result("undecided", [f"the certificate's elimination is too large ({exc})"])
         except (_Degenerate, ZeroDivisionError) as exc:
@@ -846,6 +870,73 @@ def certify_components(matrix, variables, angles, components, *, seed: int = 0,
         except TimeoutError:
             return result("undecided", ["the time ran out before the certificate was complete"])
     return result("undecided", [f"every random choice was degenerate ({last})"])
+
+
+def _same_value(a, b, is_angle) -> bool:
+    d = sp.sympify(a) - sp.sympify(b)
+    if is_angle:
+        return any(sp.simplify(d + k * 2 * sp.pi) == 0 for k in (0, 1, -1))
+    return sp.simplify(d) == 0
+
+
+def _holds(c, point, free, angle_names) -> bool:
+    """Does component ``c`` (no exclusions) contain the real ``point`` of a real part, its
+    ``free`` variables free?"""
+    solved = {str(k): v for k, v in (c.solved or {}).items()}
+    own_free = {str(v) for v in c.free}
+    return not c.excluding and all(v.name in own_free for v in free) and all(
+        v.name in solved and any(_same_value(x, val, v.name in angle_names)
+                                 for x in solved[v.name])
+        for v, val in point.items())
+
+
+def _real_part_claims(components, variables, angles, N):
+    """The complex components that components with ``real_points_of`` hold the real points
+    of (as components that cover witness points), what disproves the claims, and a record
+    of each for the certificate's JSON.
+
+    A claim holds when the complex component's equation is proved a weighted sum of squares
+    (:func:`rankloci.exact.real_points.real_part_of`) and every common real zero of the
+    squares lies on a reported component that names it, with no exclusion."""
+    from ..locus import Component
+    from .real_points import real_part_of
+
+    groups: dict = {}
+    for i, c in enumerate(components, start=1):
+        rpo = tuple(getattr(c, "real_points_of", ()) or ())
+        if rpo:
+            groups.setdefault(tuple(sp.sstr(e) for e in rpo), (rpo, []))[1].append((i, c))
+    covers, findings, records = [], [], []
+    names = {v.name: v for v in variables}
+    angle_names = {a.name for a in angles}
+    for key, (rpo, members) in groups.items():
+        labels = ", ".join(str(i) for i, _ in members)
+        text = " = 0, ".join(key) + " = 0"
+        if len(rpo) != 1:
+            findings.append(f"component {labels}: the real points of {text} are not "
+                            "certified: only a hypersurface (one equation) is handled")
+            continue
+        part = real_part_of(rpo[0].xreplace({s: names[s.name] for s in rpo[0].free_symbols
+                                             if s.name in names}), variables, angles)
+        if part is None:
+            findings.append(f"component {labels}: {text} is not proved to have real points "
+                            "of lower dimension (no weighted sum of squares was found)")
+            continue
+        covers.append(Component(rpo, dimension=N - 1, rank_drop=1))
+        for i, c in members:
+            if c.excluding:
+                findings.append(f"component {i}: the real points of {text} are reported "
+                                "with exclusions")
+        missed = sum(1 for p in part.points if not any(
+            _holds(c, p, part.free, angle_names) for _, c in members))
+        if missed:
+            findings.append(f"{missed} of the {len(part.points)} real points of {text} lie "
+                            "on no reported component")
+        records.append({"complex_component": key[0],
+                        "sum_of_squares": [sp.sstr(e) for e in part.squares],
+                        "real_points": len(part.points),
+                        "components": [i for i, _ in members]})
+    return covers, findings, records
 
 
 def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline, progress, t0):
@@ -879,7 +970,7 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
     missing = []
     total_uncovered = 0
     redundant = [k.index for k in comps
-                 if k.real and k.codim > 0 and k.codim > k.rank_drop * (m - n + k.rank_drop)]
+                 if k.real and not k.real_part and k.codim > 0 and k.codim > k.rank_drop * (m - n + k.rank_drop)]
     # below the Eagon-Northcott bound of its rank drop, a component lies inside a larger one if
     # it is singular at all: the caller leaves it out (the certificate is of the rest)
     comps = [k for k in comps if not (k.real and k.index in redundant)]
