@@ -135,12 +135,13 @@ def test_a_five_bar_linkage_gets_a_certified_locus():
     assert not locus.contains([0.5, 0, 0, 1])          # sigma_min / sigma_max = 0.37 there
 
 
-def test_a_complex_component_with_one_real_point_is_not_called_complete():
+def test_a_complex_component_with_one_real_point_is_reported():
     """[[x, -y], [y, x]] is singular only at the origin, the one real point of x**2 + y**2 = 0:
-    a locus without it must not pass."""
+    without it the certificate fails; with it (tests/exact/test_real_points.py) it passes."""
+    assert _certify([], sp.Matrix([[x, -y], [y, x]]), (x, y), ()).verdict == "failed"
     locus = rankloci.locus(sp.Matrix([[x, -y], [y, x]]), variables=(x, y))
-    assert locus.complete is not True
-    assert locus.certificate.verdict == "failed"
+    assert locus.complete is True
+    assert [c.real_points_of for c in locus.components] == [(x ** 2 + y ** 2,)]
 
 
 def test_irrational_twists_are_made_exact_and_certified(tmp_path):
