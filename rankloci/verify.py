@@ -132,8 +132,9 @@ def _slice_recovery(locus, cert, reference, seed, should_stop, progress, slice_c
     the matrix with that variable at each value (the same engine, one variable fewer), lifted,
     keeping the components the certificate needs."""
     from .certify import certify_locus
+    from .locus import Component
 
-    added = []
+    added, lifted_complex = [], []
     for var, values in cert.slices:
         for value in values:
             if should_stop():
@@ -154,14 +155,24 @@ def _slice_recovery(locus, cert, reference, seed, should_stop, progress, slice_c
                     c, equations=(_value_equation(var, value, var in set(reference.angles)),)
                     + tuple(c.equations),
                     solved=solved, sample={**c.sample, var.name: float(value)}))
+            # the slice's components without real points, which its certificate proved so
+            cc = part.certificate.complex_components if part.certificate is not None else ()
+            for eqs in cc:
+                lifted_complex.append(Component(
+                    (_value_equation(var, value, var in set(reference.angles)), *eqs),
+                    dimension=len(part.variables) - len(eqs)))
     # a lifted piece below the determinantal bound lies inside a larger component
     n, m = sorted(reference.shape)
     N = len(reference.variables)
     added = [c for c in added if N - c.dimension <= c.rank_drop * (m - n + c.rank_drop)]
-    if not added:
+    if not added and not lifted_complex:
         return locus, cert
+    # the complex components the certificate counted before, and the lifted ones
+    complex_only = tuple(Component(tuple(eqs), dimension=N - len(eqs))
+                         for eqs in cert.complex_components) + tuple(lifted_complex)
     trial = dataclasses.replace(locus, components=locus.components + tuple(added))
-    again = certify_locus(trial, reference, seed=seed, should_stop=should_stop)
+    again = certify_locus(trial, reference, seed=seed, should_stop=should_stop,
+                          complex_only=complex_only)
     if again.verdict == "failed" and again.uncovered >= cert.uncovered:
         return locus, cert
     # the lifted components the certificate does not need (inside others) are left out
@@ -170,14 +181,26 @@ def _slice_recovery(locus, cert, reference, seed, should_stop, progress, slice_c
         fewer = [k for k in kept if k is not c]
         test = certify_locus(dataclasses.replace(
             locus, components=locus.components + tuple(fewer)), reference, seed=seed,
-            should_stop=should_stop)
+            should_stop=should_stop, complex_only=complex_only)
         if test.verdict == again.verdict and test.uncovered <= again.uncovered \
                 and len(test.findings) <= len(again.findings):
             kept = fewer
-    trial = dataclasses.replace(locus, components=locus.components + tuple(kept), notes=(
-        locus.notes + (f"{len(kept)} component{'s' * (len(kept) != 1)} found on slices where "
-                       "a variable is fixed at a value the certificate's witness points gave",)))
-    return trial, certify_locus(trial, reference, seed=seed, should_stop=should_stop)
+    notes = []
+    if kept:
+        notes.append(f"{len(kept)} component{'s' * (len(kept) != 1)} found on slices where a "
+                     "variable is fixed at a value the certificate's witness points gave")
+    if lifted_complex:
+        notes.append(f"{len(lifted_complex)} component{'s' * (len(lifted_complex) != 1)} of "
+                     "the complex locus without real points found on slices, not part of the "
+                     "robot's locus: " + "; ".join(", ".join(f"{sp.sstr(e)} = 0"
+                                                             for e in c.equations)
+                                                   for c in lifted_complex))
+    trial = dataclasses.replace(locus, components=locus.components + tuple(kept),
+                                notes=locus.notes + tuple(notes))
+    final = certify_locus(trial, reference, seed=seed, should_stop=should_stop,
+                          complex_only=complex_only)
+    return trial, dataclasses.replace(final, complex_components=tuple(
+        tuple(c.equations) for c in complex_only))
 
 
 def _real_part_recovery(locus, cert, reference, seed, should_stop, progress):

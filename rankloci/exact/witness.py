@@ -59,6 +59,7 @@ angles included), the other variables and square roots of integers.
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 import time
 from dataclasses import dataclass, field
@@ -1438,7 +1439,81 @@ def _discover(missing, forms, rows, n, N, P, rng):
             comp = Component(tuple(eqs), solved=solved if real else {}, free=free,
                              dimension=N - c, rank_drop=1)
             (found if real else found_complex).append(comp)
+    if not (found or found_complex or slices or merged):
+        # no variable at a value of small height: a sine or cosine may be fixed instead (the
+        # points then come in pairs q, pi - q or q, -q), at a number of Q(sqrt(d))
+        found, found_complex = _trig_fixed(missing, forms, N, P)
     return tuple(found), tuple(found_complex), tuple(slices), tuple(merged)
+
+
+def _surd_relation(r, P, forms, roots):
+    """An exact number v = (a0 + a1 sqrt(d)) / a2 with v = r mod P, d a product of the surds
+    (d = 1: a rational), its integers of small height (lattice reduction), or None.
+
+    A value r of GF(P) that is random has such a relation of height at most
+    MAX_RELATION_HEIGHT with probability about MAX_RELATION_HEIGHT**3 / P per d, below 1e-5;
+    a wrong one costs only time, since the components built from it are certified."""
+    rational = _rational(r, P)
+    if rational is not None:
+        return rational
+    for k in range(1, len(roots) + 1):
+        for sub in itertools.combinations(range(len(roots)), k):
+            s, d = 1, 1
+            for j in sub:
+                s, d = s * roots[j] % P, d * forms.surds[j]
+            for v in _lll([[P, 0, 0], [(-s) % P, 1, 0], [(-r) % P, 0, 1]]):
+                a0, a1, a2 = v
+                if a2 and a1 and max(map(abs, v)) <= MAX_RELATION_HEIGHT \
+                        and (a0 + a1 * s + a2 * r) % P == 0:
+                    return sp.nsimplify(-(a0 + a1 * sp.sqrt(d)) / sp.Integer(a2))
+    return None
+
+
+def _trig_fixed(missing, forms, N, P):
+    """Components through the missing witness points of one codimension c on which the sine
+    or the cosine of c angles is fixed (the same number of GF(P) at every point), at a value
+    of Q(sqrt(d)) found by :func:`_surd_relation`.  Returns (with real points, without)."""
+    from ..locus import Component
+
+    na = len(forms.angles)
+    by_codim: dict = {}
+    for c, plane, pt in missing:
+        by_codim.setdefault(c, []).append((plane, pt))
+    found, found_complex = [], []
+    for c, points in by_codim.items():
+        plane = points[0][0]
+        roots = [int(x.coeffs()[0]) if not x.is_zero() else 0
+                 for x in plane.images[2 * na + len(forms.others):]]
+        fixed = []
+        for i, q in enumerate(forms.angles):
+            for fn in (sp.sin, sp.cos):
+                values = set()
+                for pl, pt in points:
+                    C, S = pt.value(pl.images[i]), pt.value(pl.images[na + i])
+                    norm = S * S + C * C
+                    if norm.is_zero():
+                        values.add(None)
+                        break
+                    v = (2 * S * C if fn is sp.sin else C * C - S * S) / norm
+                    key = _minimal_polynomial(v, P)
+                    values.add((-key[0]) * pow(key[1], -1, P) % P if len(key) == 2 else None)
+                if len(values) == 1 and None not in values:
+                    exact = _surd_relation(values.pop(), P, forms, roots)
+                    if exact is not None:
+                        fixed.append((q, fn, exact))
+                        break
+        if len(fixed) != c:
+            continue
+        eqs = tuple(fn(q) - v for q, fn, v in fixed)
+        real = all(abs(float(v)) <= 1 for _, _, v in fixed)
+        free = tuple(v for v in forms.variables if v not in {q for q, _, _ in fixed})
+        if real:
+            solved = {q: ((sp.asin(v), sp.pi - sp.asin(v)) if fn is sp.sin
+                          else (sp.acos(v), -sp.acos(v))) for q, fn, v in fixed}
+            found.append(Component(eqs, solved=solved, free=free, dimension=N - c))
+        else:
+            found_complex.append(Component(eqs, free=free, dimension=N - c))
+    return found, found_complex
 
 
 def _product_equation(var, exprs, values):

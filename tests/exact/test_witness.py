@@ -218,3 +218,18 @@ def test_every_command_shows_the_locus_rankloci_locus_certified():
     assert certified_locus(model)[0] is shown
     assert check(model, samples=2).certificate is shown.certificate
     assert nearest_component(model, [0.3, 0.5]).component == 0
+
+
+@pytest.mark.parametrize("matrix, variables", [
+    (sp.Matrix([[sp.sin(x) - 3 - sp.sqrt(2)]]), (x,)),
+    (sp.Matrix([[sp.sin(x) - 3 - sp.sqrt(2), y]]), (x, y)),
+])
+def test_a_sine_fixed_beyond_one_is_a_complex_component_without_real_points(matrix, variables):
+    """sin x = 3 + sqrt(2) holds at complex x only; tan(x/2) there has a minimal polynomial
+    of degree 4 over Q, so the witness points show the sine fixed, not the half tangent.  With
+    y = 0 it is found on the slice y = 0 and lifted."""
+    locus = rankloci.locus(matrix, variables=variables)
+    assert locus.complete is True and locus.components == ()
+    (eqs,) = locus.certificate.complex_components
+    assert sp.sin(x) - 3 - sp.sqrt(2) in eqs
+    assert any("without real points" in n for n in locus.notes)
