@@ -226,7 +226,7 @@ def parse_locus_dict(data, model=None):
         from .exact.witness import Certificate
 
         try:
-            certificate = Certificate.from_dict(certificate)
+            certificate = Certificate.from_dict(certificate, symbols)
         except ValueError as exc:
             raise ModelError(str(exc), field="certificate") from None
     base = data.get("base_locus")

@@ -35,7 +35,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-__all__ = ["RealPart", "definite_parts", "real_part_of"]
+__all__ = ["RealPart", "definite_parts", "real_part_of", "without_real_points"]
 
 #: The largest matrix (its smaller side) whose maximal minors are expanded symbolically to
 #: find hypersurface components, and the most minors: beyond, the expansion costs more than
@@ -84,8 +84,9 @@ class _Ring:
         self._back = {**{d: sp.sin(q) for q, d in self.s.items()},
                       **{d: sp.cos(q) for q, d in self.c.items()}}
 
-    def poly(self, expr):
-        """``expr`` as a Poly over QQ, or None when it is not a polynomial in the generators."""
+    def poly(self, expr, domain="QQ"):
+        """``expr`` as a Poly over ``domain`` (None: the smallest that holds its coefficients,
+        square roots included), or None when it is not a polynomial in the generators."""
         e = sp.expand(sp.expand_trig(sp.sympify(expr, strict=True)))
         rep = {}
         for a in e.atoms(sp.sin, sp.cos):
@@ -97,7 +98,7 @@ class _Ring:
         if e.free_symbols - set(self.gens) or e.atoms(sp.Function):
             return None
         try:
-            return sp.Poly(e, *self.gens, domain="QQ")
+            return sp.Poly(e, *self.gens, domain=domain)
         except (sp.PolynomialError, sp.polys.polyerrors.CoercionFailed):
             return None
 
@@ -355,3 +356,36 @@ def real_point_components(part, matrix, variables, angles, rng):
                 solved={v: tuple(g[v]) for v in fixed}, free=part.free,
                 dimension=len(part.free), rank_drop=drop, real_points_of=(part.equation,)))
     return out
+
+
+def without_real_points(equations, variables, angles) -> bool:
+    """Is it proved that ``equations`` have no common real zero?  True when one of them has
+    none: a polynomial in one variable, or in the sine and cosine of one angle, without real
+    solutions, or a weighted sum of squares without a common real zero (``x**2 + y**2 + 1``).
+    False means "not proved".
+
+    Examples
+    --------
+    >>> x, q = sp.symbols("x q", real=True)
+    >>> without_real_points([sp.sin(q) - 3 - sp.sqrt(2)], (q, x), (q,))
+    True
+    >>> without_real_points([sp.sin(q) - sp.Rational(1, 2)], (q, x), (q,))
+    False
+    """
+    ring = _Ring(variables, angles)
+    for e in equations:
+        p = ring.poly(e, domain=None)
+        if p is None or p.is_ground:
+            if p is not None and not p.is_zero:
+                return True
+            continue
+        used = p.free_symbols
+        if len({ring.s.get(q) for q in ring.angles if ring.s[q] in used or ring.c[q] in used}
+               | {x for x in ring.others if x in used}) == 1:
+            found = _real_points(ring, [p])
+            if found is not None and not found[0]:
+                return True
+        part = real_part_of(e, variables, angles)
+        if part is not None and not part.points:
+            return True
+    return False

@@ -166,8 +166,10 @@ class Certificate:
         return self.verdict == "passed"
 
     @classmethod
-    def from_dict(cls, data) -> "Certificate":
-        """The certificate as :meth:`to_dict` wrote it (ValueError naming a bad field)."""
+    def from_dict(cls, data, names=None) -> "Certificate":
+        """The certificate as :meth:`to_dict` wrote it (ValueError naming a bad field);
+        ``names`` maps the variables' names to their symbols (see
+        :func:`~rankloci.expr.parse_expression`)."""
         if not isinstance(data, dict):
             raise ValueError("must be an object")
         verdict = data.get("verdict")
@@ -204,10 +206,14 @@ class Certificate:
                 isinstance(eqs, list) and all(isinstance(e, str) for e in eqs)
                 for eqs in complex_components):
             raise ValueError("complex_components must be a list of lists of equations")
+        from ..errors import ExpressionError
         from ..expr import parse_expression
 
-        complex_components = tuple(tuple(parse_expression(e) for e in eqs)
-                                   for eqs in complex_components[:50])
+        try:
+            complex_components = tuple(tuple(parse_expression(e, names) for e in eqs)
+                                       for eqs in complex_components[:50])
+        except ExpressionError as exc:
+            raise ValueError(f"complex_components: {exc}") from None
         real_parts = data.get("real_parts", [])
         if not isinstance(real_parts, list) or not all(
                 isinstance(r, dict) and all(isinstance(k, str) for k in r) for r in real_parts):

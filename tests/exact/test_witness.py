@@ -233,3 +233,27 @@ def test_a_sine_fixed_beyond_one_is_a_complex_component_without_real_points(matr
     (eqs,) = locus.certificate.complex_components
     assert sp.sin(x) - 3 - sp.sqrt(2) in eqs
     assert any("without real points" in n for n in locus.notes)
+
+
+def test_check_counts_complex_components_of_a_locus_file_only_when_proved(tmp_path, capsys):
+    """A locus file lists sin x = 3 + sqrt(2), y = 0 as a component without real points:
+    check proves it again and passes.  The same claim for sin x = 1/2, y = 0, which has real
+    points, is not proved, and the file is refused."""
+    model = tmp_path / "complex.toml"
+    model.write_text('variables = ["x", "y"]\nmatrix = [["sin(x) - 3 - sqrt(2)", "y"]]\n',
+                     encoding="utf-8")
+    assert main(["locus", str(model), "--quiet", "--format", "json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["components"] == [] and len(doc["certificate"]["complex_components"]) == 1
+    saved = tmp_path / "complex.json"
+    saved.write_text(json.dumps(doc), encoding="utf-8")
+    assert main(["check", str(model), "--locus", str(saved), "--quiet"]) == 0
+    capsys.readouterr()
+
+    real = tmp_path / "real.toml"
+    real.write_text('variables = ["x", "y"]\nmatrix = [["sin(x) - 1/2", "y"]]\n',
+                    encoding="utf-8")
+    doc["certificate"]["complex_components"] = [["y", "sin(x) - 1/2"]]
+    saved.write_text(json.dumps(doc), encoding="utf-8")
+    assert main(["check", str(real), "--locus", str(saved), "--quiet"]) == 1
+    assert "lie on no reported component" in capsys.readouterr().out
