@@ -270,7 +270,7 @@ def real_part_of(equation, variables, angles):
         if found is None:
             return None
         points, free = found
-        return RealPart(sp.sympify(equation), tuple(ring.expr(s) for s in squares), points,
+        return RealPart(sp.sympify(equation, strict=True), tuple(ring.expr(s) for s in squares), points,
                         free)
     return None
 

@@ -880,7 +880,7 @@ def certify_components(matrix, variables, angles, components, *, seed: int = 0,
 
 
 def _same_value(a, b, is_angle) -> bool:
-    d = sp.sympify(a) - sp.sympify(b)
+    d = sp.sympify(a, strict=True) - sp.sympify(b, strict=True)
     if is_angle:
         return any(sp.simplify(d + k * 2 * sp.pi) == 0 for k in (0, 1, -1))
     return sp.simplify(d) == 0
@@ -1471,7 +1471,7 @@ def _surd_relation(r, P, forms, roots):
                 a0, a1, a2 = v
                 if a2 and a1 and max(map(abs, v)) <= MAX_RELATION_HEIGHT \
                         and (a0 + a1 * s + a2 * r) % P == 0:
-                    return sp.nsimplify(-(a0 + a1 * sp.sqrt(d)) / sp.Integer(a2))
+                    return -(sp.Integer(a0) + a1 * sp.sqrt(d)) / sp.Integer(a2)
     return None
 
 
