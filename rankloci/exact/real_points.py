@@ -133,7 +133,7 @@ def sum_of_squares(poly):
     True
     """
     terms = dict(poly.terms())
-    if not terms or any(d % 2 for d in (poly.total_degree(),)):
+    if not terms or poly.total_degree() % 2:
         return None
     half = sorted({tuple(e // 2 for e in m) for m in terms if all(e % 2 == 0 for e in m)},
                   reverse=True)
@@ -199,7 +199,7 @@ def _hypersurface_factors(ring, matrix):
     return [f for f, _ in g.factor_list()[1] if not f.is_ground]
 
 
-def _value(ring, q, s0, c0):
+def _angle(s0, c0):
     """The angle with sine s0 and cosine c0, exactly: 0, pi, or 2 atan(s0 / (1 + c0))."""
     if sp.simplify(c0 + 1) == 0:
         return sp.pi
@@ -232,7 +232,7 @@ def _real_points(ring, squares):
             return None
         point = {x: sol[x] for x in involved}
         for q in involved_angles:
-            point[q] = _value(ring, q, sol[ring.s[q]], sol[ring.c[q]])
+            point[q] = _angle(sol[ring.s[q]], sol[ring.c[q]])
         points.append(point)
     free = tuple(v for v in ring.variables if v not in set(involved) | set(involved_angles))
     return tuple(points), free
