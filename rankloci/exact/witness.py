@@ -27,6 +27,13 @@ exclusions), all exactly in a finite field GF(P^k), P a random prime near
   the reported dimension is the dimension of the component's equations off
   their exclusions.
 
+A robot's locus is real.  A reported component may hold the real points of
+a hypersurface f = 0 of the complex locus that has fewer of them
+(``real_points_of``, see :mod:`rankloci.exact.real_points`): the claim is
+proved again here (f a weighted sum of squares, its real zeros on the
+components that name it), and f = 0 then covers the witness points on it.
+Components without real points (``complex_only``) cover witness points too.
+
 Nothing here depends on the branch tree, on floating point or on a
 tolerance.  The random choices (prime, chart, subspace, compressions) can
 only make it *fail to prove* a true statement or, with a probability
