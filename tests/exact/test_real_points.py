@@ -151,3 +151,11 @@ def test_sums_of_squares_are_exact_identities():
         assert sp.expand(sum(d * s.as_expr() ** 2 for d, s in sos) - f) == 0
     assert sum_of_squares(sp.Poly(x * y, *gens)) is None
     assert sum_of_squares(sp.Poly(x ** 2 - 2 * x * y, *gens)) is None
+
+
+def test_the_text_output_says_how_the_real_points_were_proved(tmp_path, capsys):
+    path = _write(tmp_path, "rotation", CASES["rotation"][0])
+    assert main(["locus", str(path), "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert "certified complete and sound" in out
+    assert "real points of the complex component x**2 + y**2 = 0: where x, y vanish" in out
