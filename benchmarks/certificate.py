@@ -9,8 +9,9 @@ For each model, in one process and one after another:
   certificate and the recomputations a failing certificate asks for), with the verdict of the
   locus it shows.
 
-The models are the built-in ones and those of ``kinematics_models/extra`` (the 9R snake is
-left out by default: its whole run takes minutes).  The figures go to
+The models are the built-in ones, those of ``kinematics_models/extra`` (the 9R snake is
+left out by default: its whole run takes minutes) and the raw matrices of
+``examples/real_points``, whose real points lie in complex components of larger dimension.  The figures go to
 ``benchmarks/certificate.json`` and ``benchmarks/certificate.md``.  Usage::
 
     python benchmarks/certificate.py [--models a,b,...] [--output PATH]
@@ -26,6 +27,9 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 EXTRA = HERE.parent / "kinematics_models" / "extra"
+#: raw matrices whose locus has real points of lower dimension than a complex component (or
+#: none): the engine alone misses them, the whole run finds them (rankloci.exact.real_points)
+REAL_POINTS = HERE.parent / "examples" / "real_points"
 
 #: name, what rankloci.locus is given, keyword arguments
 MODELS = (
@@ -42,7 +46,8 @@ MODELS = (
     ("jaco2", str(EXTRA / "jaco2.toml"), {}),
     ("baxter_dh", str(EXTRA / "baxter_dh.toml"), {}),
     ("iiwa_offsets", str(EXTRA / "iiwa_offsets.urdf"), {"tip": "link_7"}),
-)
+) + tuple((name, str(REAL_POINTS / f"{name}.toml"), {})
+          for name in ("rotation", "sines", "tall", "sum_of_squares", "no_real_point"))
 OPTIONAL = (("snake9", str(EXTRA / "snake9.toml"), {}),)
 
 

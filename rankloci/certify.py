@@ -80,16 +80,18 @@ def certify_locus(locus, reference, *, seed: int = 0, should_stop=None,
     matrix = sp.Matrix(reference.matrix).applyfunc(lambda e: _substituted(e, values))
     components = [dataclasses.replace(
         c, equations=tuple(_substituted(e, values) for e in c.equations),
-        excluding=tuple(_substituted(e, values) for e in c.excluding))
+        excluding=tuple(_substituted(e, values) for e in c.excluding),
+        real_points_of=tuple(_substituted(e, values) for e in c.real_points_of))
         for c in locus.components]
     return certify_components(matrix, reference.variables, reference.angles, components,
                               seed=seed, deadline=should_stop, progress=progress,
                               complex_only=complex_only)
 
 
-def completed_component(component, reference, *, seed: int = 0):
+def completed_component(component, reference, *, seed: int = 0, rank_drop=None):
     """A component found by the certificate, with a real sample point, the rank drop there and
-    the lost directions at it (numerically, from ``reference`` at its parameter values)."""
+    the lost directions at it (numerically, from ``reference`` at its parameter values; the
+    directions of ``rank_drop`` when it is given, a rank drop computed exactly)."""
     import numpy as np
 
     from .numeric.equations import NumericMatrix
@@ -111,7 +113,49 @@ def completed_component(component, reference, *, seed: int = 0):
         A = A.T
     U, sv, _ = np.linalg.svd(A)
     rank = int(np.sum(sv > RANK_RTOL * (sv[0] if sv.size and sv[0] > 0 else 1.0)))
-    drop = max(1, min(A.shape) - rank)
+    drop = rank_drop if rank_drop is not None else max(1, min(A.shape) - rank)
     dirs = tuple(tuple(float(x) for x in U[:, min(A.shape) - drop + i]) for i in range(drop))
     return dataclasses.replace(component, sample=sample, rank_drop=drop,
                                direction_at_sample=dirs)
+
+
+def real_part_components(locus, reference, *, seed: int = 0):
+    """Components for the complex components of the locus of ``reference`` (at its parameter
+    values) that are sums of squares: the real points of each, in solved form, with
+    ``real_points_of`` naming it; and those without real points, as complex-only
+    components.  Those the locus already holds are left out.
+
+    See :mod:`rankloci.exact.real_points`.
+
+    Examples
+    --------
+    >>> import rankloci
+    >>> from rankloci.jacobian import TaskMatrix
+    >>> x, y = sp.symbols("x y", real=True)
+    >>> tm = TaskMatrix("rot", sp.ImmutableMatrix([[x, -y], [y, x]]), (x, y), ())
+    >>> L = rankloci.locus(tm.matrix, variables=(x, y), verify=False)
+    >>> found, without = real_part_components(L, tm)
+    >>> [(part.equation, comps) for part, comps in found]
+    [(x**2 + y**2, [<Component x = 0, y = 0: dimension 0, rank drop 2>])]
+    """
+    import numpy as np
+
+    from .exact.real_points import definite_parts, real_point_components
+    from .locus import Component
+
+    values = _values(reference.parameters)
+    values.update({sp.Symbol(v.name): v for v in reference.variables})
+    matrix = sp.Matrix(reference.matrix).applyfunc(lambda e: _substituted(e, values))
+    known = {sp.sstr(e) for c in locus.components for e in c.real_points_of}
+    rng = np.random.default_rng(seed)
+    found, without = [], []
+    N = len(reference.variables)
+    for part in definite_parts(matrix, reference.variables, reference.angles):
+        if sp.sstr(part.equation) in known:
+            continue
+        if not part.points:
+            without.append((part, Component((part.equation,), dimension=N - 1)))
+            continue
+        found.append((part, real_point_components(part, matrix, reference.variables,
+                                                  reference.angles, rng)))
+    return found, without

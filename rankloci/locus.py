@@ -107,6 +107,12 @@ class Component:
     meets : tuple of dict
         For a mixed component: the components of J's locus it meets
         (1-based ``base_component``, their ``equations``, and a ``point``).
+    real_points_of : tuple of sympy.Expr
+        Empty for a component of the real locus in its own right.  Otherwise the
+        equations of a component of the *complex* locus whose real points are fewer, or of
+        lower dimension, than its complex ones (``x**2 + y**2 = 0``): this component holds
+        those real points, and the certificate counts the complex component as covering
+        its witness points (see :mod:`rankloci.exact.real_points`).
     for_model : bool
         Whether the component has real points for the model's own parameter
         values (a component with parameter conditions the model does not
@@ -127,6 +133,7 @@ class Component:
     excluding: tuple = ()
     kind: str | None = None
     meets: tuple = ()
+    real_points_of: tuple = ()
 
     @property
     def exists_for_model(self) -> bool:
@@ -202,7 +209,8 @@ class Component:
             "parameter_conditions": [sp.sstr(e) for e in self.parameter_conditions],
             "for_model": self.for_model,
             "excluding": [sp.sstr(e) for e in self.excluding],
-        }
+        } | ({"real_points_of": [sp.sstr(e) for e in self.real_points_of]}
+             if self.real_points_of else {})
 
 
 @dataclass(frozen=True)

@@ -173,7 +173,8 @@ def _component(c, where, symbols, schema_1, special, n_variables=0):
         for_model=not special and bool(c.get("for_model", True))
         and not (schema_1 and c.get("parameter_conditions")),
         excluding=exprs(c.get("excluding", []), "excluding", everywhere=True),
-        kind=kind, meets=tuple(meets))
+        kind=kind, meets=tuple(meets),
+        real_points_of=exprs(c.get("real_points_of", []), "real_points_of", everywhere=True))
 
 
 def parse_locus_dict(data, model=None):
@@ -225,7 +226,7 @@ def parse_locus_dict(data, model=None):
         from .exact.witness import Certificate
 
         try:
-            certificate = Certificate.from_dict(certificate)
+            certificate = Certificate.from_dict(certificate, symbols)
         except ValueError as exc:
             raise ModelError(str(exc), field="certificate") from None
     base = data.get("base_locus")

@@ -72,6 +72,14 @@ def locus_text(locus, *, row_labels=(), within_limits=()) -> str:
             lines.append(f"certified complete and sound: {cert.kind}, prime {cert.prime}, "
                          f"{_witness_text(cert)}; error probability below "
                          f"{cert.error_bound:.0e}")
+            for part in getattr(cert, "real_parts", ()):
+                lines.append(f"  real points of the complex component "
+                             f"{part['complex_component']} = 0: where "
+                             f"{', '.join(part['sum_of_squares'])} vanish (it is a weighted "
+                             f"sum of their squares), {part['real_points']} point"
+                             f"{'s' * (part['real_points'] != 1)}, on component"
+                             f"{'s' * (len(part['components']) != 1)} "
+                             f"{', '.join(map(str, part['components']))}")
         else:
             lines.append(f"certificate {cert.verdict}: " + "; ".join(cert.findings[:3]))
     for note in locus.notes:

@@ -254,6 +254,14 @@ NEAR_ADMITTED_EXCLUSION_RTOL = 1e-6
 #: finding reaches ~1e-15 on a component's equations; 1e-11 leaves four orders of margin.
 ON_COMPONENT_RESIDUAL = 1e-11
 
+#: A matrix whose largest singular value at a point is at most this times its typical largest
+#: singular value (the median over random configurations) vanishes there up to rounding, and
+#: has rank 0: sigma_min/sigma_max of the rounding residue (sin(pi) = 1.2e-16 on a diagonal)
+#: says nothing.  Rounding leaves entries ~1e-16 of their size; 1e-12 is four orders above
+#: that, and at a regular point sigma_max is of the order of its typical value (a matrix that
+#: nearly vanishes away from its locus would need coefficients 1e12 apart).
+ZERO_MATRIX_RTOL = 1e-12
+
 #: On-locus points must have sigma_min/sigma_max at most this: the package's RANK_RTOL, >= 3
 #: orders above the ~1e-12 that points accurate to ON_COMPONENT_RESIDUAL give (sigma_min is
 #: Lipschitz in q with a constant ~sigma_max).

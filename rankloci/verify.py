@@ -132,8 +132,9 @@ def _slice_recovery(locus, cert, reference, seed, should_stop, progress, slice_c
     the matrix with that variable at each value (the same engine, one variable fewer), lifted,
     keeping the components the certificate needs."""
     from .certify import certify_locus
+    from .locus import Component
 
-    added = []
+    added, lifted_complex = [], []
     for var, values in cert.slices:
         for value in values:
             if should_stop():
@@ -154,14 +155,24 @@ def _slice_recovery(locus, cert, reference, seed, should_stop, progress, slice_c
                     c, equations=(_value_equation(var, value, var in set(reference.angles)),)
                     + tuple(c.equations),
                     solved=solved, sample={**c.sample, var.name: float(value)}))
+            # the slice's components without real points, which its certificate proved so
+            cc = part.certificate.complex_components if part.certificate is not None else ()
+            for eqs in cc:
+                lifted_complex.append(Component(
+                    (_value_equation(var, value, var in set(reference.angles)), *eqs),
+                    dimension=len(part.variables) - len(eqs)))
     # a lifted piece below the determinantal bound lies inside a larger component
     n, m = sorted(reference.shape)
     N = len(reference.variables)
     added = [c for c in added if N - c.dimension <= c.rank_drop * (m - n + c.rank_drop)]
-    if not added:
+    if not added and not lifted_complex:
         return locus, cert
+    # the complex components the certificate counted before, and the lifted ones
+    complex_only = tuple(Component(tuple(eqs), dimension=N - len(eqs))
+                         for eqs in cert.complex_components) + tuple(lifted_complex)
     trial = dataclasses.replace(locus, components=locus.components + tuple(added))
-    again = certify_locus(trial, reference, seed=seed, should_stop=should_stop)
+    again = certify_locus(trial, reference, seed=seed, should_stop=should_stop,
+                          complex_only=complex_only)
     if again.verdict == "failed" and again.uncovered >= cert.uncovered:
         return locus, cert
     # the lifted components the certificate does not need (inside others) are left out
@@ -170,14 +181,65 @@ def _slice_recovery(locus, cert, reference, seed, should_stop, progress, slice_c
         fewer = [k for k in kept if k is not c]
         test = certify_locus(dataclasses.replace(
             locus, components=locus.components + tuple(fewer)), reference, seed=seed,
-            should_stop=should_stop)
+            should_stop=should_stop, complex_only=complex_only)
         if test.verdict == again.verdict and test.uncovered <= again.uncovered \
                 and len(test.findings) <= len(again.findings):
             kept = fewer
-    trial = dataclasses.replace(locus, components=locus.components + tuple(kept), notes=(
-        locus.notes + (f"{len(kept)} component{'s' * (len(kept) != 1)} found on slices where "
-                       "a variable is fixed at a value the certificate's witness points gave",)))
-    return trial, certify_locus(trial, reference, seed=seed, should_stop=should_stop)
+    notes = []
+    if kept:
+        notes.append(f"{len(kept)} component{'s' * (len(kept) != 1)} found on slices where a "
+                     "variable is fixed at a value the certificate's witness points gave")
+    if lifted_complex:
+        notes.append(f"{len(lifted_complex)} component{'s' * (len(lifted_complex) != 1)} of "
+                     "the complex locus without real points found on slices, not part of the "
+                     "robot's locus: " + "; ".join(", ".join(f"{sp.sstr(e)} = 0"
+                                                             for e in c.equations)
+                                                   for c in lifted_complex))
+    trial = dataclasses.replace(locus, components=locus.components + tuple(kept),
+                                notes=locus.notes + tuple(notes))
+    final = certify_locus(trial, reference, seed=seed, should_stop=should_stop,
+                          complex_only=complex_only)
+    return trial, dataclasses.replace(final, complex_components=tuple(
+        tuple(c.equations) for c in complex_only))
+
+
+def _real_part_recovery(locus, cert, reference, seed, should_stop, progress):
+    """Complex components that are sums of squares, whose witness points lie on no component:
+    their real points added as components (the certificate counts the complex component as
+    covering its witness points), and those without real points as complex only."""
+    from .certify import certify_locus, completed_component, real_part_components
+
+    progress("certificate: looking for complex components with fewer real points")
+    found, without = real_part_components(locus, reference, seed=seed)
+    if not found and not without:
+        return locus, cert
+    # the rank drop was computed exactly; the sample and the lost directions numerically
+    added = tuple(completed_component(c, reference, seed=seed, rank_drop=c.rank_drop)
+                  for _, comps in found for c in comps)
+    complex_only = tuple(cert.discovered_complex) + tuple(c for _, c in without)
+    trial = dataclasses.replace(locus, components=locus.components + added)
+    again = certify_locus(trial, reference, seed=seed, should_stop=should_stop,
+                          progress=progress, complex_only=complex_only)
+    if again.verdict == "failed" and again.uncovered >= cert.uncovered:
+        return locus, cert
+    notes = []
+    index = len(locus.components)
+    for part, comps in found:
+        numbers = ", ".join(str(index + k) for k in range(1, len(comps) + 1))
+        index += len(comps)
+        notes.append(f"component{'s' * (len(comps) != 1)} {numbers}: the real points of the "
+                     f"complex component {sp.sstr(part.equation)} = 0, which has no real "
+                     f"point of its own dimension ({sp.sstr(part.equation)} is a weighted sum "
+                     f"of the squares of {', '.join(sp.sstr(e) for e in part.squares)}, so its "
+                     "real points are where these all vanish)")
+    for part, _ in without:
+        notes.append(f"the complex component {sp.sstr(part.equation)} = 0 has no real point "
+                     f"(a weighted sum of the squares of "
+                     f"{', '.join(sp.sstr(e) for e in part.squares)}, which have no common "
+                     "real zero): not part of the robot's locus")
+    locus = dataclasses.replace(trial, notes=trial.notes + tuple(notes))
+    return locus, dataclasses.replace(again, complex_components=tuple(
+        cert.complex_components) + tuple((part.equation,) for part, _ in without))
 
 
 def _value_equation(var, value, is_angle=True):
@@ -255,6 +317,8 @@ def _certified(locus, reference, seed, should_stop, progress, slice_compute=None
             locus = dataclasses.replace(trial, notes=trial.notes + tuple(notes))
             cert = dataclasses.replace(again, complex_components=tuple(
                 tuple(c.equations) for c in cert.discovered_complex))
+    if cert.verdict == "failed" and cert.uncovered:
+        locus, cert = _real_part_recovery(locus, cert, reference, seed, should_stop, progress)
     computed = {}
     for _ in range(SLICE_ROUNDS):
         if cert.verdict != "failed" or not cert.slices or slice_compute is None:

@@ -316,3 +316,70 @@ def test_text_output_names_the_kinds(capsys):
     out = capsys.readouterr().out
     assert "kind: mixed" in out and "classification: 0 kinematic, 0 algorithmic, 1 mixed" in out
     assert "locus of J without the constraint rows" in out
+
+
+# --- certificate of the base locus -----------------------------------------------------------
+
+#: planar3r's position Jacobian (2x3) loses rank where the arm is stretched or folded:
+#: sin q2 = sin q3 = 0.  Augmented with the orientation q1 + q2 + q3, J_aug is square.
+ORIENTATION = ("q1 + q2 + q3",)
+
+
+def _augmented_reference():
+    from rankloci.jacobian import task_matrix as tm_of
+
+    model = load_model("planar3r")
+    return tm_of(model, augment=parse_augment(model, ORIENTATION))
+
+
+def _base_reference(tm):
+    import dataclasses
+
+    rows = tm.shape[0] - tm.n_constraint_rows
+    return dataclasses.replace(tm, matrix=tm.matrix[:rows, :], n_constraint_rows=0)
+
+
+def test_the_base_locus_of_an_augmented_matrix_carries_a_passing_certificate():
+    import rankloci
+    from rankloci.certify import certify_locus
+
+    locus = rankloci.locus("planar3r", augment=list(ORIENTATION))
+    assert locus.complete is True and locus.certificate.verdict == "passed"
+    assert locus.base.complete is True and locus.base.certificate.verdict == "passed"
+    assert locus.to_dict()["base_locus"]["certificate"]["verdict"] == "passed"
+    # the base certificate is of J alone: its locus proves complete for J, not for J_aug
+    tm = _augmented_reference()
+    base_ref = _base_reference(tm)
+    assert certify_locus(locus.base, base_ref).verdict == "passed"
+    assert certify_locus(locus.base, tm).verdict == "failed"
+
+
+def test_a_wrong_base_locus_fails_the_augmented_locus():
+    """The augmented components are right, but the base locus reports only q3 = pi of
+    sin q3 = 0: the certificate of the base refuses it, and the augmented locus is not
+    called complete."""
+    import dataclasses
+
+    import rankloci
+    from rankloci.certify import certify_locus
+    from rankloci.locus import Component
+    from rankloci.verify import verified_locus
+
+    locus = rankloci.locus("planar3r", augment=list(ORIENTATION))
+    q1, q2, q3 = locus.variables
+    half = Component((sp.sin(q2), sp.cos(q3 / 2)), solved={q2: (0, sp.pi), q3: (sp.pi,)},
+                     free=(q1,), dimension=1)
+    wrong_base = dataclasses.replace(locus.base, components=(half,), certificate=None,
+                                     complete=None)
+    tm = _augmented_reference()
+    cert = certify_locus(wrong_base, _base_reference(tm))
+    assert cert.verdict == "failed"
+    assert any("lie on no reported component" in f for f in cert.findings)
+
+    wrong = dataclasses.replace(locus, base=wrong_base, certificate=None, complete=None)
+    shown, verification = verified_locus(lambda t, s, **options: wrong, tm, tm, samples=2)
+    assert shown.complete is False and not verification.complete
+    assert shown.certificate.verdict == "failed"
+    assert any(f.startswith("the locus of J without the constraint rows:")
+               for f in shown.certificate.findings)
+    assert shown.base.certificate.verdict == "failed" and shown.base.complete is False

@@ -409,6 +409,25 @@ class Check:
         return "\n".join(lines)
 
 
+def _complex_only(locus, J):
+    """The components without real points a locus's certificate lists, each proved so again
+    (one of its equations has no real zero): the certificate may count them as covering
+    complex witness points.  The others are left out, and their points stay uncovered."""
+    from ..exact.real_points import without_real_points
+    from ..locus import Component
+
+    cert = locus.certificate
+    N = len(J.variables)
+    names = {v.name: v for v in J.variables}
+    out = []
+    for eqs in (cert.complex_components if cert is not None else ()):
+        eqs = tuple(e.xreplace({s: names[s.name] for s in e.free_symbols if s.name in names})
+                    for e in eqs)
+        if without_real_points(eqs, J.variables, J.angles):
+            out.append(Component(eqs, dimension=N - len(eqs)))
+    return tuple(out)
+
+
 def check_model(model, given=None, *, samples=10, seed=0, numeric=False, should_stop=None,
                 progress=None) -> Check:
     """What ``rankloci check`` computes: see :func:`check`."""
@@ -439,7 +458,7 @@ def check_model(model, given=None, *, samples=10, seed=0, numeric=False, should_
 
         tell(f"{model.name}: certificate of the locus (witness points modulo a prime)")
         certificate = certify_locus(checked, J, seed=seed, should_stop=should_stop,
-                                    progress=progress)
+                                    progress=progress, complex_only=_complex_only(checked, J))
     n = len(checked.components)
     tell(f"{model.name}: checking {n} component{'' if n == 1 else 's'}, {samples} samples, "
          f"seed {seed}")

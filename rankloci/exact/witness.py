@@ -27,6 +27,13 @@ exclusions), all exactly in a finite field GF(P^k), P a random prime near
   the reported dimension is the dimension of the component's equations off
   their exclusions.
 
+A robot's locus is real.  A reported component may hold the real points of
+a hypersurface f = 0 of the complex locus that has fewer of them
+(``real_points_of``, see :mod:`rankloci.exact.real_points`): the claim is
+proved again here (f a weighted sum of squares, its real zeros on the
+components that name it), and f = 0 then covers the witness points on it.
+Components without real points (``complex_only``) cover witness points too.
+
 Nothing here depends on the branch tree, on floating point or on a
 tolerance.  The random choices (prime, chart, subspace, compressions) can
 only make it *fail to prove* a true statement or, with a probability
@@ -58,6 +65,8 @@ angles included), the other variables and square roots of integers.
 
 from __future__ import annotations
 
+import dataclasses
+import itertools
 import math
 import time
 from dataclasses import dataclass, field
@@ -130,8 +139,15 @@ class Certificate:
         a passing certificate is about.
     complex_components : tuple of tuple of sympy.Expr
         The equations of components of the complex locus that have no real point (proved:
-        they fix a variable at values none of which is real); they are no part of a robot's
-        locus, and the certificate counts their witness points as covered.
+        they fix a variable at values none of which is real, or are a sum of squares without
+        a common real zero); they are no part of a robot's locus, and the certificate counts
+        their witness points as covered.
+    real_parts : tuple of dict
+        Components of the complex locus whose real points are fewer or of lower dimension
+        (reported components with ``real_points_of``): per complex component its equation,
+        the polynomials whose squares it is a weighted sum of, and its real points, which the
+        certificate proved lie on the reported components (see
+        :mod:`rankloci.exact.real_points`).
     """
 
     verdict: str
@@ -150,14 +166,17 @@ class Certificate:
     discovered_merged: tuple = field(default=(), compare=False, repr=False)
     uncovered: int = field(default=0, compare=False)
     complex_components: tuple = ()
+    real_parts: tuple = ()
 
     @property
     def passed(self) -> bool:
         return self.verdict == "passed"
 
     @classmethod
-    def from_dict(cls, data) -> "Certificate":
-        """The certificate as :meth:`to_dict` wrote it (ValueError naming a bad field)."""
+    def from_dict(cls, data, names=None) -> "Certificate":
+        """The certificate as :meth:`to_dict` wrote it (ValueError naming a bad field);
+        ``names`` maps the variables' names to their symbols (see
+        :func:`~rankloci.expr.parse_expression`)."""
         if not isinstance(data, dict):
             raise ValueError("must be an object")
         verdict = data.get("verdict")
@@ -194,16 +213,25 @@ class Certificate:
                 isinstance(eqs, list) and all(isinstance(e, str) for e in eqs)
                 for eqs in complex_components):
             raise ValueError("complex_components must be a list of lists of equations")
+        from ..errors import ExpressionError
         from ..expr import parse_expression
 
-        complex_components = tuple(tuple(parse_expression(e) for e in eqs)
-                                   for eqs in complex_components[:50])
+        try:
+            complex_components = tuple(tuple(parse_expression(e, names) for e in eqs)
+                                       for eqs in complex_components[:50])
+        except ExpressionError as exc:
+            raise ValueError(f"complex_components: {exc}") from None
+        real_parts = data.get("real_parts", [])
+        if not isinstance(real_parts, list) or not all(
+                isinstance(r, dict) and all(isinstance(k, str) for k in r) for r in real_parts):
+            raise ValueError("real_parts must be a list of objects")
         return cls(verdict, kind=str(data.get("kind", CERTIFICATE_KIND))[:80], prime=prime,
                    seed=data.get("seed", 0), codimensions=tuple(data.get("codimensions", [])),
                    witness_points={int(k): v for k, v in counts.items()},
                    findings=tuple(f[:2000] for f in findings[:200]),
                    error_bound=float(numbers[0]), seconds=float(numbers[1]),
-                   redundant=tuple(redundant), complex_components=complex_components)
+                   redundant=tuple(redundant), complex_components=complex_components,
+                   real_parts=tuple(real_parts[:50]))
 
     def to_dict(self) -> dict:
         return {"kind": self.kind, "verdict": self.verdict, "prime": self.prime,
@@ -213,6 +241,7 @@ class Certificate:
                 "redundant": list(self.redundant),
                 "complex_components": [[sp.sstr(e) for e in eqs]
                                        for eqs in self.complex_components],
+                **({"real_parts": list(self.real_parts)} if self.real_parts else {}),
                 "seconds": round(self.seconds, 4)}
 
 
@@ -692,6 +721,7 @@ class _ComponentData:
     excluding: list
     pieces: list | None = None   # per variable: None (free) or the list of its exact values
     real: bool = True            # False: a component without real points, reported apart
+    real_part: bool = False      # the real points of a complex component (below the bound)
 
     @property
     def label(self) -> str:
@@ -804,6 +834,9 @@ def certify_components(matrix, variables, angles, components, *, seed: int = 0,
     surds = sorted({p for e in exprs for a in e.atoms(sp.Pow)
                     if a.is_number and _integer_root(a) for p in sp.factorint(_integer_root(a)[0])})
 
+    covers, claims, real_parts = _real_part_claims(components, variables, angles, N)
+    complex_only = tuple(complex_only) + tuple(covers)
+
     if n == 0:
         return result("passed" if not components else "failed",
                       [] if not components else ["a matrix without rows has full rank"])
@@ -828,7 +861,8 @@ def certify_components(matrix, variables, angles, components, *, seed: int = 0,
                     pieces = None
             real = k <= len(components)
             comps.append(_ComponentData(k if real else k - len(components), N - c.dimension,
-                                        c.dimension, c.rank_drop, eqs, exc, pieces, real))
+                                        c.dimension, c.rank_drop, eqs, exc, pieces, real,
+                                        real and bool(getattr(c, "real_points_of", ()))))
     except NotCertifiable as exc:
         return result("undecided", [f"not certifiable: {exc}"])
 
@@ -836,8 +870,12 @@ def certify_components(matrix, variables, angles, components, *, seed: int = 0,
     for _ in range(RETRIES):
         P, roots = _random_prime(rng, surds)
         try:
-            return _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed,
+            cert = _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed,
                             deadline, progress, t0)
+            if claims and cert.verdict != "failed":
+                cert = dataclasses.replace(cert, verdict="failed")
+            return dataclasses.replace(cert, findings=tuple(claims) + cert.findings,
+                                       real_parts=tuple(real_parts))
         except _TooLarge as exc:
             return result("undecided", [f"the certificate's elimination is too large ({exc})"])
         except (_Degenerate, ZeroDivisionError) as exc:
@@ -846,6 +884,73 @@ def certify_components(matrix, variables, angles, components, *, seed: int = 0,
         except TimeoutError:
             return result("undecided", ["the time ran out before the certificate was complete"])
     return result("undecided", [f"every random choice was degenerate ({last})"])
+
+
+def _same_value(a, b, is_angle) -> bool:
+    d = sp.sympify(a, strict=True) - sp.sympify(b, strict=True)
+    if is_angle:
+        return any(sp.simplify(d + k * 2 * sp.pi) == 0 for k in (0, 1, -1))
+    return sp.simplify(d) == 0
+
+
+def _holds(c, point, free, angle_names) -> bool:
+    """Does component ``c`` (no exclusions) contain the real ``point`` of a real part, its
+    ``free`` variables free?"""
+    solved = {str(k): v for k, v in (c.solved or {}).items()}
+    own_free = {str(v) for v in c.free}
+    return not c.excluding and all(v.name in own_free for v in free) and all(
+        v.name in solved and any(_same_value(x, val, v.name in angle_names)
+                                 for x in solved[v.name])
+        for v, val in point.items())
+
+
+def _real_part_claims(components, variables, angles, N):
+    """The complex components that components with ``real_points_of`` hold the real points
+    of (as components that cover witness points), what disproves the claims, and a record
+    of each for the certificate's JSON.
+
+    A claim holds when the complex component's equation is proved a weighted sum of squares
+    (:func:`rankloci.exact.real_points.real_part_of`) and every common real zero of the
+    squares lies on a reported component that names it, with no exclusion."""
+    from ..locus import Component
+    from .real_points import real_part_of
+
+    groups: dict = {}
+    for i, c in enumerate(components, start=1):
+        rpo = tuple(getattr(c, "real_points_of", ()) or ())
+        if rpo:
+            groups.setdefault(tuple(sp.sstr(e) for e in rpo), (rpo, []))[1].append((i, c))
+    covers, findings, records = [], [], []
+    names = {v.name: v for v in variables}
+    angle_names = {a.name for a in angles}
+    for key, (rpo, members) in groups.items():
+        labels = ", ".join(str(i) for i, _ in members)
+        text = " = 0, ".join(key) + " = 0"
+        if len(rpo) != 1:
+            findings.append(f"component {labels}: the real points of {text} are not "
+                            "certified: only a hypersurface (one equation) is handled")
+            continue
+        part = real_part_of(rpo[0].xreplace({s: names[s.name] for s in rpo[0].free_symbols
+                                             if s.name in names}), variables, angles)
+        if part is None:
+            findings.append(f"component {labels}: {text} is not proved to have real points "
+                            "of lower dimension (no weighted sum of squares was found)")
+            continue
+        covers.append(Component(rpo, dimension=N - 1, rank_drop=1))
+        for i, c in members:
+            if c.excluding:
+                findings.append(f"component {i}: the real points of {text} are reported "
+                                "with exclusions")
+        missed = sum(1 for p in part.points if not any(
+            _holds(c, p, part.free, angle_names) for _, c in members))
+        if missed:
+            findings.append(f"{missed} of the {len(part.points)} real points of {text} lie "
+                            "on no reported component")
+        records.append({"complex_component": key[0],
+                        "sum_of_squares": [sp.sstr(e) for e in part.squares],
+                        "real_points": len(part.points),
+                        "components": [i for i, _ in members]})
+    return covers, findings, records
 
 
 def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline, progress, t0):
@@ -879,7 +984,7 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
     missing = []
     total_uncovered = 0
     redundant = [k.index for k in comps
-                 if k.real and k.codim > 0 and k.codim > k.rank_drop * (m - n + k.rank_drop)]
+                 if k.real and not k.real_part and k.codim > 0 and k.codim > k.rank_drop * (m - n + k.rank_drop)]
     # below the Eagon-Northcott bound of its rank drop, a component lies inside a larger one if
     # it is singular at all: the caller leaves it out (the certificate is of the rest)
     comps = [k for k in comps if not (k.real and k.index in redundant)]
@@ -1347,7 +1452,81 @@ def _discover(missing, forms, rows, n, N, P, rng):
             comp = Component(tuple(eqs), solved=solved if real else {}, free=free,
                              dimension=N - c, rank_drop=1)
             (found if real else found_complex).append(comp)
+    if not (found or found_complex or slices or merged):
+        # no variable at a value of small height: a sine or cosine may be fixed instead (the
+        # points then come in pairs q, pi - q or q, -q), at a number of Q(sqrt(d))
+        found, found_complex = _trig_fixed(missing, forms, N, P)
     return tuple(found), tuple(found_complex), tuple(slices), tuple(merged)
+
+
+def _surd_relation(r, P, forms, roots):
+    """An exact number v = (a0 + a1 sqrt(d)) / a2 with v = r mod P, d a product of the surds
+    (d = 1: a rational), its integers of small height (lattice reduction), or None.
+
+    A value r of GF(P) that is random has such a relation of height at most
+    MAX_RELATION_HEIGHT with probability about MAX_RELATION_HEIGHT**3 / P per d, below 1e-5;
+    a wrong one costs only time, since the components built from it are certified."""
+    rational = _rational(r, P)
+    if rational is not None:
+        return rational
+    for k in range(1, len(roots) + 1):
+        for sub in itertools.combinations(range(len(roots)), k):
+            s, d = 1, 1
+            for j in sub:
+                s, d = s * roots[j] % P, d * forms.surds[j]
+            for v in _lll([[P, 0, 0], [(-s) % P, 1, 0], [(-r) % P, 0, 1]]):
+                a0, a1, a2 = v
+                if a2 and a1 and max(map(abs, v)) <= MAX_RELATION_HEIGHT \
+                        and (a0 + a1 * s + a2 * r) % P == 0:
+                    return -(sp.Integer(a0) + a1 * sp.sqrt(d)) / sp.Integer(a2)
+    return None
+
+
+def _trig_fixed(missing, forms, N, P):
+    """Components through the missing witness points of one codimension c on which the sine
+    or the cosine of c angles is fixed (the same number of GF(P) at every point), at a value
+    of Q(sqrt(d)) found by :func:`_surd_relation`.  Returns (with real points, without)."""
+    from ..locus import Component
+
+    na = len(forms.angles)
+    by_codim: dict = {}
+    for c, plane, pt in missing:
+        by_codim.setdefault(c, []).append((plane, pt))
+    found, found_complex = [], []
+    for c, points in by_codim.items():
+        plane = points[0][0]
+        roots = [int(x.coeffs()[0]) if not x.is_zero() else 0
+                 for x in plane.images[2 * na + len(forms.others):]]
+        fixed = []
+        for i, q in enumerate(forms.angles):
+            for fn in (sp.sin, sp.cos):
+                values = set()
+                for pl, pt in points:
+                    C, S = pt.value(pl.images[i]), pt.value(pl.images[na + i])
+                    norm = S * S + C * C
+                    if norm.is_zero():
+                        values.add(None)
+                        break
+                    v = (2 * S * C if fn is sp.sin else C * C - S * S) / norm
+                    key = _minimal_polynomial(v, P)
+                    values.add((-key[0]) * pow(key[1], -1, P) % P if len(key) == 2 else None)
+                if len(values) == 1 and None not in values:
+                    exact = _surd_relation(values.pop(), P, forms, roots)
+                    if exact is not None:
+                        fixed.append((q, fn, exact))
+                        break
+        if len(fixed) != c:
+            continue
+        eqs = tuple(fn(q) - v for q, fn, v in fixed)
+        real = all(abs(float(v)) <= 1 for _, _, v in fixed)
+        free = tuple(v for v in forms.variables if v not in {q for q, _, _ in fixed})
+        if real:
+            solved = {q: ((sp.asin(v), sp.pi - sp.asin(v)) if fn is sp.sin
+                          else (sp.acos(v), -sp.acos(v))) for q, fn, v in fixed}
+            found.append(Component(eqs, solved=solved, free=free, dimension=N - c))
+        else:
+            found_complex.append(Component(eqs, free=free, dimension=N - c))
+    return found, found_complex
 
 
 def _product_equation(var, exprs, values):

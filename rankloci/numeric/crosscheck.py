@@ -30,7 +30,7 @@ from ..expr import as_expression
 from ..tolerances import (COVER_RESIDUAL, MINOR_RTOL, OFF_LOCUS_MIN_RESIDUAL, ON_COMPONENT_RESIDUAL,
                           ON_LOCUS_RTOL, PRECISE_CHECK_DIGITS, PRECISE_CHECK_FLOOR, PRECISE_FALL,
                           PRECISE_STABLE_RTOL, PROBE_DESCENT_RTOL, PROBE_ESCAPE_ABS,
-                          PROBE_SINGULAR_RTOL, RANK_RTOL)
+                          PROBE_SINGULAR_RTOL, RANK_RTOL, ZERO_MATRIX_RTOL)
 from .equations import (MAX_TRIES, Equations, NumericMatrix, descend_to_singular, minimise_ratio,
                         points_on)
 from .fsp import dependent_rows
@@ -190,6 +190,12 @@ def _decided(nm: NumericMatrix, eqs: Equations, p: PointCheck) -> PointCheck:
 def _point(nm: NumericMatrix, q) -> PointCheck:
     J = nm(q)
     A = J.T if J.shape[0] > J.shape[1] else J
+    top = np.linalg.svd(np.asarray(J, dtype=float), compute_uv=False)[:1]
+    if top.size and top[0] <= ZERO_MATRIX_RTOL * nm.typical_scale():
+        # J vanishes here up to rounding: rank 0, whatever the ratio of the residue
+        return PointCheck(q=tuple(float(x) for x in q), sigma_ratio=0.0,
+                          rank_drop=int(min(J.shape)), fsp_dependent=tuple(range(A.shape[0])),
+                          minor=0.0)
     return PointCheck(q=tuple(float(x) for x in q), sigma_ratio=float(sigma_ratio(J)),
                       rank_drop=int(numeric_rank_drop(J)),
                       fsp_dependent=tuple(int(i) for i in dependent_rows(A)),

@@ -105,6 +105,9 @@ def test_certified_loci_agree_with_groebner_bases(M):
     assume(locus.certificate is not None and locus.certificate.verdict != "undecided")
     # components of the complex locus without real points, which the certificate proved so
     complex_only = [Component(tuple(eqs)) for eqs in locus.certificate.complex_components]
+    # and the complex components whose real points are reported as components of their own
+    complex_only += [Component(tuple(c.real_points_of)) for c in locus.components
+                     if c.real_points_of]
     verdict = independent_verdict(M, list(locus.components) + complex_only)
     if locus.complete is True:
         assert verdict, [c.equations for c in locus.components]

@@ -135,12 +135,13 @@ def test_a_five_bar_linkage_gets_a_certified_locus():
     assert not locus.contains([0.5, 0, 0, 1])          # sigma_min / sigma_max = 0.37 there
 
 
-def test_a_complex_component_with_one_real_point_is_not_called_complete():
+def test_a_complex_component_with_one_real_point_is_reported():
     """[[x, -y], [y, x]] is singular only at the origin, the one real point of x**2 + y**2 = 0:
-    a locus without it must not pass."""
+    without it the certificate fails; with it (tests/exact/test_real_points.py) it passes."""
+    assert _certify([], sp.Matrix([[x, -y], [y, x]]), (x, y), ()).verdict == "failed"
     locus = rankloci.locus(sp.Matrix([[x, -y], [y, x]]), variables=(x, y))
-    assert locus.complete is not True
-    assert locus.certificate.verdict == "failed"
+    assert locus.complete is True
+    assert [c.real_points_of for c in locus.components] == [(x ** 2 + y ** 2,)]
 
 
 def test_irrational_twists_are_made_exact_and_certified(tmp_path):
@@ -217,3 +218,42 @@ def test_every_command_shows_the_locus_rankloci_locus_certified():
     assert certified_locus(model)[0] is shown
     assert check(model, samples=2).certificate is shown.certificate
     assert nearest_component(model, [0.3, 0.5]).component == 1
+
+
+@pytest.mark.parametrize("matrix, variables", [
+    (sp.Matrix([[sp.sin(x) - 3 - sp.sqrt(2)]]), (x,)),
+    (sp.Matrix([[sp.sin(x) - 3 - sp.sqrt(2), y]]), (x, y)),
+])
+def test_a_sine_fixed_beyond_one_is_a_complex_component_without_real_points(matrix, variables):
+    """sin x = 3 + sqrt(2) holds at complex x only; tan(x/2) there has a minimal polynomial
+    of degree 4 over Q, so the witness points show the sine fixed, not the half tangent.  With
+    y = 0 it is found on the slice y = 0 and lifted."""
+    locus = rankloci.locus(matrix, variables=variables)
+    assert locus.complete is True and locus.components == ()
+    (eqs,) = locus.certificate.complex_components
+    assert sp.sin(x) - 3 - sp.sqrt(2) in eqs
+    assert any("without real points" in n for n in locus.notes)
+
+
+def test_check_counts_complex_components_of_a_locus_file_only_when_proved(tmp_path, capsys):
+    """A locus file lists sin x = 3 + sqrt(2), y = 0 as a component without real points:
+    check proves it again and passes.  The same claim for sin x = 1/2, y = 0, which has real
+    points, is not proved, and the file is refused."""
+    model = tmp_path / "complex.toml"
+    model.write_text('variables = ["x", "y"]\nmatrix = [["sin(x) - 3 - sqrt(2)", "y"]]\n',
+                     encoding="utf-8")
+    assert main(["locus", str(model), "--quiet", "--format", "json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["components"] == [] and len(doc["certificate"]["complex_components"]) == 1
+    saved = tmp_path / "complex.json"
+    saved.write_text(json.dumps(doc), encoding="utf-8")
+    assert main(["check", str(model), "--locus", str(saved), "--quiet"]) == 0
+    capsys.readouterr()
+
+    real = tmp_path / "real.toml"
+    real.write_text('variables = ["x", "y"]\nmatrix = [["sin(x) - 1/2", "y"]]\n',
+                    encoding="utf-8")
+    doc["certificate"]["complex_components"] = [["y", "sin(x) - 1/2"]]
+    saved.write_text(json.dumps(doc), encoding="utf-8")
+    assert main(["check", str(real), "--locus", str(saved), "--quiet"]) == 1
+    assert "lie on no reported component" in capsys.readouterr().out

@@ -42,33 +42,48 @@ def urdf(tmp_path_factory):
 
 
 @pytest.mark.slow
-def test_offset_arm_locus_is_not_called_complete_while_a_component_is_missing(urdf):
+def test_offset_arm_locus_is_certified_complete_with_the_offset_component(urdf, tmp_path):
     """tan q2 = 1/1600 and tan q4 = 1/800 give a 5-dimensional component (singular whatever
     q1, q3, q5, q6 and q7 are) that the branch tree does not find.  The certificate's witness
-    points show it missing, so the locus is shown INCOMPLETE, with exit code 1 and one line on
-    stderr, never as complete."""
-    # a process of its own, as a user runs it: its stderr is what the user sees
+    points show it missing; on the slice of q4 they fix, the sine of q2 is fixed at a number of
+    Q(sqrt(71111)), and the component is found and certified.  The mirror slice holds a
+    component without real points (sin q2 = 800 + 3 sqrt(71111)), listed as complex only."""
+    # a process of its own, as a user runs it
     run = subprocess.run([sys.executable, "-m", "rankloci", "locus", str(urdf), "--tip", "link_7",
                           "--format", "json", "--quiet"], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
     out = json.loads(run.stdout)
-    assert run.returncode == 1
-    assert run.stderr.count("\n") == 1 and "incomplete" in run.stderr
-    assert out["complete"] is False
-    assert out["certificate"]["verdict"] == "failed"
-    assert any("lie on no reported component" in f and "dimension 5" in f
-               for f in out["certificate"]["findings"]), out["certificate"]["findings"]
-    assert any(n.startswith("INCOMPLETE") for n in out["notes"])
+    assert out["complete"] is True
+    assert out["certificate"]["verdict"] == "passed", out["certificate"]["findings"]
+    assert any("sqrt(71111)" in e for eqs in out["certificate"]["complex_components"]
+               for e in eqs)
     # the elbow of the offset arm, near straight: 800 sin q4 + cos q4 = 0, found and kept
     equations = [e for c in out["components"] for e in c["equations"]]
     assert any("800*sin(q4)" in e and "cos(q4)" in e for e in equations), equations
-    # Pinocchio-free check that a point of the missing component is singular: q2 = atan(1/1600)
-    # and q4 = atan(1/800) whatever the other joints
-    tm = task_matrix(load_model(str(urdf), tip="link_7"), numeric=True)
+    # Pinocchio-free check: points of the offset component, q2 = atan(1/1600) and
+    # q4 = atan(1/800) whatever the other joints, are singular and on the locus; with either
+    # sign flipped they are regular and off it
+    from rankloci.locus_dict import parse_locus_dict
+
+    model = load_model(str(urdf), tip="link_7")
+    locus = parse_locus_dict(out, model)
+    tm = task_matrix(model, numeric=True)
     f = sp.lambdify(tm.variables, tm.matrix, "numpy")
-    q = np.random.default_rng(2).uniform(-np.pi, np.pi, 7)
-    q[1], q[3] = np.arctan2(1.0, 1600.0), np.arctan2(1.0, 800.0)
-    s = np.linalg.svd(np.array(f(*q), dtype=float), compute_uv=False)
-    assert s[-1] / s[0] < 1e-12
+    rng = np.random.default_rng(2)
+    for s2, s4 in ((1, 1), (1, 1), (-1, 1), (1, -1)):
+        q = rng.uniform(-np.pi, np.pi, 7)
+        q[1], q[3] = np.arctan2(s2, 1600.0), np.arctan2(s4, 800.0)
+        s = np.linalg.svd(np.array(f(*q), dtype=float), compute_uv=False)
+        on = s2 == s4 == 1
+        assert (s[-1] / s[0] < 1e-12) == on
+        assert locus.contains(q) == on
+    # the locus file is certified again by check
+    saved = tmp_path / "iiwa.json"
+    saved.write_text(run.stdout, encoding="utf-8")
+    from rankloci.cli import main
+
+    assert main(["check", str(urdf), "--tip", "link_7", "--locus", str(saved), "--quiet",
+                 "--samples", "2"]) == 0
 
 
 def test_the_straight_elbow_alone_is_not_singular(urdf):

@@ -228,3 +228,30 @@ def test_extended_precision_separates_singular_from_nearly_singular():
     assert d.precise == "regular" and d.regular
     assert abs(d.precise_ratio - 1e-12) < 1e-20
     assert d.to_dict()["precise"]["verdict"] == "regular"
+
+
+@pytest.mark.parametrize("matrix, component", [
+    # J vanishes on the component; at its double-precision points only the rounding residue
+    # (sin(pi) = 1.2e-16) is left, whose sigma ratio is 1
+    ("sines", Component((sp.sin(sp.Symbol("x", real=True)), sp.sin(sp.Symbol("y", real=True))),
+                        dimension=0, rank_drop=2)),
+    ("one row", Component((sp.cos(sp.Symbol("x", real=True)), sp.Symbol("y", real=True)),
+                          dimension=0, rank_drop=1)),
+])
+def test_a_matrix_that_vanishes_on_a_component_is_singular_there(matrix, component):
+    from rankloci.locus import Locus
+
+    x, y = sp.symbols("x y", real=True)
+    M = {"sines": sp.Matrix([[sp.sin(x), -sp.sin(y)], [sp.sin(y), sp.sin(x)]]),
+         "one row": sp.Matrix([[sp.cos(x), y]])}[matrix]
+    locus = Locus("m", (x, y), {}, M.shape, "determinant", (component,))
+    report = cross_check(locus, M, (x, y), angles=(x,) if matrix == "one row" else (x, y),
+                         samples=SAMPLES, rng=np.random.default_rng(SEED), seed=SEED)
+    assert report.components[0].ok and report.ok, render_check_text(report)
+    # the same component shifted off the locus is still refused
+    off = dataclasses.replace(component, equations=(component.equations[0] - sp.Rational(1, 2),
+                                                    *component.equations[1:]))
+    report = cross_check(dataclasses.replace(locus, components=(off,)), M, (x, y),
+                         angles=(x,) if matrix == "one row" else (x, y), samples=SAMPLES,
+                         rng=np.random.default_rng(SEED), seed=SEED)
+    assert not report.components[0].ok
