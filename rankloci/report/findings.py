@@ -73,14 +73,25 @@ def _equation_math(exprs, excluding=(), *, width: float = LINE_WIDTH) -> Math:
     return Math(tuple(lines), aligned=True)
 
 
-def _solved(comp) -> str:
-    """The exact values the component fixes, as inline math."""
+def _solved(solved: dict) -> str:
+    """Exact values of joint variables (variable -> values), as inline math."""
     parts = []
-    for q, vals in comp.solved.items():
+    for q, vals in solved.items():
         vs = ", ".join(value_latex(v) for v in vals)
         parts.append(f"${latex(q)} \\in \\lbrace {vs} \\rbrace$" if len(vals) > 1
                      else f"${latex(q)} = {vs}$")
     return "; ".join(parts)
+
+
+def _solved_at_values(report, comp) -> str:
+    """The values a component fixes once the parameters have the model's values, or ""."""
+    from ..methods.readable import solved_at_values
+
+    params = dict(getattr(report.locus, "parameters", None) or {})
+    if not params:
+        return ""
+    found = solved_at_values(comp.equations, report.tm.variables, params)
+    return _solved(found) if found else ""
 
 
 def _component_blocks(report, view, level: int = 3):
@@ -102,7 +113,11 @@ def _component_blocks(report, view, level: int = 3):
                         "below its maximum at every configuration)."))
     items = []
     if c.solved:
-        items.append(f"Solved: {_solved(c)}.")
+        items.append(f"Solved: {_solved(c.solved)}.")
+    elif not c.parameter_conditions:
+        at_values = _solved_at_values(report, c)
+        if at_values:
+            items.append(f"Solved at the model's parameter values: {at_values}.")
     n = len(report.tm.variables)
     items.append(f"Dimension {c.dimension} in the {n}-dimensional joint space; rank drop "
                  f"{c.rank_drop}; free joint variables: {variables_text(c.free)}.")
