@@ -406,3 +406,11 @@ PRECISE_FALL = 1e-4
 #: it a stable ratio can come from data rounded to double precision).  Anything else is left
 #: undecided, and the double-precision verdict stands.
 PRECISE_STABLE_RTOL = 1e-6
+
+#: A factored determinant ``det J = kappa * f1**m1 * ...`` shown in a report is checked at
+#: random configurations: the ratio det J / (f1**m1 ...) must be the same constant kappa at
+#: each, to this relative difference.  numpy's LU determinant is accurate to about
+#: cond(J) * n * eps relative to |det J|; random configurations of the built-in models keep
+#: sigma_min/sigma_max above 1e-3 (cond below 1e3), so honest ratios agree to ~1e-12, while a
+#: wrong exponent or a missing factor changes the ratio by order one between points.
+DET_FACTOR_RTOL = 1e-8

@@ -79,6 +79,7 @@ class Report:
     stamp: str = ""           # a date and time to print, only when asked for
     near: object = None       # near_section.NearData: manipulability and rates near the locus
     limits: tuple = ()        # rankloci.limits.LimitCheck per component of the model's locus
+    determinant: object = None  # determinant.FactoredDeterminant of a square J, or None
 
     def limit_check(self, index: int):
         """The :class:`~rankloci.limits.LimitCheck` of component ``index`` (1-based), or None."""
@@ -259,6 +260,25 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
     if locus is not None:
         views, notation = timed("readings", lambda: _component_views(
             model, model_tm, locus, nm, params, rng(seed), jac))
+    # det J of a square J as the product of the components' equations, in the forms shown
+    determinant = None
+    main = [v for v in views if not v.special]
+    if (locus is not None and getattr(locus, "base", None) is None and model_tm.shape[0]
+            == model_tm.shape[1] and main
+            and all(len(v.component.equations) == 1 for v in main)):
+        from .determinant import factored_determinant
+
+        kinds = ["revolute" if v in model_tm.angles else "prismatic" for v in model_tm.variables]
+        forms = [v.folded[0] if len(v.folded) == 1 else v.component.equations[0] for v in main]
+        spelled = {s: f for s, f in notation}
+        determinant = timed("det J factored", lambda: factored_determinant(
+            model_tm.matrix, model_tm.variables, kinds,
+            [sp.sympify(f).subs(spelled) for f in forms], params, rng(seed)))
+        if determinant is not None:   # shown in the notation of J, checked spelled out
+            from dataclasses import replace
+
+            determinant = replace(determinant, factors=tuple(forms))
+
     augmented = ()
     base = getattr(locus, "base", None) if locus is not None else None
     if base is not None:
@@ -292,7 +312,7 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
                   exact=exact_result, tree=tree, figures=figures, timings=tuple(timings),
                   seed=seed, samples=samples, timeout=timeout, numeric=numeric,
                   augmented=augmented, notes=notes, model_notes=model_notes, stamp=stamp,
-                  near=near, limits=limits)
+                  near=near, limits=limits, determinant=determinant)
 
 
 def _strokes(model, nm) -> dict:

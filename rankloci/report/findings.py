@@ -14,11 +14,11 @@ import struct
 import sympy as sp
 
 from ..methods import method_for
-from ..tolerances import RANK_RTOL
+from ..tolerances import DET_FACTOR_RTOL, RANK_RTOL
 from .blocks import (SIGMA, Bullets, Code, Figure, Heading, Math, Para, Table, block_label,
                      counted, plural, signed, variables_text)
 from .escape import literal, ref
-from .mathfmt import LINE_WIDTH, broken_lines, latex, value_latex
+from .mathfmt import LINE_WIDTH, broken_lines, latex, math_width, value_latex
 from .near_section import near_blocks
 
 #: A drawn branch tree with more boxes than this is set on a page of its own.
@@ -261,6 +261,7 @@ def _locus_section(report):
     else:
         out.append(Para("No component exists for the model's parameter values: $J$ has full "
                         "rank everywhere."))
+    out += _determinant_blocks(report, main)
     for v in main:
         out += _component_blocks(report, v)
     if special:
@@ -274,6 +275,40 @@ def _locus_section(report):
                         "the frame it worked in) are in "
                         f"{ref(block_label(report, 'notes'), 'the appendix')}."))
     return out
+
+
+def _factor_latex(e, power: int) -> str:
+    text = latex(e)
+    if isinstance(e, sp.Add) or (power > 1 and not isinstance(e, sp.Symbol)
+                                 and len(text) > 2 and not text.endswith("}")):
+        text = rf"\left({text}\right)"
+    return text + (f"^{{{power}}}" if power > 1 else "")
+
+
+def _determinant_blocks(report, main):
+    """det J factored into the components' equations (square J), with how it was checked."""
+    d = report.determinant
+    if d is None or len(d.factors) != len(main):
+        return []
+    factors = [_factor_latex(f, m) for f, m in zip(d.factors, d.powers)]
+    head = latex(d.constant)
+    head = "" if head == "1" else "-" if head == "-1" else head + " "
+    one = r"\det J = " + head + " ".join(factors)
+    if math_width(one) <= LINE_WIDTH:
+        lines, aligned = (one,), False
+    else:
+        lines = (r"\det J &= " + head + factors[0],) + tuple(r"&\quad \cdot " + f
+                                                            for f in factors[1:])
+        aligned = True
+    how = (f"${latex(d.constant)}$, which matches at the model's parameter values and at "
+           "two other random sets of values" if d.exact_constant else
+           "a number at the model's parameter values, given to 6 significant digits")
+    return [Para(r"$J$ is square, so its components are the factors of $\det J$. With their "
+                 "multiplicities and the constant factor:"),
+            Math(lines, aligned=aligned),
+            Para(rf"The product was checked against $\det J$ at {d.points} random "
+                 "configurations (the ratio is one constant to a relative "
+                 f"{DET_FACTOR_RTOL:g}); the constant factor is {how}.")]
 
 
 def _figure_section(report):
