@@ -10,7 +10,7 @@ the time limit) and the path of graphviz's ``dot`` (or None for each).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import sympy as sp
@@ -48,6 +48,54 @@ class ComponentView:
     motions: tuple = ()       # the lost motion along each lost direction, in a few words
     axes: tuple = ()          # the joints whose axes the reading names (drawn highlighted)
     lost_axis: tuple = ()     # the axis of the rotation collinear axes lose (or ())
+    equal_parameters: tuple = ()  # EqualParameterForm of equations that shrink (or ())
+
+
+@dataclass(frozen=True)
+class EqualParameterForm:
+    """An equation of a component with parameters of equal value set equal, where terms cancel.
+
+    ``equalities`` are (parameter, the parameter it is replaced by) pairs; ``terms``
+    the numbers of terms before and after (expanded); ``form`` the shorter equation.
+    """
+
+    index: int                # 0-based, into the component's equations
+    equalities: tuple
+    terms: tuple
+    form: object
+
+
+def equal_parameter_forms(equations, params) -> tuple:
+    """The equations that lose terms when parameters of equal value are set equal.
+
+    Each parameter is replaced by the first (by name) of those with the same value; an
+    equality is used only when it alone removes terms from the equation.
+
+    Examples
+    --------
+    >>> a3, a4, q = sp.symbols("a3 a4 q")
+    >>> e = a3 * sp.cos(q) - a4 * sp.cos(q) + a4 * sp.sin(q)
+    >>> f = equal_parameter_forms([e], {a3: 7.11, a4: 7.11})[0]
+    >>> f.equalities, f.terms, f.form
+    (((a4, a3),), (3, 1), a3*sin(q))
+    """
+    groups: dict = {}
+    for p in sorted(params, key=str):
+        groups.setdefault(sp.nsimplify(params[p], rational=True), []).append(p)
+    rep = {p: g[0] for g in groups.values() if len(g) > 1 for p in g[1:]}
+    out = []
+    for k, e in enumerate(equations):
+        e = sp.sympify(e)
+        before = len(sp.Add.make_args(sp.expand(e)))
+        used = tuple((p, r) for p, r in rep.items() if p in e.free_symbols
+                     and len(sp.Add.make_args(sp.expand(e.xreplace({p: r})))) < before)
+        if not used:
+            continue
+        form = sp.expand(e.xreplace(dict(used)))
+        if form != 0:
+            out.append(EqualParameterForm(k, used, (before, len(sp.Add.make_args(form))),
+                                          sp.factor_terms(form)))
+    return tuple(out)
 
 
 @dataclass(frozen=True)
@@ -275,8 +323,6 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
             model_tm.matrix, model_tm.variables, kinds,
             [sp.sympify(f).subs(spelled) for f in forms], params, rng(seed)))
         if determinant is not None:   # shown in the notation of J, checked spelled out
-            from dataclasses import replace
-
             determinant = replace(determinant, factors=tuple(forms))
 
     augmented = ()
@@ -467,10 +513,15 @@ def _component_views(model, model_tm, locus, nm, params, rng, jac):
                     motions.append(motion)
         short = [r for r in directions if len(r) <= SUMMARY_CHARS]
         summary = summary or (short[0] if short else "")
+        equal = ()
+        if not special and params:
+            equal = tuple(
+                replace(f, form=(fold([f.form]) or (f.form,))[0])
+                for f in equal_parameter_forms(c.equations, params))
         views.append(ComponentView(i, c, special, tuple(geometry + directions), folded,
                                    folded_excluding, getattr(c, "kind", None), summary,
                                    (summary,) if geometry else (), tuple(motions), named,
-                                   lost_axis))
+                                   lost_axis, equal))
     items = sorted(notation.values(), key=lambda p: _notation_key(p[1], variables))
     return tuple(views), tuple(items)
 

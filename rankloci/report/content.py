@@ -18,7 +18,7 @@ from .blocks import (Appendix, Bullets, Code, Heading, Marker, Math, Para, Table
                      counted, numbered, plural, variables_text)
 from .escape import literal, ref
 from .findings import appendix_findings, findings_blocks
-from .mathfmt import LINE_WIDTH, broken_lines, latex, math_width, trig_latex
+from .mathfmt import LINE_WIDTH, broken_lines, latex, math_width, scaled_integers, trig_latex
 
 __all__ = ["report_blocks", "matrix_blocks", "comparison_headline", "summary_table",
            "limits_sentence", "limits_text", "SUMMARY_EQUATION_WIDTH"]
@@ -26,7 +26,7 @@ __all__ = ["report_blocks", "matrix_blocks", "comparison_headline", "summary_tab
 
 def _m(expr) -> str:
     """An expression as inline math."""
-    return f"${sp.latex(expr, fold_short_frac=True)}$"
+    return f"${scaled_integers(sp.latex(expr, fold_short_frac=True))}$"
 
 
 def _num(x, digits=6) -> str:

@@ -18,7 +18,8 @@ from ..tolerances import DET_FACTOR_RTOL, RANK_RTOL
 from .blocks import (SIGMA, Bullets, Code, Figure, Heading, Math, Para, Table, block_label,
                      counted, plural, signed, variables_text)
 from .escape import literal, ref
-from .mathfmt import LINE_WIDTH, broken_lines, latex, math_width, value_latex
+from .mathfmt import (LINE_WIDTH, LONG_INTEGER_DIGITS, SHOWN_DIGITS, broken_lines,
+                      has_long_integers, latex, math_width, value_latex)
 from .near_section import near_blocks
 
 #: A drawn branch tree with more boxes than this is set on a page of its own.
@@ -153,6 +154,14 @@ def _component_blocks(report, view, level: int = 3):
                      + ", ".join(f"{ref(label, 'Figure', figure=True)} ({what})"
                                  for label, what in figs) + ".")
     out.append(Bullets(tuple(items)))
+    for f in getattr(view, "equal_parameters", ()):
+        eqs_n = len(c.equations)
+        which = "The equation" if eqs_n == 1 else f"Equation {f.index + 1} of {eqs_n}"
+        same = ", ".join(f"${latex(p)} = {latex(r)}$" for p, r in f.equalities)
+        out.append(Para(f"{which} is shorter with the model's equal parameter values "
+                        f"{same}: {f.terms[0] - f.terms[1]} of its {f.terms[0]} terms cancel, "
+                        "and it reads"))
+        out.append(_equation_math([f.form]))
     if view.readings:
         out.append(Para("Geometric facts hold at the sample point and at other points of the "
                         "component, and at no random configuration; directions are checked "
@@ -251,6 +260,12 @@ def _locus_section(report):
                     "of $J$ there (the task velocities no joint velocity produces)."))
     main = [v for v in report.components if not v.special]
     special = [v for v in report.components if v.special]
+    if any(has_long_integers(e) for v in report.components
+           for e in tuple(v.component.equations) + tuple(v.component.excluding)):
+        out.append(Para(f"Integers of more than {LONG_INTEGER_DIGITS} digits in the displayed "
+                        f"equations are rounded to {SHOWN_DIGITS} significant digits, as "
+                        r"$m \cdot 10^{k}$; the plain text of each component's equations and "
+                        "the JSON (`rankloci locus --format json`) keep them exact."))
     if main:
         rows = []
         for v in main:
