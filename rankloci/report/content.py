@@ -17,7 +17,7 @@ from ..expr import as_expression
 from .blocks import (Appendix, Bullets, Code, Heading, Marker, Math, Para, Table, block_label,
                      counted, numbered, plural, variables_text)
 from .escape import literal, ref
-from .findings import appendix_findings, findings_blocks
+from .findings import appendix_findings, caveats, findings_blocks
 from .mathfmt import LINE_WIDTH, broken_lines, latex, math_width, scaled_integers, trig_latex
 
 __all__ = ["report_blocks", "matrix_blocks", "comparison_headline", "summary_table",
@@ -81,6 +81,9 @@ def _summary(report):
     if report.locus.degenerate:
         bits.append(" The matrix is rank deficient at every configuration (degenerate design).")
     blocks.append(Para("".join(bits)))
+    said = caveats(report)
+    if said:
+        blocks.append(Para(" ".join(said) + " Details are in the appendix.", lead="Caveats."))
     if comps:
         blocks.append(summary_table(report, comps))
         if hasattr(report.model, "joints"):

@@ -45,8 +45,8 @@ def findings_blocks(report) -> list:
 
 
 def appendix_findings(report) -> list:
-    """The branch tree and the notes of the analysis, for the appendix."""
-    out = _tree_section(report)
+    """The second opinions, the branch tree and the notes of the analysis, for the appendix."""
+    out = _second_opinions(report) + _tree_section(report)
     notes = (list(report.locus.notes) if report.locus is not None else []) + list(report.notes)
     if notes:
         out.append(Heading(2, "Notes of the analysis", block_label(report, "notes")))
@@ -397,12 +397,29 @@ def _check_section(report):
     rows.append(("completeness probe", str(chk.probe_starts),
                  "pass" if not chk.uncovered else "FAIL",
                  f"{chk.probe_singular} singular minima, {len(chk.uncovered)} on no component"))
-    if report.exact is not None:
-        ex = report.exact
-        rows.append(("Singular (exact primes)", "-", ex.status, ex.reason))
     out.append(Table(("check", "points", "result", "detail"), tuple(rows), "lrll",
                      caption=f"seed {chk.seed}, {chk.samples} samples"))
     out.append(Para(f"Result: {'PASS' if chk.ok else 'FAIL'} (seed {chk.seed})."))
+    if chk.findings or report.exact is not None:
+        out.append(Para("The second opinions (the exact check with Singular, the FSP reducer "
+                        "and the largest maximal minor beside the SVD) are in "
+                        f"{ref(block_label(report, 'second'), 'the appendix')}."))
+    for p in chk.uncovered[:5]:
+        out.append(Para("Uncovered singular point: (" + ", ".join(signed(x, 6) for x in p.q)
+                        + f"), sigma ratio {p.sigma_ratio:.1e}."))
+    return out
+
+
+def _second_opinions(report) -> list:
+    """The exact check with Singular and the FSP and minor findings, for the appendix."""
+    chk = report.check
+    if chk is None or not (chk.findings or report.exact is not None):
+        return []
+    out = [Heading(2, "Second opinions", block_label(report, "second"))]
+    if report.exact is not None:
+        ex = report.exact
+        out.append(Table(("check", "result", "detail"),
+                         (("Singular (exact primes)", ex.status, ex.reason),), "lll"))
     if chk.findings:
         out.append(Para(f"{counted(len(chk.findings), 'finding')} where the FSP reducer or the "
                         "largest maximal minor disagrees with the SVD (recorded, not failures; "
@@ -412,9 +429,29 @@ def _check_section(report):
             items.append(f"... and {len(chk.findings) - 10} more")
         out.append(Bullets(tuple(items)))
         out.append(Para(_findings_explained(chk.findings)))
-    for p in chk.uncovered[:5]:
-        out.append(Para("Uncovered singular point: (" + ", ".join(signed(x, 6) for x in p.q)
-                        + f"), sigma ratio {p.sigma_ratio:.1e}."))
+    return out
+
+
+def caveats(report) -> list:
+    """What limits the summary's verdict, in sentences: said on the first page, not only in
+    the appendix (a special case of the symbolic analysis, a skipped or disagreeing exact
+    check, second opinions that differ from the SVD)."""
+    out = []
+    notes = list(report.locus.notes) if report.locus is not None else []
+    for n in notes:
+        if "rerun with --numeric-parameters" in n:
+            out.append(n[0].upper() + n[1:].replace("rerun with --numeric-parameters",
+                                                    "components there may be missing; rerun "
+                                                    "with `--numeric-parameters`") + ".")
+    ex = report.exact
+    if ex is not None and ex.status == "disagree":
+        out.append(f"The exact check with Singular disagrees: {ex.reason}.")
+    elif ex is not None and ex.status == "skipped":
+        out.append(f"The exact check with Singular was skipped ({ex.reason}).")
+    chk = report.check
+    if chk is not None and chk.findings:
+        out.append(f"At {counted(len(chk.findings), 'point')} the FSP reducer or the largest "
+                   "maximal minor disagrees with the SVD (recorded, not failures).")
     return out
 
 
