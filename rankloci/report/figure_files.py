@@ -171,8 +171,9 @@ def _isolated_sentence(data, comps, n: int) -> str:
     return (f" {what[0].upper() + what[1:]} {'has' if len(dots) == 1 else 'have'} {size} in "
             f"the {n}-dimensional joint space (a redundant arm keeps its rank until two or more "
             "conditions hold at once), so a two-joint slice meets "
-            f"{'it' if len(dots) == 1 else 'them'} only at isolated points (dots); around "
-            "each the ratio dips into a pit, not along a valley.")
+            f"{'it' if len(dots) == 1 else 'them'} only at isolated points (dots), where the "
+            "ratio is zero; next to them it can stay small along a valley where the slice runs "
+            "close to the component without meeting it.")
 
 
 def _units_text(units: str) -> str:
