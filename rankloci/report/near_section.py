@@ -29,6 +29,12 @@ PATH_OFFSET = 0.4
 MAX_NEAR_COMPONENTS = 4
 #: Arms with more joints get the polytope of the position rows only (2^n vertices).
 FULL_POLYTOPE_JOINTS = 7
+#: Panels of the near-manipulability figure in one row.
+NEAR_COLUMNS = 3
+#: Font size (pt) of that figure as drawn: a row of three 3.4-inch panels is printed at about
+#: half size (0.85 of a 6.3-inch line), so 13 pt titles and 12 pt legends and ticks read as
+#: 6 pt and more.
+NEAR_FONT_PT = 13
 #: Steps of the path through a component.
 PATH_STEPS = 120
 
@@ -96,7 +102,7 @@ def near_data(model, locus, nm, params, seed: int, stem: str) -> NearData | None
     """
     from ..model import RobotModel
     from ..near.api import joint_rates, manipulability
-    from ..near.figures import path_figure, plot_manipulability
+    from ..near.figures import path_figure
     from ..near.manipulability import ellipsoid
     from ..near.nearest import ComponentDistance
     from ..near.path import Kinematics
@@ -133,18 +139,9 @@ def near_data(model, locus, nm, params, seed: int, stem: str) -> NearData | None
         starts[idx] = (q0, d, k)
 
     # figure: the position rows' ellipsoid and polytope at each pose
-    from matplotlib.figure import Figure as MplFigure
-
-    three = len(kin.position_rows) == 3
     figs = []
     if len(kin.position_rows) in (2, 3):
-        fig = MplFigure(figsize=(3.2 * len(poses), 3.4 if three else 3.0), layout="constrained")
-        for i, p in enumerate(poses, start=1):
-            ax = fig.add_subplot(1, len(poses), i, projection="3d" if three else None)
-            plot_manipulability(manipulability(model, p.q, position_only=True).J, ax=ax)
-            ax.set_title("regular pose" if p.component == 0 else f"near component {p.component}",
-                         fontsize="small")
-            _fixed_legend(ax, fontsize="x-small", loc="upper left")
+        fig = near_manipulability_figure(model, poses, three=len(kin.position_rows) == 3)
         figs.append(FigureFile(f"{stem}-near-manipulability.png", figure_png(fig),
                                _pose_caption(poses, distance_unit(model)), "near-manipulability",
                                f"{stem}: manipulability ellipsoids and polytopes",
@@ -173,6 +170,37 @@ def near_data(model, locus, nm, params, seed: int, stem: str) -> NearData | None
                                (idx,)))
         break
     return NearData(tuple(poses), path, "position" if position else "task", tuple(figs))
+
+
+def near_manipulability_figure(model, poses, *, three: bool = True):
+    """The position rows' ellipsoid and polytope at each of ``poses``, a matplotlib Figure.
+
+    At most :data:`NEAR_COLUMNS` panels a row, with text of :data:`NEAR_FONT_PT`, so that
+    the text keeps a legible size when the figure is scaled to the line width.
+    """
+    import matplotlib
+    from matplotlib.figure import Figure as MplFigure
+    from matplotlib.ticker import MaxNLocator
+
+    from ..near.api import manipulability
+    from ..near.figures import plot_manipulability
+
+    cols = min(NEAR_COLUMNS, len(poses))
+    rows = -(-len(poses) // cols)
+    with matplotlib.rc_context({"font.size": NEAR_FONT_PT}):
+        fig = MplFigure(figsize=(3.4 * cols, (3.4 if three else 3.0) * rows),
+                        layout="constrained")
+        for i, p in enumerate(poses, start=1):
+            ax = fig.add_subplot(rows, cols, i, projection="3d" if three else None)
+            plot_manipulability(manipulability(model, p.q, position_only=True).J, ax=ax)
+            ax.set_title("regular pose" if p.component == 0
+                         else f"near component {p.component}", fontsize=NEAR_FONT_PT)
+            ax.tick_params(labelsize=NEAR_FONT_PT - 1)
+            # three ticks an axis: at this size more would run into each other
+            for axis in (ax.xaxis, ax.yaxis) + ((ax.zaxis,) if three else ()):
+                axis.set_major_locator(MaxNLocator(3))
+            _fixed_legend(ax, fontsize=NEAR_FONT_PT - 1, loc="upper left")
+    return fig
 
 
 def _fixed_legend(ax, **where):
