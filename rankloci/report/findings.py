@@ -45,14 +45,18 @@ def findings_blocks(report) -> list:
 
 
 def appendix_findings(report) -> list:
-    """The second opinions, the branch tree and the notes of the analysis, for the appendix."""
-    out = _second_opinions(report) + _tree_section(report)
+    """The second opinions, the notes of the analysis and the branch tree, for the appendix.
+
+    The tree comes last: its figure, often a page of its own, then ends the document
+    instead of leaving the page before the notes half empty.
+    """
+    out = _second_opinions(report)
     notes = (list(report.locus.notes) if report.locus is not None else []) + list(report.notes)
     if notes:
         out.append(Heading(2, "Notes of the analysis", block_label(report, "notes")))
         out.append(Bullets(tuple(n[0].upper() + n[1:] + ("" if n.endswith(".") else ".")
                                  for n in notes)))
-    return out
+    return out + _tree_section(report)
 
 
 def _equation_math(exprs, excluding=(), *, width: float = LINE_WIDTH) -> Math:
@@ -353,11 +357,13 @@ def _tree_section(report):
     if tree is None:
         return []
     out = [Heading(2, "Branch tree", block_label(report, "tree"))]
-    out.append(Para(f"The {report.locus.method} method grows a tree of branches; each leaf "
-                    "stops for the reason shown. The tree has "
-                    f"{counted(tree.total_nodes, 'node')}."))
-    rows = tuple((reason or "(none)", str(n)) for reason, n in sorted(tree.outcomes.items()))
-    out.append(Table(("stop reason of the leaves", "leaves"), rows, "lr"))
+    text = [Para(f"The {report.locus.method} method grows a tree of branches; each leaf "
+                 "stops for the reason shown. The tree has "
+                 f"{counted(tree.total_nodes, 'node')}."),
+            Table(("stop reason of the leaves", "leaves"),
+                  tuple((reason or "(none)", str(n)) for reason, n in sorted(tree.outcomes.items())),
+                  "lr")]
+    # the figure first: a float that goes to a page of its own leaves the text to fill this one
     for f in figs:
         # a tree of more than a dozen boxes gets a page of its own, where it can be read
         width, height = struct.unpack(">II", f.png[16:24])
@@ -366,7 +372,7 @@ def _tree_section(report):
         out.append(Figure(f.name, f.caption, block_label(report, "fig", "tree"),
                           tall=f.boxes > TALL_TREE_BOXES and not turned, alt=f.title,
                           turned=turned))
-    return out
+    return out + text
 
 
 def _check_section(report):
