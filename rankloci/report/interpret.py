@@ -398,14 +398,23 @@ def component_reading(model, equations, labels, points, factor_points, rng, para
     for _ in range(RANDOM_POINTS):
         random_facts |= facts_at(model, random_configuration(model, rng), params, meets)
     whole = _common(model, points, params, meets, random_facts)
-    dependent = ""
+    dependent, whole_arm = "", ""
     if matrix is not None:
         cols = dependent_joints([matrix(q) for q in points],
                                 [str(k + 1) for k in range(len(model.joints))])
         if cols and not _fills_rows([matrix(q) for q in points], [int(c) - 1 for c in cols]):
             dependent = (f"the columns of joints {_and(cols)} of J are linearly dependent "
                          f"(checked at {len(points)} points)")
+        elif cols:
+            # naming these columns would restate the locus; what is said is that no fewer do
+            whole_arm = (f"no fact about the axes holds at all {len(points)} points checked, "
+                         f"and no set of fewer than {len(cols)} joints has dependent columns: "
+                         "a singularity of the arm as a whole, not of its shoulder, elbow or "
+                         "wrist alone")
     if not whole:
+        if whole_arm and not dependent:
+            text = whole_arm[0].upper() + whole_arm[1:]
+            return Reading("", text, (), "", "", len(points), (), (), text)
         if not dependent:
             return None
         text = dependent[0].upper() + dependent[1:]
