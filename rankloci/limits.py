@@ -11,7 +11,8 @@ Each answer states how it was decided:
 - ``"sample point"``: the component's sample point (a revolute angle moved by
   whole turns where that helps) lies in the box.
 - ``"exact"``: the component fixes a bounded variable at exact values
-  (:attr:`~rankloci.locus.Component.solved`), and none of them (nor, for a
+  (:attr:`~rankloci.locus.Component.solved`, or the real roots of an equation in a
+  prismatic variable alone, such as a boom's ``q3 = 0``), and none of them (nor, for a
   revolute joint, any value a whole number of turns away) lies within its
   limits: the component does not meet the box.  The values are compared in
   :data:`EXACT_DIGITS` digits.
@@ -169,7 +170,20 @@ def _exact_outside(comp, names, kinds, limits):
     """A sentence when a solved variable has no exact value within its limits, else ""."""
     import mpmath
 
-    for var, values in comp.solved.items():
+    fixed = dict(comp.solved)
+    for e in comp.equations:
+        e = sp.sympify(e)
+        if len(e.free_symbols) != 1:
+            continue
+        (var,) = e.free_symbols
+        name = str(var)
+        if var in fixed or name not in names or kinds[names.index(name)] != "prismatic":
+            continue
+        try:
+            fixed[var] = tuple(sp.Poly(e, var).real_roots())
+        except (sp.PolynomialError, NotImplementedError):
+            continue
+    for var, values in fixed.items():
         name = str(var)
         if name not in names:
             continue
@@ -189,7 +203,7 @@ def _exact_outside(comp, names, kinds, limits):
                     turn = 2 * mpmath.pi
                     x = x + mpmath.ceil((lo - x) / turn) * turn
                 margin = mpmath.mpf(10) ** -(EXACT_DIGITS - 5)
-                if x <= hi + margin:
+                if lo - margin <= x <= hi + margin:
                     inside = True
                     break
         if not inside:

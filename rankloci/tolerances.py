@@ -440,3 +440,11 @@ FOLLOWER_RTOL = 1e-8
 #: calls on the locus exactly what the locus computation would; regular poses of the built-in
 #: models have 1e-3 or more.
 VIEW_ON_LOCUS_RTOL = RANK_RTOL
+
+#: A factored determinant ``det J = kappa * f1**m1 * ...`` shown in a report is checked at
+#: random configurations: the ratio det J / (f1**m1 ...) must be the same constant kappa at
+#: each, to this relative difference.  numpy's LU determinant is accurate to about
+#: cond(J) * n * eps relative to |det J|; random configurations of the built-in models keep
+#: sigma_min/sigma_max above 1e-3 (cond below 1e3), so honest ratios agree to ~1e-12, while a
+#: wrong exponent or a missing factor changes the ratio by order one between points.
+DET_FACTOR_RTOL = 1e-8

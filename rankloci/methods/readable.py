@@ -12,7 +12,7 @@ import sympy as sp
 
 from ..kinematics import trig_normal
 
-__all__ = ["solved_value", "readable_equations"]
+__all__ = ["solved_value", "readable_equations", "solved_at_values"]
 
 
 def solved_value(e, q):
@@ -52,6 +52,33 @@ def solved_value(e, q):
                 return None
             vals.append(v)
     return tuple(sorted(set(vals), key=lambda x: float(x))) if vals else None
+
+
+def solved_at_values(eqs, variables, values) -> dict:
+    """Values of the joint variables that the equations fix once the parameters have values.
+
+    A component such as the PUMA elbow, ``a3*sin(q3) + d4*cos(q3) = 0``, fixes q3
+    only for given a3 and d4.  Each equation in one joint variable (after the
+    parameters in ``values`` are substituted as exact rationals) is solved with
+    :func:`solved_value`; variables it cannot solve are left out.
+
+    Examples
+    --------
+    >>> a, d, q = sp.symbols("a d q")
+    >>> solved_at_values([a * sp.sin(q) + d * sp.cos(q)], [q], {a: 1, d: 1})
+    {q: (-pi/4, 3*pi/4)}
+    """
+    subs = {k: sp.nsimplify(v, rational=True) for k, v in dict(values).items()}
+    out = {}
+    for e in eqs:
+        e = sp.sympify(e).subs(subs)
+        free = [q for q in variables if q in e.free_symbols]
+        if len(free) != 1 or free[0] in out or e.free_symbols != {free[0]}:
+            continue
+        vals = solved_value(e, free[0])
+        if vals:
+            out[free[0]] = vals
+    return out
 
 
 def readable_equations(eqs, variables):

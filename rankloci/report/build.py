@@ -10,7 +10,7 @@ the time limit) and the path of graphviz's ``dot`` (or None for each).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import sympy as sp
@@ -48,6 +48,54 @@ class ComponentView:
     motions: tuple = ()       # the lost motion along each lost direction, in a few words
     axes: tuple = ()          # the joints whose axes the reading names (drawn highlighted)
     lost_axis: tuple = ()     # the axis of the rotation collinear axes lose (or ())
+    equal_parameters: tuple = ()  # EqualParameterForm of equations that shrink (or ())
+
+
+@dataclass(frozen=True)
+class EqualParameterForm:
+    """An equation of a component with parameters of equal value set equal, where terms cancel.
+
+    ``equalities`` are (parameter, the parameter it is replaced by) pairs; ``terms``
+    the numbers of terms before and after (expanded); ``form`` the shorter equation.
+    """
+
+    index: int                # 0-based, into the component's equations
+    equalities: tuple
+    terms: tuple
+    form: object
+
+
+def equal_parameter_forms(equations, params) -> tuple:
+    """The equations that lose terms when parameters of equal value are set equal.
+
+    Each parameter is replaced by the first (by name) of those with the same value; an
+    equality is used only when it alone removes terms from the equation.
+
+    Examples
+    --------
+    >>> a3, a4, q = sp.symbols("a3 a4 q")
+    >>> e = a3 * sp.cos(q) - a4 * sp.cos(q) + a4 * sp.sin(q)
+    >>> f = equal_parameter_forms([e], {a3: 7.11, a4: 7.11})[0]
+    >>> f.equalities, f.terms, f.form
+    (((a4, a3),), (3, 1), a3*sin(q))
+    """
+    groups: dict = {}
+    for p in sorted(params, key=str):
+        groups.setdefault(sp.nsimplify(params[p], rational=True), []).append(p)
+    rep = {p: g[0] for g in groups.values() if len(g) > 1 for p in g[1:]}
+    out = []
+    for k, e in enumerate(equations):
+        e = sp.sympify(e)
+        before = len(sp.Add.make_args(sp.expand(e)))
+        used = tuple((p, r) for p, r in rep.items() if p in e.free_symbols
+                     and len(sp.Add.make_args(sp.expand(e.xreplace({p: r})))) < before)
+        if not used:
+            continue
+        form = sp.expand(e.xreplace(dict(used)))
+        if form != 0:
+            out.append(EqualParameterForm(k, used, (before, len(sp.Add.make_args(form))),
+                                          sp.factor_terms(form)))
+    return tuple(out)
 
 
 @dataclass(frozen=True)
@@ -79,6 +127,7 @@ class Report:
     stamp: str = ""           # a date and time to print, only when asked for
     near: object = None       # near_section.NearData: manipulability and rates near the locus
     limits: tuple = ()        # rankloci.limits.LimitCheck per component of the model's locus
+    determinant: object = None  # determinant.FactoredDeterminant of a square J, or None
 
     def limit_check(self, index: int):
         """The :class:`~rankloci.limits.LimitCheck` of component ``index`` (1-based), or None."""
@@ -259,6 +308,23 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
     if locus is not None:
         views, notation = timed("readings", lambda: _component_views(
             model, model_tm, locus, nm, params, rng(seed), jac))
+    # det J of a square J as the product of the components' equations, in the forms shown
+    determinant = None
+    main = [v for v in views if not v.special]
+    if (locus is not None and getattr(locus, "base", None) is None and model_tm.shape[0]
+            == model_tm.shape[1] and main
+            and all(len(v.component.equations) == 1 for v in main)):
+        from .determinant import factored_determinant
+
+        kinds = ["revolute" if v in model_tm.angles else "prismatic" for v in model_tm.variables]
+        forms = [v.folded[0] if len(v.folded) == 1 else v.component.equations[0] for v in main]
+        spelled = {s: f for s, f in notation}
+        determinant = timed("det J factored", lambda: factored_determinant(
+            model_tm.matrix, model_tm.variables, kinds,
+            [sp.sympify(f).subs(spelled) for f in forms], params, rng(seed)))
+        if determinant is not None:   # shown in the notation of J, checked spelled out
+            determinant = replace(determinant, factors=tuple(forms))
+
     augmented = ()
     base = getattr(locus, "base", None) if locus is not None else None
     if base is not None:
@@ -292,7 +358,7 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
                   exact=exact_result, tree=tree, figures=figures, timings=tuple(timings),
                   seed=seed, samples=samples, timeout=timeout, numeric=numeric,
                   augmented=augmented, notes=notes, model_notes=model_notes, stamp=stamp,
-                  near=near, limits=limits)
+                  near=near, limits=limits, determinant=determinant)
 
 
 def _strokes(model, nm) -> dict:
@@ -447,10 +513,15 @@ def _component_views(model, model_tm, locus, nm, params, rng, jac):
                     motions.append(motion)
         short = [r for r in directions if len(r) <= SUMMARY_CHARS]
         summary = summary or (short[0] if short else "")
+        equal = ()
+        if not special and params:
+            equal = tuple(
+                replace(f, form=(fold([f.form]) or (f.form,))[0])
+                for f in equal_parameter_forms(c.equations, params))
         views.append(ComponentView(i, c, special, tuple(geometry + directions), folded,
                                    folded_excluding, getattr(c, "kind", None), summary,
                                    (summary,) if geometry else (), tuple(motions), named,
-                                   lost_axis))
+                                   lost_axis, equal))
     items = sorted(notation.values(), key=lambda p: _notation_key(p[1], variables))
     return tuple(views), tuple(items)
 

@@ -17,8 +17,8 @@ from ..expr import as_expression
 from .blocks import (Appendix, Bullets, Code, Heading, Marker, Math, Para, Table, block_label,
                      counted, numbered, plural, variables_text)
 from .escape import literal, ref
-from .findings import appendix_findings, findings_blocks
-from .mathfmt import LINE_WIDTH, broken_lines, latex, math_width, trig_latex
+from .findings import appendix_findings, caveats, findings_blocks
+from .mathfmt import LINE_WIDTH, broken_lines, latex, math_width, scaled_integers, trig_latex
 
 __all__ = ["report_blocks", "matrix_blocks", "comparison_headline", "summary_table",
            "limits_sentence", "limits_text", "SUMMARY_EQUATION_WIDTH"]
@@ -26,7 +26,7 @@ __all__ = ["report_blocks", "matrix_blocks", "comparison_headline", "summary_tab
 
 def _m(expr) -> str:
     """An expression as inline math."""
-    return f"${sp.latex(expr, fold_short_frac=True)}$"
+    return f"${scaled_integers(sp.latex(expr, fold_short_frac=True))}$"
 
 
 def _num(x, digits=6) -> str:
@@ -81,6 +81,9 @@ def _summary(report):
     if report.locus.degenerate:
         bits.append(" The matrix is rank deficient at every configuration (degenerate design).")
     blocks.append(Para("".join(bits)))
+    said = caveats(report)
+    if said:
+        blocks.append(Para(" ".join(said) + " Details are in the appendix.", lead="Caveats."))
     if comps:
         blocks.append(summary_table(report, comps))
         if hasattr(report.model, "joints"):

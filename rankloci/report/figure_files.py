@@ -108,10 +108,11 @@ def _robot_figures(model, model_tm, comps, views, nm, params, paths, stem) -> li
         Jv0 = J0[lin] if lin else None
         Jv1 = J1[lin] if lin else None
         title = f"{stem}: component {idx}"
-        png = robot_png(robot_pose(model, dict(zip(names, q0)), params),
-                        robot_pose(model, dict(zip(names, q1)), params), highlight=axes,
-                        arrow=arrow, arrow_label=what, Jv_singular=Jv0, Jv_regular=Jv1,
-                        title=title)
+        pose0 = robot_pose(model, dict(zip(names, q0)), params)
+        pose1 = robot_pose(model, dict(zip(names, q1)), params)
+        png = robot_png(pose0, pose1, highlight=axes, arrow=arrow, arrow_label=what,
+                        Jv_singular=Jv0, Jv_regular=Jv1, title=title)
+        prismatic = "prismatic" in pose0.kinds
         flat = ""
         if lin:
             # the ratio of the semi-axes; 0 for J_v = 0 (an arm of zero length), not nan
@@ -123,14 +124,28 @@ def _robot_figures(model, model_tm, comps, views, nm, params, paths, stem) -> li
                     f"{r1:.2g} at the regular one"
                     + (" (flat: the lost motion is a translation)." if r0 < 1e-6
                        else " (not flat: the lost motion involves a rotation)."))
-        hot = (f" Red, long: the axes the reading names ({', '.join(map(str, axes))})."
-               if axes else "")
+        planar = pose0.planar and pose1.planar
+        if planar:
+            hot = (f" Red: the joints the reading names ({', '.join(map(str, axes))})."
+                   if axes else "")
+            parts = ("Drawn in the arm's plane. Grey: the links through the frame origins, "
+                     "from the base (dark triangle); circles: the revolute joints"
+                     + ("; boxes: the prismatic joints" if prismatic else "")
+                     + "; orange star: the task point, with the end-effector frame's x (red) "
+                     "and y (green) axes.")
+        else:
+            hot = (f" Red, long: the axes the reading names ({', '.join(map(str, axes))})."
+                   if axes else "")
+            parts = ("Grey: the links through the frame origins, from the base (dark box) on "
+                     "the floor (light grey); blue: the joint axes"
+                     + (" (dashed, in a box, for prismatic joints)" if prismatic else "")
+                     + "; orange star: the task point, with the end-effector frame's x, y and z "
+                     "axes (red, green, blue).")
         arrow_text = f" Purple arrow: the {what} at the task point." if arrow is not None else ""
         caption = (f"The arm at the sample point of component {idx} (left) and at the regular "
                    f"configuration $q_0 + {t_reg:.2f}\\,d$ on its manipulability path (right; "
-                   f"{SIGMA} = {float(np.interp(t_reg, path.t, path.ratio)):.2g}). Grey: the "
-                   "links through the frame origins; blue: the joint axes (dashed for prismatic "
-                   "joints); orange star: the task point." + hot + arrow_text + flat)
+                   f"{SIGMA} = {float(np.interp(t_reg, path.t, path.ratio)):.2g}). "
+                   + parts + hot + arrow_text + flat)
         out.append(FigureFile(f"{stem}-robot-{idx}.png", png, caption, "robot", title, (idx,),
                               idx))
     return out
@@ -156,8 +171,9 @@ def _isolated_sentence(data, comps, n: int) -> str:
     return (f" {what[0].upper() + what[1:]} {'has' if len(dots) == 1 else 'have'} {size} in "
             f"the {n}-dimensional joint space (a redundant arm keeps its rank until two or more "
             "conditions hold at once), so a two-joint slice meets "
-            f"{'it' if len(dots) == 1 else 'them'} only at isolated points (dots); around "
-            "each the ratio dips into a pit, not along a valley.")
+            f"{'it' if len(dots) == 1 else 'them'} only at isolated points (dots), where the "
+            "ratio is zero; next to them it can stay small along a valley where the slice runs "
+            "close to the component without meeting it.")
 
 
 def _units_text(units: str) -> str:

@@ -568,6 +568,88 @@ def _robot_and_q(robot, q, *, model=None, component: int = 1):
     return m, values
 
 
+#: Colours of the end-effector frame's x, y and z axes.
+_FRAME_COLOURS = ("#d62728", "#2ca02c", "#1f77b4")
+
+
+def _box_edges(centre, direction, length, width):
+    """The 12 edges of a box along ``direction`` (3-D), each a (2, 3) array."""
+    d = np.asarray(direction, dtype=float)
+    u = np.cross(d, [1.0, 0.0, 0.0] if abs(d[0]) < 0.9 else [0.0, 1.0, 0.0])
+    u /= np.linalg.norm(u)
+    v = np.cross(d, u)
+    corners = [np.asarray(centre) + a * length / 2 * d + b * width / 2 * u + c * width / 2 * v
+               for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)]
+    pairs = [(i, j) for i in range(8) for j in range(i + 1, 8) if bin(i ^ j).count("1") == 1]
+    return [np.array([corners[i], corners[j]]) for i, j in pairs]
+
+
+def _plot_robot_2d(pose, *, highlight, arrow, arrow_label, Jv, title, ax):
+    """The arm of a planar model in its plane: links, joints, prismatic boxes, task point."""
+    from matplotlib.patches import Polygon
+
+    chain = np.asarray(pose.chain)[:, :2]
+    scale = pose.scale
+    ax.plot(chain[:, 0], chain[:, 1], color="#333333", linewidth=2.2, zorder=2)
+    base = chain[0]
+    ax.add_patch(Polygon([base + scale * np.array(x) for x in
+                          ((-0.06, -0.06), (0.06, -0.06), (0.0, 0.02))],
+                         closed=True, color="#555555", zorder=1))
+    for k, (p, d, kind) in enumerate(zip(pose.axis_points, pose.axis_directions, pose.kinds),
+                                     start=1):
+        hot = k in highlight
+        colour = "#d62728" if hot else "#1f77b4"
+        if kind == "revolute":
+            ax.plot([p[0]], [p[1]], marker="o", markersize=7 if hot else 5,
+                    markerfacecolor="white", markeredgecolor=colour, zorder=3)
+        else:
+            d2 = np.asarray(d[:2]) / max(np.linalg.norm(d[:2]), 1e-12)
+            n2 = np.array([-d2[1], d2[0]])
+            L, W = 0.12 * scale, 0.05 * scale
+            pts = [p[:2] + a * L / 2 * d2 + b * W / 2 * n2 for a, b in
+                   ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+            ax.add_patch(Polygon(pts, closed=True, fill=False, edgecolor=colour, linewidth=1.2,
+                                 zorder=3))
+        if hot:
+            ax.annotate(f"{k}", p[:2], xytext=(4, 4), textcoords="offset points",
+                        color="#d62728", fontsize=8)
+    tip = np.asarray(pose.tool)[:2]
+    ax.plot([tip[0]], [tip[1]], marker="*", markersize=10, color="#ff7f0e", linestyle="none",
+            label="task point", zorder=4)
+    if pose.tool_frame is not None:
+        for c in range(2):
+            v = pose.tool_frame[:2, c] * 0.12 * scale
+            ax.quiver(*tip, *v, color=_FRAME_COLOURS[c], angles="xy", scale_units="xy", scale=1,
+                      width=0.004, zorder=4)
+    if Jv is not None and np.size(Jv):
+        U, sv, _ = np.linalg.svd(np.asarray(Jv, dtype=float)[:2])
+        top = float(sv[0]) if sv.size and sv[0] > 0 else 1.0
+        t = np.linspace(0, 2 * np.pi, 80)
+        circle = np.stack([np.cos(t), np.sin(t)])
+        radii = np.zeros(2)
+        radii[:len(sv)] = sv[:2] / top * 0.25 * scale
+        pts = tip[:, None] + U[:2, :2] @ (radii[:, None] * circle)
+        ax.plot(pts[0], pts[1], color="#2ca02c", linewidth=0.8, alpha=0.8)
+    if arrow is not None and np.linalg.norm(np.asarray(arrow)[:2]) > 0:
+        a = np.asarray(arrow, dtype=float)[:2]
+        a = a / np.linalg.norm(a) * 0.35 * scale
+        ax.quiver(*tip, *a, color="#9467bd", angles="xy", scale_units="xy", scale=1,
+                  width=0.008, zorder=5, label=arrow_label or None)
+    lo = chain.min(axis=0) - 0.3 * scale
+    hi = chain.max(axis=0) + 0.3 * scale
+    mid, half = (lo + hi) / 2, float(np.max(hi - lo)) / 2
+    ax.set_xlim(mid[0] - half, mid[0] + half)
+    ax.set_ylim(mid[1] - half, mid[1] + half)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.tick_params(labelsize=7)
+    if title:
+        ax.set_title(title, fontsize=9)
+    ax.legend(loc="upper left", fontsize=7)
+    return ax
+
+
 def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), arrow=None,
                arrow_label="", Jv=None, title: str = "", ax=None):
     """The arm at one configuration in 3-D: links, joint axes, task point.
@@ -611,24 +693,51 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
     if not isinstance(pose, RobotPose):
         robot, values = _robot_and_q(pose, q, model=model, component=component)
         pose = robot_pose(robot, values)
+    planar = getattr(pose, "planar", False) and (ax is None or ax.name != "3d")
     with _rc():
+        if planar:
+            ax = _new_axes(ax, (5.0, 4.8))
+            return _plot_robot_2d(pose, highlight=highlight, arrow=arrow,
+                                  arrow_label=arrow_label, Jv=Jv, title=title, ax=ax)
         ax = _new_axes(ax, (5.0, 4.8), projection="3d")
         chain = np.asarray(pose.chain)
         scale = pose.scale
+        lo = chain.min(axis=0) - 0.3 * scale
+        hi = chain.max(axis=0) + 0.3 * scale
+        mid, half = (lo + hi) / 2, float(np.max(hi - lo)) / 2
+        # the floor under the base, and the base on it
+        floor_z = float(chain[0][2])
+        gx = np.array([mid[0] - half, mid[0] + half])
+        gy = np.array([mid[1] - half, mid[1] + half])
+        X, Y = np.meshgrid(gx, gy)
+        ax.plot_surface(X, Y, np.full_like(X, floor_z), color="#dddddd", alpha=0.35,
+                        linewidth=0, shade=False)
+        for edge in _box_edges(chain[0] - [0, 0, 0.03 * scale], [0.0, 0.0, 1.0], 0.06 * scale,
+                               0.14 * scale):
+            ax.plot(edge[:, 0], edge[:, 1], edge[:, 2], color="#555555", linewidth=1.2)
         ax.plot(chain[:, 0], chain[:, 1], chain[:, 2], color="#333333", linewidth=2.2,
                 marker="o", markersize=2.5)
         for k, (p, d, kind) in enumerate(zip(pose.axis_points, pose.axis_directions,
                                              pose.kinds), start=1):
             hot = k in highlight
-            half = (0.45 if hot else 0.12) * scale
-            seg = np.array([p - half * d, p + half * d])
-            ax.plot(seg[:, 0], seg[:, 1], seg[:, 2], color="#d62728" if hot else "#1f77b4",
+            colour = "#d62728" if hot else "#1f77b4"
+            half_axis = (0.45 if hot else 0.12) * scale
+            seg = np.array([p - half_axis * d, p + half_axis * d])
+            ax.plot(seg[:, 0], seg[:, 1], seg[:, 2], color=colour,
                     linewidth=2.0 if hot else 1.0, linestyle="-" if kind == "revolute" else "--")
+            if kind == "prismatic":
+                for edge in _box_edges(p, d, 0.14 * scale, 0.05 * scale):
+                    ax.plot(edge[:, 0], edge[:, 1], edge[:, 2], color=colour, linewidth=1.0)
             if hot:
-                ax.text(*(p + half * d), f"{k}", color="#d62728", fontsize=8)
+                ax.text(*(p + half_axis * d), f"{k}", color="#d62728", fontsize=8)
         tip = np.asarray(pose.tool)
         ax.plot([tip[0]], [tip[1]], [tip[2]], marker="*", markersize=9, color="#ff7f0e",
                 linestyle="none", label="task point")
+        if getattr(pose, "tool_frame", None) is not None:
+            for c in range(3):
+                v = pose.tool_frame[:, c] * 0.15 * scale
+                ax.quiver(*tip, *v, color=_FRAME_COLOURS[c], linewidth=1.0,
+                          arrow_length_ratio=0.2)
         if Jv is not None and np.size(Jv):
             _ellipsoid(ax, tip, np.asarray(Jv, dtype=float), 0.25 * scale, "#2ca02c")
         if arrow is not None and np.linalg.norm(arrow) > 0:
@@ -636,9 +745,6 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
             a = a / np.linalg.norm(a) * 0.35 * scale
             ax.quiver(*tip, *a, color="#9467bd", linewidth=1.8, arrow_length_ratio=0.25,
                       label=arrow_label or None)
-        lo = chain.min(axis=0) - 0.3 * scale
-        hi = chain.max(axis=0) + 0.3 * scale
-        mid, half = (lo + hi) / 2, float(np.max(hi - lo)) / 2
         ax.set_xlim(mid[0] - half, mid[0] + half)
         ax.set_ylim(mid[1] - half, mid[1] + half)
         ax.set_zlim(mid[2] - half, mid[2] + half)
@@ -703,10 +809,11 @@ def robot_figure(singular, regular=None, *, component: int = 1, model=None, seed
         raise ArgumentError("regular= is needed with a pose (a Locus needs none)",
                             argument="regular")
     with _rc():
+        flat = getattr(singular, "planar", False) and getattr(regular, "planar", False)
         if ax is None:
             fig = Figure(figsize=ROBOT_SIZE, layout="constrained")
-            ax = [fig.add_subplot(1, 2, 1, projection="3d"),
-                  fig.add_subplot(1, 2, 2, projection="3d")]
+            ax = [fig.add_subplot(1, 2, 1, projection=None if flat else "3d"),
+                  fig.add_subplot(1, 2, 2, projection=None if flat else "3d")]
         a, b = ax
         plot_robot(singular, highlight=highlight, arrow=arrow, arrow_label=arrow_label,
                    Jv=Jv_singular, title="singular: the sample point", ax=a)

@@ -14,11 +14,12 @@ import struct
 import sympy as sp
 
 from ..methods import method_for
-from ..tolerances import RANK_RTOL
+from ..tolerances import DET_FACTOR_RTOL, RANK_RTOL
 from .blocks import (SIGMA, Bullets, Code, Figure, Heading, Math, Para, Table, block_label,
                      counted, plural, signed, variables_text)
 from .escape import literal, ref
-from .mathfmt import LINE_WIDTH, broken_lines, latex, value_latex
+from .mathfmt import (LINE_WIDTH, LONG_INTEGER_DIGITS, SHOWN_DIGITS, broken_lines,
+                      has_long_integers, latex, math_width, value_latex)
 from .near_section import near_blocks
 
 #: A drawn branch tree with more boxes than this is set on a page of its own.
@@ -44,14 +45,18 @@ def findings_blocks(report) -> list:
 
 
 def appendix_findings(report) -> list:
-    """The branch tree and the notes of the analysis, for the appendix."""
-    out = _tree_section(report)
+    """The second opinions, the notes of the analysis and the branch tree, for the appendix.
+
+    The tree comes last: its figure, often a page of its own, then ends the document
+    instead of leaving the page before the notes half empty.
+    """
+    out = _second_opinions(report)
     notes = (list(report.locus.notes) if report.locus is not None else []) + list(report.notes)
     if notes:
         out.append(Heading(2, "Notes of the analysis", block_label(report, "notes")))
         out.append(Bullets(tuple(n[0].upper() + n[1:] + ("" if n.endswith(".") else ".")
                                  for n in notes)))
-    return out
+    return out + _tree_section(report)
 
 
 def _equation_math(exprs, excluding=(), *, width: float = LINE_WIDTH) -> Math:
@@ -73,14 +78,25 @@ def _equation_math(exprs, excluding=(), *, width: float = LINE_WIDTH) -> Math:
     return Math(tuple(lines), aligned=True)
 
 
-def _solved(comp) -> str:
-    """The exact values the component fixes, as inline math."""
+def _solved(solved: dict) -> str:
+    """Exact values of joint variables (variable -> values), as inline math."""
     parts = []
-    for q, vals in comp.solved.items():
+    for q, vals in solved.items():
         vs = ", ".join(value_latex(v) for v in vals)
         parts.append(f"${latex(q)} \\in \\lbrace {vs} \\rbrace$" if len(vals) > 1
                      else f"${latex(q)} = {vs}$")
     return "; ".join(parts)
+
+
+def _solved_at_values(report, comp) -> str:
+    """The values a component fixes once the parameters have the model's values, or ""."""
+    from ..methods.readable import solved_at_values
+
+    params = dict(getattr(report.locus, "parameters", None) or {})
+    if not params:
+        return ""
+    found = solved_at_values(comp.equations, report.tm.variables, params)
+    return _solved(found) if found else ""
 
 
 def _component_blocks(report, view, level: int = 3):
@@ -102,7 +118,11 @@ def _component_blocks(report, view, level: int = 3):
                         "below its maximum at every configuration)."))
     items = []
     if c.solved:
-        items.append(f"Solved: {_solved(c)}.")
+        items.append(f"Solved: {_solved(c.solved)}.")
+    elif not c.parameter_conditions:
+        at_values = _solved_at_values(report, c)
+        if at_values:
+            items.append(f"Solved at the model's parameter values: {at_values}.")
     n = len(report.tm.variables)
     items.append(f"Dimension {c.dimension} in the {n}-dimensional joint space; rank drop "
                  f"{c.rank_drop}; free joint variables: {variables_text(c.free)}.")
@@ -138,6 +158,14 @@ def _component_blocks(report, view, level: int = 3):
                      + ", ".join(f"{ref(label, 'Figure', figure=True)} ({what})"
                                  for label, what in figs) + ".")
     out.append(Bullets(tuple(items)))
+    for f in getattr(view, "equal_parameters", ()):
+        eqs_n = len(c.equations)
+        which = "The equation" if eqs_n == 1 else f"Equation {f.index + 1} of {eqs_n}"
+        same = ", ".join(f"${latex(p)} = {latex(r)}$" for p, r in f.equalities)
+        out.append(Para(f"{which} is shorter with the model's equal parameter values "
+                        f"{same}: {f.terms[0] - f.terms[1]} of its {f.terms[0]} terms cancel, "
+                        "and it reads"))
+        out.append(_equation_math([f.form]))
     if view.readings:
         out.append(Para("Geometric facts hold at the sample point and at other points of the "
                         "component, and at no random configuration; directions are checked "
@@ -236,6 +264,12 @@ def _locus_section(report):
                     "of $J$ there (the task velocities no joint velocity produces)."))
     main = [v for v in report.components if not v.special]
     special = [v for v in report.components if v.special]
+    if any(has_long_integers(e) for v in report.components
+           for e in tuple(v.component.equations) + tuple(v.component.excluding)):
+        out.append(Para(f"Integers of more than {LONG_INTEGER_DIGITS} digits in the displayed "
+                        f"equations are rounded to {SHOWN_DIGITS} significant digits, as "
+                        r"$m \cdot 10^{k}$; the plain text of each component's equations and "
+                        "the JSON (`rankloci locus --format json`) keep them exact."))
     if main:
         rows = []
         for v in main:
@@ -246,6 +280,7 @@ def _locus_section(report):
     else:
         out.append(Para("No component exists for the model's parameter values: $J$ has full "
                         "rank everywhere."))
+    out += _determinant_blocks(report, main)
     for v in main:
         out += _component_blocks(report, v)
     if special:
@@ -259,6 +294,40 @@ def _locus_section(report):
                         "the frame it worked in) are in "
                         f"{ref(block_label(report, 'notes'), 'the appendix')}."))
     return out
+
+
+def _factor_latex(e, power: int) -> str:
+    text = latex(e)
+    if isinstance(e, sp.Add) or (power > 1 and not isinstance(e, sp.Symbol)
+                                 and len(text) > 2 and not text.endswith("}")):
+        text = rf"\left({text}\right)"
+    return text + (f"^{{{power}}}" if power > 1 else "")
+
+
+def _determinant_blocks(report, main):
+    """det J factored into the components' equations (square J), with how it was checked."""
+    d = report.determinant
+    if d is None or len(d.factors) != len(main):
+        return []
+    factors = [_factor_latex(f, m) for f, m in zip(d.factors, d.powers)]
+    head = latex(d.constant)
+    head = "" if head == "1" else "-" if head == "-1" else head + " "
+    one = r"\det J = " + head + " ".join(factors)
+    if math_width(one) <= LINE_WIDTH:
+        lines, aligned = (one,), False
+    else:
+        lines = (r"\det J &= " + head + factors[0],) + tuple(r"&\quad \cdot " + f
+                                                            for f in factors[1:])
+        aligned = True
+    how = (f"${latex(d.constant)}$, which matches at the model's parameter values and at "
+           "two other random sets of values" if d.exact_constant else
+           "a number at the model's parameter values, given to 6 significant digits")
+    return [Para(r"$J$ is square, so its components are the factors of $\det J$. With their "
+                 "multiplicities and the constant factor:"),
+            Math(lines, aligned=aligned),
+            Para(rf"The product was checked against $\det J$ at {d.points} random "
+                 "configurations (the ratio is one constant to a relative "
+                 f"{DET_FACTOR_RTOL:g}); the constant factor is {how}.")]
 
 
 def _figure_section(report):
@@ -288,11 +357,13 @@ def _tree_section(report):
     if tree is None:
         return []
     out = [Heading(2, "Branch tree", block_label(report, "tree"))]
-    out.append(Para(f"The {report.locus.method} method grows a tree of branches; each leaf "
-                    "stops for the reason shown. The tree has "
-                    f"{counted(tree.total_nodes, 'node')}."))
-    rows = tuple((reason or "(none)", str(n)) for reason, n in sorted(tree.outcomes.items()))
-    out.append(Table(("stop reason of the leaves", "leaves"), rows, "lr"))
+    text = [Para(f"The {report.locus.method} method grows a tree of branches; each leaf "
+                 "stops for the reason shown. The tree has "
+                 f"{counted(tree.total_nodes, 'node')}."),
+            Table(("stop reason of the leaves", "leaves"),
+                  tuple((reason or "(none)", str(n)) for reason, n in sorted(tree.outcomes.items())),
+                  "lr")]
+    # the figure first: a float that goes to a page of its own leaves the text to fill this one
     for f in figs:
         # a tree of more than a dozen boxes gets a page of its own, where it can be read
         width, height = struct.unpack(">II", f.png[16:24])
@@ -301,7 +372,7 @@ def _tree_section(report):
         out.append(Figure(f.name, f.caption, block_label(report, "fig", "tree"),
                           tall=f.boxes > TALL_TREE_BOXES and not turned, alt=f.title,
                           turned=turned))
-    return out
+    return out + text
 
 
 def _check_section(report):
@@ -332,12 +403,29 @@ def _check_section(report):
     rows.append(("completeness probe", str(chk.probe_starts),
                  "pass" if not chk.uncovered else "FAIL",
                  f"{chk.probe_singular} singular minima, {len(chk.uncovered)} on no component"))
-    if report.exact is not None:
-        ex = report.exact
-        rows.append(("Singular (exact primes)", "-", ex.status, ex.reason))
     out.append(Table(("check", "points", "result", "detail"), tuple(rows), "lrll",
                      caption=f"seed {chk.seed}, {chk.samples} samples"))
     out.append(Para(f"Result: {'PASS' if chk.ok else 'FAIL'} (seed {chk.seed})."))
+    if chk.findings or report.exact is not None:
+        out.append(Para("The second opinions (the exact check with Singular, the FSP reducer "
+                        "and the largest maximal minor beside the SVD) are in "
+                        f"{ref(block_label(report, 'second'), 'the appendix')}."))
+    for p in chk.uncovered[:5]:
+        out.append(Para("Uncovered singular point: (" + ", ".join(signed(x, 6) for x in p.q)
+                        + f"), sigma ratio {p.sigma_ratio:.1e}."))
+    return out
+
+
+def _second_opinions(report) -> list:
+    """The exact check with Singular and the FSP and minor findings, for the appendix."""
+    chk = report.check
+    if chk is None or not (chk.findings or report.exact is not None):
+        return []
+    out = [Heading(2, "Second opinions", block_label(report, "second"))]
+    if report.exact is not None:
+        ex = report.exact
+        out.append(Table(("check", "result", "detail"),
+                         (("Singular (exact primes)", ex.status, ex.reason),), "lll"))
     if chk.findings:
         out.append(Para(f"{counted(len(chk.findings), 'finding')} where the FSP reducer or the "
                         "largest maximal minor disagrees with the SVD (recorded, not failures; "
@@ -347,9 +435,29 @@ def _check_section(report):
             items.append(f"... and {len(chk.findings) - 10} more")
         out.append(Bullets(tuple(items)))
         out.append(Para(_findings_explained(chk.findings)))
-    for p in chk.uncovered[:5]:
-        out.append(Para("Uncovered singular point: (" + ", ".join(signed(x, 6) for x in p.q)
-                        + f"), sigma ratio {p.sigma_ratio:.1e}."))
+    return out
+
+
+def caveats(report) -> list:
+    """What limits the summary's verdict, in sentences: said on the first page, not only in
+    the appendix (a special case of the symbolic analysis, a skipped or disagreeing exact
+    check, second opinions that differ from the SVD)."""
+    out = []
+    notes = list(report.locus.notes) if report.locus is not None else []
+    for n in notes:
+        if "rerun with --numeric-parameters" in n:
+            out.append(n[0].upper() + n[1:].replace("rerun with --numeric-parameters",
+                                                    "components there may be missing; rerun "
+                                                    "with `--numeric-parameters`") + ".")
+    ex = report.exact
+    if ex is not None and ex.status == "disagree":
+        out.append(f"The exact check with Singular disagrees: {ex.reason}.")
+    elif ex is not None and ex.status == "skipped":
+        out.append(f"The exact check with Singular was skipped ({ex.reason}).")
+    chk = report.check
+    if chk is not None and chk.findings:
+        out.append(f"At {counted(len(chk.findings), 'point')} the FSP reducer or the largest "
+                   "maximal minor disagrees with the SVD (recorded, not failures).")
     return out
 
 

@@ -99,9 +99,11 @@ def facts_at(model, q: dict, params, meets=()) -> set:
     points are tested like the task point.  Keys: ``("collinear", a, b)``,
     ``("parallel", a, b)``, ``("perpendicular", a, b)``, ``("intersect", a, b)``,
     ``("on-axis", X, a)``, ``("in-plane", X, a, b)`` (X in the plane through
-    axis a parallel to axis b) and ``("coplanar", X, frozenset)`` (X and the
-    parallel axes in one plane; X may be None), where X is ``"P"`` (the task
-    point) or a pair (a, b) of ``meets``.
+    axis a parallel to axis b), ``("coplanar", X, frozenset)`` (X and the
+    parallel axes in one plane; X may be None), ``("coincide", X, Y)`` (two
+    points of ``meets`` at one place) and ``("slide-parallel", p, a)`` (prismatic
+    joint p slides parallel to revolute axis a), where X is ``"P"`` (the task
+    point) or a tuple of the axes of ``meets`` that meet there.
     """
     lines, tool = axis_lines(model, q, params)
     tol = GEOMETRY_RTOL * arm_scale(lines, tool)
@@ -136,6 +138,16 @@ def facts_at(model, q: dict, params, meets=()) -> set:
             n /= np.linalg.norm(n)
             if abs(float((p - a.point) @ n)) <= tol:
                 facts.add(("in-plane", name, a.joint, b.joint))
+    # two design points that coincide (a wrist centre on a shoulder centre)
+    named = [k for k in points if k != "P"]
+    for x, y in itertools.combinations(sorted(named), 2):
+        if float(np.linalg.norm(points[x] - points[y])) <= tol:
+            facts.add(("coincide", x, y))
+    # a prismatic joint sliding parallel to a revolute axis
+    for s in (ln for ln in lines if ln.kind == "prismatic"):
+        for a in rev:
+            if parallel(s.direction, a.direction):
+                facts.add(("slide-parallel", s.joint, a.joint))
     # planes of parallel axes, with or without a point
     for a, b in itertools.combinations(rev, 2):
         if not parallel(a.direction, b.direction) or distance_to_line(b.point, a) <= tol:

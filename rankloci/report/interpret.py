@@ -145,8 +145,20 @@ def _sentences(facts, meets, context=None, design=frozenset()) -> list:
     """
     context = facts if context is None else context
     out = []
+    for f in sorted((f for f in facts if f[0] == "coincide"), key=str):
+        out.append(("coincide", (f[1], f[2]),
+                    f"{_point_name(f[2], meets)} coincides with {_point_name(f[1], meets)}"))
     for g in _groups(f[1:] for f in facts if f[0] == "collinear"):
         out.append(("collinear", tuple(g), f"axes {_and(g)} are collinear"))
+    for f in sorted(f for f in facts if f[0] == "slide-parallel"):
+        # a slide parallel by design to an axis collinear here with axis f[2] says no more
+        if any(g[0] == "slide-parallel" and g[1] == f[1]
+               and any(h[0] == "collinear" and set(h[1:]) == {g[2], f[2]}
+                       for h in context)
+               for g in design):
+            continue
+        out.append(("slide-parallel", (f[1], f[2]),
+                    f"the prismatic joint {f[1]} slides parallel to axis {f[2]}"))
     for f in sorted((f for f in facts if f[0] == "on-axis"), key=str):
         out.append(("on-axis", (f[1], f[2]), f"{_point_name(f[1], meets)} lies on axis {f[2]}"))
     new_parallel = {frozenset(f[1:]) for f in context if f[0] in ("parallel", "collinear")}
@@ -216,7 +228,19 @@ def _name(model, kind, what, meets) -> str:
         return ""
     if kind == "coplanar" and what[0] is not None and set(what[1]) == set(rev):
         return "all links aligned"
-    if kind == "collinear" and len(rev) >= 6:
+    if kind == "coincide":
+        ends = any(rev[0] in x for x in what) and any(rev[-1] in x for x in what)
+        return "wrist centre on the shoulder" if ends else ""
+    if kind == "slide-parallel":
+        return "shoulder singularity" if what[1] == rev[0] else ""
+    if kind == "parallel" and len(what) == 2 and len(model.joints) >= 6:
+        mids = [_arm_position(model, j)[0] for j in what]
+        n = _arm_position(model, what[0])[1]
+        if min(mids) >= n - 2:
+            return "wrist singularity"
+        if min(mids) >= 1 and max(mids) <= 3:
+            return "shoulder singularity"
+    if kind == "collinear" and len(model.joints) >= 6:
         pos = [_arm_position(model, j) for j in what]
         n = pos[0][1]
         mids = [p for p, _ in pos]
@@ -236,6 +260,48 @@ def _name(model, kind, what, meets) -> str:
     if kind == "parallel" and len(rev) >= 6 and rev[-1] in what and len(what) >= 3:
         return "wrist singularity"
     return ""
+
+
+#: The order in which the names of several classical cases are joined.
+_ORDER = ("boom", "shoulder", "elbow", "wrist", "wrist centre on the shoulder")
+
+
+def _boom_at_zero(model, equations) -> int:
+    """The prismatic joint (1-based) that one of ``equations`` fixes at zero length, or 0."""
+    import sympy as sp
+
+    for k, (v, j) in enumerate(zip(model.variables, model.joints)):
+        if j.kind != "prismatic":
+            continue
+        for e in equations:
+            e = sp.sympify(e)
+            if e.free_symbols == {v} and sp.Poly(e, v).degree() == 1 and e.subs(v, 0) == 0:
+                return k + 1
+    return 0
+
+
+def _centres_remark(model, points, params, used) -> str:
+    """Why two design points can coincide, and what that costs the rank."""
+    what = next((w for kind, w, _ in used if kind == "coincide"), None)
+    if what is None:
+        return ""
+    lines, _ = axis_lines(model, points[0], params)
+    through = set(what[0]) | set(what[1])
+    rest = [ln for ln in lines if ln.kind == "revolute" and ln.joint not in through]
+    if len(rest) != 1:
+        return ""
+    axis = rest[0]
+    dists = []
+    for x in what:
+        m = meeting_point(lines[x[0] - 1], lines[x[1] - 1])
+        dists.append(distance_to_line(0.5 * (m[0] + m[1]), axis))
+    if abs(dists[0] - dists[1]) > GEOMETRY_RTOL * max(max(dists), 1e-12):
+        return ""
+    return (f"both points lie {dists[0]:.4g} length units from axis {axis.joint} (equal link "
+            f"lengths on either side of joint {axis.joint}), so turning joint {axis.joint} can "
+            f"bring them together; then every axis but {axis.joint} passes through one point, "
+            f"those joints give only rotations about it, and with joint {axis.joint} the rank of "
+            "J is at most 4")
 
 
 _GLOSS = {
@@ -332,14 +398,23 @@ def component_reading(model, equations, labels, points, factor_points, rng, para
     for _ in range(RANDOM_POINTS):
         random_facts |= facts_at(model, random_configuration(model, rng), params, meets)
     whole = _common(model, points, params, meets, random_facts)
-    dependent = ""
+    dependent, whole_arm = "", ""
     if matrix is not None:
         cols = dependent_joints([matrix(q) for q in points],
                                 [str(k + 1) for k in range(len(model.joints))])
-        if cols:
+        if cols and not _fills_rows([matrix(q) for q in points], [int(c) - 1 for c in cols]):
             dependent = (f"the columns of joints {_and(cols)} of J are linearly dependent "
                          f"(checked at {len(points)} points)")
+        elif cols:
+            # naming these columns would restate the locus; what is said is that no fewer do
+            whole_arm = (f"no fact about the axes holds at all {len(points)} points checked, "
+                         f"and no set of fewer than {len(cols)} joints has dependent columns: "
+                         "a singularity of the arm as a whole, not of its shoulder, elbow or "
+                         "wrist alone")
     if not whole:
+        if whole_arm and not dependent:
+            text = whole_arm[0].upper() + whole_arm[1:]
+            return Reading("", text, (), "", "", len(points), (), (), text)
         if not dependent:
             return None
         text = dependent[0].upper() + dependent[1:]
@@ -375,9 +450,13 @@ def component_reading(model, equations, labels, points, factor_points, rng, para
     if unexplained and not joint:
         names = []  # a factor nothing explains: the classical name of the others would mislead
     names = [n for n in names if n]
+    boom = _boom_at_zero(model, equations)
+    if boom:
+        names = ["boom singularity"] + names
     name = ""
     if names:
-        uniq = list(dict.fromkeys(n.replace(" singularity", "") for n in names))
+        uniq = sorted(dict.fromkeys(n.replace(" singularity", "") for n in names),
+                      key=lambda n: _ORDER.index(n) if n in _ORDER else len(_ORDER))
         name = names[0] if len(uniq) == 1 else f"{_and(uniq)} singularities at once"
     joint_text = "; ".join(t for _, _, t in joint)
     if per:
@@ -429,6 +508,14 @@ def component_reading(model, equations, labels, points, factor_points, rng, para
         if lost:
             break
     gloss = _GLOSS.get(name, "")
+    if boom and name == "boom singularity":
+        gloss = f"the boom, joint {boom}, at zero extension"
+    elif boom:
+        extra.insert(0, f"the boom, joint {boom}, is at zero extension")
+    if name == "wrist centre on the shoulder":
+        remark = _centres_remark(model, points, params, used)
+        if remark:
+            extra.append(remark)
     head = (name[0].upper() + name[1:] + (f" ({gloss})" if gloss else "") + ": ") if name else ""
     text = head + (body if head else body[0].upper() + body[1:])
     text = ". ".join([text] + [e[0].upper() + e[1:] for e in extra])
@@ -438,6 +525,23 @@ def component_reading(model, equations, labels, points, factor_points, rng, para
     short = head + (short if head else short[0].upper() + short[1:])
     return Reading(name, text, tuple(factors), joint_text, lost, len(points), _named_axes(used),
                    lost_axis, short)
+
+
+def _fills_rows(matrices, cols) -> bool:
+    """Are ``cols`` at least as many as the rows they reach (a dependence that says nothing)?
+
+    Where the other columns alone fill the remaining rows (a locked joint's row of an
+    augmented J), the columns ``cols`` are dependent exactly where J is singular: naming
+    them restates the locus.
+    """
+    from ..tolerances import RANK_RTOL
+
+    J = np.asarray(matrices[0], dtype=float)
+    top = float(np.linalg.svd(J, compute_uv=False)[0])
+    rows = [r for r in range(J.shape[0])
+            if max(float(np.max(np.abs(np.asarray(M, dtype=float)[r, cols]))) for M in matrices)
+            > RANK_RTOL * top]
+    return len(cols) >= len(rows)
 
 
 def _holds(label: str) -> str:

@@ -28,6 +28,8 @@ _PREAMBLE = r"""\documentclass[11pt,a4paper]{article}
 \usepackage{lmodern}
 \usepackage[margin=2.5cm]{geometry}
 \usepackage{float}
+\usepackage[section]{placeins}
+\usepackage{longtable}
 \usepackage{amsmath,amssymb}
 \usepackage{graphicx}
 \usepackage{booktabs}
@@ -56,8 +58,10 @@ def render_latex(report, *, fragment: bool = False, timings: bool = True) -> str
                 "% With hyperref its references are links; without it they are plain text.\n"
                 "\\providecommand{\\hyperref}[2][]{#2}\n")
         return head + body
+    # figures float (top, bottom or a page of their own) so that no page is left half blank;
+    # placeins keeps each inside its section, and wide tables break across pages
     body = blocks_latex([b for b in blocks if not (isinstance(b, Heading) and b.level == 1)],
-                        wide_matrix=wide, top=2)
+                        wide_matrix=wide, top=2, placement="htbp", breakable=True)
     title = rich_tex("Singularity report: " + (literal(report.model.title)
                                                  if report.model.title.strip() else report.name))
     return (_PREAMBLE + f"\\title{{{title}}}\n\\author{{rankloci}}\n\\date{{}}\n"
@@ -65,14 +69,17 @@ def render_latex(report, *, fragment: bool = False, timings: bool = True) -> str
 
 
 def blocks_latex(blocks, *, wide_matrix: bool = False, top: int = 1,
-                 appendix: bool = True, placement: str = "H") -> str:
+                 appendix: bool = True, placement: str = "H", breakable: bool = False) -> str:
     """LaTeX of a list of blocks (:mod:`~rankloci.report.blocks`).
 
     Headings of level ``top`` become ``\\section``, the next level
     ``\\subsection`` and so on.  Figures stay where they are in the text
     (``placement`` ``H``, from the ``float`` package the document loads; a
-    fragment for a paper passes ``!htbp``); a tall one (the branch tree) gets a
-    page of its own.  :class:`~rankloci.report.blocks.Appendix` becomes
+    fragment for a paper passes ``!htbp``, the full document ``htbp`` with
+    ``placeins`` keeping figures in their sections); a tall one (the branch tree)
+    gets a page of its own.  With ``breakable`` (the full document loads
+    ``longtable``) a table with fixed column widths may break across pages, so a
+    long summary table starts on the first page.  :class:`~rankloci.report.blocks.Appendix` becomes
     ``\\appendix`` (a comment when ``appendix`` is false, for a fragment).
 
     Examples
@@ -107,20 +114,23 @@ def blocks_latex(blocks, *, wide_matrix: bool = False, top: int = 1,
             else:
                 out.append("\\begin{equation}\n" + b.lines[0] + "\n\\end{equation}")
         elif isinstance(b, Table):
-            out.append(_table(b))
+            out.append(_fixed_table(b, breakable=True) if breakable and b.widths
+                       else _table(b))
         elif isinstance(b, Bullets):
             out.append("\\begin{itemize}\n" + "\n".join(f"  \\item {rich_tex(i)}" for i in b.items)
                        + "\n\\end{itemize}")
         elif isinstance(b, Figure):
             size = ("width=\\linewidth,height=0.78\\textheight,keepaspectratio" if b.tall
-                    else "width=0.85\\linewidth")
+                    else "width=0.85\\linewidth,height=0.42\\textheight,keepaspectratio")
             if b.turned:
                 size = "angle=90,width=\\linewidth,height=0.85\\textheight,keepaspectratio"
-            page = "\\clearpage\n" if b.tall or b.turned else ""
-            out.append(page + f"\\begin{{figure}}[{placement}]\n\\centering\n"
+            floating = placement != "H"
+            page = "\\clearpage\n" if (b.tall or b.turned) and not floating else ""
+            where = "p" if (b.tall or b.turned) and floating else placement
+            out.append(page + f"\\begin{{figure}}[{where}]\n\\centering\n"
                        f"\\includegraphics[{size}]{{{b.file}}}\n"
                        f"\\caption{{{rich_tex(b.caption)}}}\\label{{{b.label}}}\n\\end{{figure}}"
-                       + ("\n\\clearpage" if b.tall or b.turned else ""))
+                       + ("\n\\clearpage" if page else ""))
         elif isinstance(b, Appendix):
             out.append("\\appendix" if appendix else "% appendix")
         elif isinstance(b, Code):
@@ -183,7 +193,7 @@ def _table(t: Table) -> str:
     return "\\begin{center}\n" + tabular + cap + "\n\\end{center}"
 
 
-def _fixed_table(t: Table) -> str:
+def _fixed_table(t: Table, *, breakable: bool = False) -> str:
     """A table with the column widths it asks for: text wraps, ragged, inside its columns.
 
     Only the kernel's tabular is used (no ``array`` package): each cell of a
@@ -198,8 +208,15 @@ def _fixed_table(t: Table) -> str:
                           for c, w in zip(cells, t.widths)) + " \\tabularnewline"
 
     size = "\\small\n" if t.small else ""
+    cap = f"\\\\[0.5ex]\n{{\\small {rich_tex(t.caption)}}}" if t.caption else ""
+    if breakable:
+        # the header repeats on each page the table runs onto
+        body = ("\\begin{longtable}{" + spec + "}\n\\toprule\n" + row(t.header)
+                + "\n\\midrule\n\\endhead\n" + "\n".join(row(r) for r in t.rows)
+                + "\n\\bottomrule\n\\end{longtable}")
+        after = f"\n{{\\small {rich_tex(t.caption)}}}\n" if t.caption else ""
+        return ("{" + size + body + "}" if size else body) + after
     tabular = (size + "\\begin{tabular}{" + spec + "}\n\\toprule\n" + row(t.header)
                + "\n\\midrule\n" + "\n".join(row(r) for r in t.rows)
                + "\n\\bottomrule\n\\end{tabular}")
-    cap = f"\\\\[0.5ex]\n{{\\small {rich_tex(t.caption)}}}" if t.caption else ""
     return "\\begin{center}\n" + tabular + cap + "\n\\end{center}"

@@ -14,6 +14,8 @@ Everything here is pure: expressions in, strings and expressions out.
 
 from __future__ import annotations
 
+import re
+
 import sympy as sp
 
 from ..expr import as_expression
@@ -118,9 +120,47 @@ def _width(s, i, scale, stop=None):
 
 # --- compact forms -----------------------------------------------------------------------------
 
+#: Integers with more digits than this are displayed rounded (a URDF's exact rationals give
+#: coefficients of 19 digits and more); the plain-text equations and the JSON keep them exact.
+LONG_INTEGER_DIGITS = 8
+
+#: Significant digits of a long integer as displayed, ``1.23457 \cdot 10^{18}``.
+SHOWN_DIGITS = 6
+
+_LONG_INTEGER = re.compile(r"(?<![\d.])(\d{%d,})(?![\d.])" % (LONG_INTEGER_DIGITS + 1))
+
+
+def scaled_integers(text: str) -> str:
+    r"""LaTeX ``text`` with each integer of more than LONG_INTEGER_DIGITS digits rounded.
+
+    Examples
+    --------
+    >>> scaled_integers(r"1234567890123456789 a_{2} + 12 c_{3}")
+    '1.23457 \\cdot 10^{18} a_{2} + 12 c_{3}'
+    """
+    def rounded(m):
+        mant, exp = f"{int(m.group(1)):.{SHOWN_DIGITS - 1}e}".split("e")
+        return rf"{mant} \cdot 10^{{{int(exp)}}}"
+
+    return _LONG_INTEGER.sub(rounded, text)
+
+
+def has_long_integers(expr) -> bool:
+    """Does ``expr`` hold an integer (or a rational's part) that :func:`latex` rounds?"""
+    top = 10 ** LONG_INTEGER_DIGITS
+    for r in sp.sympify(expr).atoms(sp.Rational):
+        if abs(r.p) >= top or abs(r.q) >= top:
+            return True
+    return False
+
+
 def latex(expr) -> str:
-    """LaTeX of an expression, with ``q1`` printed as ``q_{1}`` and products by juxtaposition."""
-    return sp.latex(expr)
+    """LaTeX of an expression, with ``q1`` printed as ``q_{1}`` and products by juxtaposition.
+
+    Integers of more than :data:`LONG_INTEGER_DIGITS` digits are shown to
+    :data:`SHOWN_DIGITS` significant digits (:func:`scaled_integers`).
+    """
+    return scaled_integers(sp.latex(expr))
 
 
 def _angle_suffix(arg, variables):

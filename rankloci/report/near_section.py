@@ -29,6 +29,20 @@ PATH_OFFSET = 0.4
 MAX_NEAR_COMPONENTS = 4
 #: Arms with more joints get the polytope of the position rows only (2^n vertices).
 FULL_POLYTOPE_JOINTS = 7
+#: Panels of the near-manipulability figure in one row.
+NEAR_COLUMNS = 3
+#: Font size (pt) of that figure as drawn: a row of three 3.4-inch panels is printed at about
+#: half size (0.85 of a 6.3-inch line), so 13 pt titles and 12 pt legends and ticks read as
+#: 6 pt and more.
+NEAR_FONT_PT = 13
+#: Joint-space distances at which the path is aimed past the component (it would stop on it:
+#: the rates are unbounded there); the path that peaks at its crossing and goes on is kept.
+PATH_MISS = (0.08, 0.02)
+#: A rate peak counts as the path's crossing when it lies within this much of the path
+#: parameter (0..1) from the point closest to the locus.
+PEAK_WINDOW = 0.05
+#: A peak counts when the largest rate is at least this many times the rate at the start.
+PEAK_RATIO = 3.0
 #: Steps of the path through a component.
 PATH_STEPS = 120
 
@@ -59,6 +73,7 @@ class NearPath:
     sigma_ratio: float
     distance: float
     stopped: str
+    miss: float = 0.0     # how far from the sample point (joint space) the line is aimed
 
 
 @dataclass(frozen=True)
@@ -96,7 +111,7 @@ def near_data(model, locus, nm, params, seed: int, stem: str) -> NearData | None
     """
     from ..model import RobotModel
     from ..near.api import joint_rates, manipulability
-    from ..near.figures import path_figure, plot_manipulability
+    from ..near.figures import path_figure
     from ..near.manipulability import ellipsoid
     from ..near.nearest import ComponentDistance
     from ..near.path import Kinematics
@@ -133,37 +148,41 @@ def near_data(model, locus, nm, params, seed: int, stem: str) -> NearData | None
         starts[idx] = (q0, d, k)
 
     # figure: the position rows' ellipsoid and polytope at each pose
-    from matplotlib.figure import Figure as MplFigure
-
-    three = len(kin.position_rows) == 3
     figs = []
     if len(kin.position_rows) in (2, 3):
-        fig = MplFigure(figsize=(3.2 * len(poses), 3.4 if three else 3.0), layout="constrained")
-        for i, p in enumerate(poses, start=1):
-            ax = fig.add_subplot(1, len(poses), i, projection="3d" if three else None)
-            plot_manipulability(manipulability(model, p.q, position_only=True).J, ax=ax)
-            ax.set_title("regular pose" if p.component == 0 else f"near component {p.component}",
-                         fontsize="small")
-            _fixed_legend(ax, fontsize="x-small", loc="upper left")
+        fig = near_manipulability_figure(model, poses, three=len(kin.position_rows) == 3)
         figs.append(FigureFile(f"{stem}-near-manipulability.png", figure_png(fig),
                                _pose_caption(poses, distance_unit(model)), "near-manipulability",
                                f"{stem}: manipulability ellipsoids and polytopes",
                                tuple(p.component for p in poses[1:])))
 
-    path = None
-    for idx, (q0, d, k) in starts.items():
-        # the first component whose path takes a step (it stops at once from a start
-        # that is itself too close to the locus)
-        start = q0 + PATH_OFFSET * d
-        x0, x1 = kin.position(start), kin.position(q0)
-        got = joint_rates(model, start, [x0, x1, 2 * x1 - x0], norm="inf", steps=PATH_STEPS)
-        if len(got.t) < 2:
+    path, got, best = None, None, None
+    for (idx, (q0, d, k)), miss in ((item, m) for item in starts.items() for m in PATH_MISS):
+        # a line in task space from q0 + PATH_OFFSET e to q0 + miss e and as far beyond,
+        # e across the component with the orientation kept to first order: the joints pass
+        # about miss from the component, where the rates peak
+        e = _across_keeping_orientation(kin, q0, d)
+        start = q0 + PATH_OFFSET * e
+        x0, x1 = kin.position(start), kin.position(q0 + miss * e)
+        rates = joint_rates(model, start, [x0, x1, 2 * x1 - x0], norm="inf", steps=PATH_STEPS)
+        if len(rates.t) < 2:
             continue
-        j = int(np.argmin(got.sigma_ratio))
+        size = np.abs(rates.rates_inf).max(axis=1)
+        j = int(np.argmin(rates.sigma_ratio))
+        peak = int(np.argmax(size))
+        # a peak where the path comes closest to the locus, on a path that goes on past it (at
+        # the workspace boundary it cannot), the higher over the start the better
+        ratio = float(size[peak] / max(size[0], 1e-12))
+        score = (bool(abs(rates.t[peak] - rates.t[j]) <= PEAK_WINDOW and ratio >= PEAK_RATIO),
+                 not rates.stopped, ratio)
+        if best is None or score > best[0]:
+            best = (score, idx, k, start, rates, j, miss)
+    if best is not None:
+        _, idx, k, start, got, j, miss = best
         dist = cd.distance(k, got.q[j])[0]
         path = NearPath(idx, start, float(got.t[j]), float(np.abs(got.rates_inf[j]).max()),
                         float(np.abs(got.rates_inf[0]).max()), float(got.index[j]),
-                        float(got.sigma_ratio[j]), float(dist), got.stopped)
+                        float(got.sigma_ratio[j]), float(dist), got.stopped, miss)
         fig = path_figure(got)[0].figure
         for ax in fig.axes:
             _fixed_legend(ax, fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
@@ -171,8 +190,52 @@ def near_data(model, locus, nm, params, seed: int, stem: str) -> NearData | None
                                _path_caption(path), "near-path",
                                f"{stem}: minimum infinity-norm rates through component {idx}",
                                (idx,)))
-        break
     return NearData(tuple(poses), path, "position" if position else "task", tuple(figs))
+
+
+def near_manipulability_figure(model, poses, *, three: bool = True):
+    """The position rows' ellipsoid and polytope at each of ``poses``, a matplotlib Figure.
+
+    At most :data:`NEAR_COLUMNS` panels a row, with text of :data:`NEAR_FONT_PT`, so that
+    the text keeps a legible size when the figure is scaled to the line width.
+    """
+    import matplotlib
+    from matplotlib.figure import Figure as MplFigure
+    from matplotlib.ticker import MaxNLocator
+
+    from ..near.api import manipulability
+    from ..near.figures import plot_manipulability
+
+    cols = min(NEAR_COLUMNS, len(poses))
+    rows = -(-len(poses) // cols)
+    with matplotlib.rc_context({"font.size": NEAR_FONT_PT}):
+        fig = MplFigure(figsize=(3.4 * cols, (3.4 if three else 3.0) * rows),
+                        layout="constrained")
+        for i, p in enumerate(poses, start=1):
+            ax = fig.add_subplot(rows, cols, i, projection="3d" if three else None)
+            plot_manipulability(manipulability(model, p.q, position_only=True).J, ax=ax)
+            ax.set_title("regular pose" if p.component == 0
+                         else f"near component {p.component}", fontsize=NEAR_FONT_PT)
+            ax.tick_params(labelsize=NEAR_FONT_PT - 1)
+            # three ticks an axis: at this size more would run into each other
+            for axis in (ax.xaxis, ax.yaxis) + ((ax.zaxis,) if three else ()):
+                axis.set_major_locator(MaxNLocator(3))
+            _fixed_legend(ax, fontsize=NEAR_FONT_PT - 1, loc="upper left")
+    return fig
+
+
+def _across_keeping_orientation(kin, q0, d) -> np.ndarray:
+    """The unit joint direction nearest to ``d`` that leaves the orientation unchanged at
+    ``q0`` to first order (``d`` itself when the task has no angular rows or none is left)."""
+    ang = [i for i, r in enumerate(kin.rows) if r >= 3]
+    if not ang:
+        return _unit(d)
+    Jw = kin.jacobian(q0)[ang]
+    _, s, vt = np.linalg.svd(Jw)
+    rank = int(np.sum(s > 1e-9 * max(float(s[0]), 1e-300))) if s.size else 0
+    null = vt[rank:]
+    e = null.T @ (null @ np.asarray(d, dtype=float))
+    return _unit(e) if np.linalg.norm(e) > 0.1 * np.linalg.norm(d) else _unit(d)
 
 
 def _fixed_legend(ax, **where):
@@ -206,9 +269,13 @@ def _pose_caption(poses, unit: str = "rad") -> str:
 
 def _path_caption(path) -> str:
     return ("Minimum infinity-norm joint rates (top) and the discontinuity indices, mixing "
-            f"ratio and {SIGMA} (bottom) as the tool point follows a straight line through "
-            f"the tool position at the sample point of component {path.component}, the "
-            "orientation held.")
+            f"ratio and {SIGMA} (bottom) as the tool point follows a straight line from its "
+            f"position at $q_0 + {PATH_OFFSET:g}\\,e$ through its position at "
+            f"$q_0 + {path.miss:g}\\,e$ and as far beyond, the orientation held; $q_0$ is the "
+            f"sample point of component {path.component} and $e$ a unit joint direction across "
+            "it that keeps the orientation to first order, so the joints pass close to the "
+            f"component. Where {SIGMA} is smallest (t = {path.t:.3g}) the largest joint rate is "
+            f"{path.rate_max:.3g}, against {path.rate_max_start:.3g} at the start.")
 
 
 def _g(x, digits: int = 4) -> str:
@@ -261,9 +328,11 @@ def near_blocks(report) -> list:
         stop = f" The path {p.stopped}." if p.stopped else ""
         out.append(Para(
             "Minimum infinity-norm motion: from the configuration "
-            f"{PATH_OFFSET:g} {unit} across component {p.component} from its sample point, the "
-            "tool point follows a straight line through the tool position at the sample point "
-            f"and as far beyond, the orientation held, with the joint rates of least "
+            f"{PATH_OFFSET:g} {unit} across component {p.component} from its sample point (in a "
+            "direction that keeps the orientation to first order), the tool point follows a "
+            f"straight line through its position {p.miss:g} {unit} from the sample point "
+            "on the same side and as far beyond, the orientation held, so that the joints pass "
+            f"close to the component, with the joint rates of least "
             f"$\\max_i |\\dot q_i|$ (Ha and Lee's algorithm, {PATH_STEPS} steps). At the "
             f"closest approach (the step where {SIGMA} is smallest, $t = {p.t:.3g}$, "
             f"{SIGMA} = {_g(p.sigma_ratio, 3)}, {_g(p.distance, 3)} {unit} from the component) "

@@ -25,6 +25,16 @@ class RobotPose:
     kinds: tuple                  # "revolute" or "prismatic" per joint
     tool: np.ndarray              # the task point
     scale: float                  # the largest distance between two points of the chain
+    tool_frame: np.ndarray | None = None  # (3, 3): the last frame's axes as columns
+
+    @property
+    def planar(self) -> bool:
+        """Does the arm lie in the plane z = 0 with every revolute axis along z?"""
+        tol = 1e-9 * self.scale
+        flat = bool(np.all(np.abs(np.asarray(self.chain)[:, 2]) <= tol))
+        return flat and all(abs(abs(float(d[2])) - 1.0) <= 1e-9 if k == "revolute"
+                            else abs(float(d[2])) <= 1e-9
+                            for d, k in zip(self.axis_directions, self.kinds))
 
 
 def robot_pose(model, q: dict, params=None) -> RobotPose:
@@ -54,4 +64,5 @@ def robot_pose(model, q: dict, params=None) -> RobotPose:
     diffs = chain[:, None, :] - chain[None, :, :]
     scale = max(float(np.max(np.linalg.norm(diffs, axis=-1))), 1e-9)
     return RobotPose(chain, tuple(ln.point for ln in lines), tuple(ln.direction for ln in lines),
-                     tuple(ln.kind for ln in lines), np.asarray(tool, dtype=float), scale)
+                     tuple(ln.kind for ln in lines), np.asarray(tool, dtype=float), scale,
+                     np.array(poses[-1][:3, :3], dtype=float))

@@ -83,12 +83,21 @@ def component_leaves(tree: nx.DiGraph, points: dict, variables, parameters) -> d
                 return None
             e = e.subs({sp.Symbol(k): v for k, v in params.items()})
             terms = sp.Add.make_args(sp.expand(e))
+            # the scale of the condition: its terms' numeric coefficients (a term's value
+            # alone would make a one-term condition such as cos(q5/2) always 1 relative)
+            coeffs = []
+            for t in terms:
+                try:
+                    coeffs.append(abs(float(t.as_coeff_Mul()[0])))
+                except TypeError:
+                    coeffs.append(0.0)
             cache[cond] = (sp.lambdify(list(variables), e, "numpy"),
-                           [sp.lambdify(list(variables), t, "numpy") for t in terms])
+                           [sp.lambdify(list(variables), t, "numpy") for t in terms],
+                           sum(coeffs))
         f = cache[cond]
         if f is None:
             return None
-        size = sum(abs(float(t(*q))) for t in f[1])
+        size = max(sum(abs(float(t(*q))) for t in f[1]), f[2])
         return abs(float(f[0](*q))) / size if size > 0 else 0.0
 
     roots = [n for n in tree if tree.in_degree(n) == 0]

@@ -131,7 +131,7 @@ def test_facts_true_at_every_pose_are_not_stated_as_the_components(puma):
     # UR5: axes 2, 3 and 4 are always parallel; what the component adds is 4 || 6
     _, ur5 = _views("ur5")
     texts = [v.readings[0] for v in ur5]
-    assert any(t.startswith("Axes 4 and 6 are parallel") for t in texts), texts
+    assert any(t.startswith("Wrist singularity: axes 4 and 6 are parallel") for t in texts), texts
     assert not any("axes 2, 3, 4 and 6" in t for t in texts), texts
 
 

@@ -78,9 +78,13 @@ def test_fsp_finding_is_explained(reports):
     finding = "component 1: SVD rank deficient (ratio 1.0e-16) but FSP finds no dependent row"
     check = dataclasses.replace(report.check, findings=(finding,))
     md = render_markdown(dataclasses.replace(report, check=check))
-    section = _section(md, "Numeric cross-check")
+    # the finding is told in the appendix's second opinions, and named on the first page
+    section = _section(md, "Second opinions")
     assert "1 finding where the FSP reducer" in section
     assert "Full Space Parameterization" in section and "it is not an error" in section
+    assert "1 finding" not in _section(md, "Numeric cross-check")
+    front = md[:md.index("## 1.")]
+    assert "**Caveats.**" in front and "the FSP reducer or the largest maximal minor" in front
 
 
 def test_model_notes_state_the_model_not_how_the_file_was_written():

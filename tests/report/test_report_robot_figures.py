@@ -1,0 +1,54 @@
+"""Pictures of the arm: planar arms in their plane, 3-D arms on a base and floor with the
+end-effector frame, prismatic joints as boxes."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from rankloci.io import load_model
+from rankloci.report.figures import plot_robot, robot_figure
+from rankloci.report.robot import robot_pose
+
+
+def _pose(name, **q):
+    model = load_model(name)
+    values = {str(v): 0.3 for v in model.variables}
+    values.update(q)
+    return robot_pose(model, values)
+
+
+@pytest.mark.parametrize("name", ["planar2r", "planar3r", "planar4r"])
+def test_planar_arms_are_drawn_in_two_dimensions(name):
+    pose = _pose(name)
+    assert pose.planar
+    fig = robot_figure(pose, pose, highlight=(1,), arrow=np.array([1.0, 0.0, 0.0]))
+    assert [ax.name for ax in fig.axes] == ["rectilinear", "rectilinear"]
+    # the arm fills its panel: every point of the chain is inside the limits
+    ax = fig.axes[0]
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    for x, y, _ in pose.chain:
+        assert x0 < x < x1 and y0 < y < y1
+
+
+def test_spatial_arms_stay_three_dimensional_with_floor_base_and_tool_frame():
+    pose = _pose("puma560")
+    assert not pose.planar
+    R = pose.tool_frame
+    assert R.shape == (3, 3) and np.allclose(R.T @ R, np.eye(3), atol=1e-12)
+    fig = robot_figure(pose, pose)
+    ax = fig.axes[0]
+    assert ax.name == "3d"
+    kinds = [type(c).__name__ for c in ax.collections]
+    assert "Poly3DCollection" in kinds                   # the floor
+    assert kinds.count("Line3DCollection") >= 3          # x, y and z of the end-effector
+
+
+def test_prismatic_joints_are_drawn_as_boxes():
+    pose = _pose("stanford", q3=0.8)
+    as_revolute = dataclasses.replace(pose, kinds=tuple("revolute" for _ in pose.kinds))
+    with_box = plot_robot(pose).axes[0]
+    without = plot_robot(as_revolute).axes[0]
+    assert len(with_box.lines) - len(without.lines) == 12     # the edges of one box
