@@ -87,9 +87,10 @@ def _task_point(ax):
 def test_the_robot_is_drawn_from_a_locus_or_from_a_model_and_q():
     import rankloci
 
-    ax = F.plot_robot("planar2r", [0.0, 0.0])
-    x, y, z = (float(np.ravel(v)[0]) for v in _task_point(ax).get_data_3d())
-    assert (x, y, z) == (2.0, 0.0, 0.0)                        # the arm stretched along x
+    ax = F.plot_robot("planar2r", [0.0, 0.0])                  # a planar arm: in its plane
+    assert ax.name == "rectilinear"
+    x, y = (float(np.ravel(v)[0]) for v in _task_point(ax).get_data())
+    assert (x, y) == (2.0, 0.0)                                # the arm stretched along x
     L = rankloci.locus("puma560", numeric=True)
     for k, comp in enumerate(L.components, start=1):
         ax = F.plot_robot(L, component=k)

@@ -24,7 +24,7 @@ def _pose(name, **q):
 def test_planar_arms_are_drawn_in_two_dimensions(name):
     pose = _pose(name)
     assert pose.planar
-    fig = robot_figure(pose, pose, highlight=(1,), arrow=np.array([1.0, 0.0, 0.0]))
+    fig = robot_figure(pose, pose, highlight=(1,), arrow=np.array([1.0, 0.0, 0.0]))[0].figure
     assert [ax.name for ax in fig.axes] == ["rectilinear", "rectilinear"]
     # the arm fills its panel: every point of the chain is inside the limits
     ax = fig.axes[0]
@@ -38,7 +38,7 @@ def test_spatial_arms_stay_three_dimensional_with_floor_base_and_tool_frame():
     assert not pose.planar
     R = pose.tool_frame
     assert R.shape == (3, 3) and np.allclose(R.T @ R, np.eye(3), atol=1e-12)
-    fig = robot_figure(pose, pose)
+    fig = robot_figure(pose, pose)[0].figure
     ax = fig.axes[0]
     assert ax.name == "3d"
     kinds = [type(c).__name__ for c in ax.collections]
@@ -49,6 +49,6 @@ def test_spatial_arms_stay_three_dimensional_with_floor_base_and_tool_frame():
 def test_prismatic_joints_are_drawn_as_boxes():
     pose = _pose("stanford", q3=0.8)
     as_revolute = dataclasses.replace(pose, kinds=tuple("revolute" for _ in pose.kinds))
-    with_box = plot_robot(pose).axes[0]
-    without = plot_robot(as_revolute).axes[0]
+    with_box = plot_robot(pose)
+    without = plot_robot(as_revolute)
     assert len(with_box.lines) - len(without.lines) == 12     # the edges of one box
