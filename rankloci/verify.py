@@ -134,16 +134,21 @@ def _slice_recovery(locus, cert, reference, seed, should_stop, progress, slice_c
     from .certify import certify_locus
 
     added = []
+    # every slice's locus is started at once (in worker processes when there are any), and
+    # they are taken in the certificate's order
+    wanted = [(var, value) for var, values in cert.slices for value in values
+              if computed is None or (var, value) not in computed]
+    parts = {key: slice_compute(*key) for key in wanted}
     for var, values in cert.slices:
         for value in values:
             if should_stop():
                 break
-            if computed is not None and (var, value) in computed:
+            if (var, value) not in parts:
                 continue        # its pieces were offered in an earlier round
             progress(f"certificate: computing the locus on the slice {var} = {sp.sstr(value)}, "
                      "where witness points lie on no component")
             try:
-                part = slice_compute(var, value)
+                part = parts[(var, value)].result(should_stop)
             except LocusTimeout:
                 break
             if computed is not None:
@@ -204,6 +209,18 @@ def _sliced(tm, var, value):
     return dataclasses.replace(t, matrix=sp.ImmutableMatrix(M),
                                variables=tuple(v for v in t.variables if v != var),
                                angles=tuple(v for v in t.angles if v != var))
+
+
+def _slice_locus(tm, var, value, method, seed, should_stop=None):
+    """The certified locus of ``tm`` (parameters substituted) with ``var`` fixed at ``value``:
+    one part of the certificate's recovery, run in a worker process when there are any."""
+    from .methods import compute_locus, method_for
+
+    part = _sliced(tm, var, value)
+    found = compute_locus(part, method_for(part.shape, method, strict=False),
+                          rng=np.random.default_rng(seed), should_stop=should_stop)
+    # the slice's own certificate completes its locus where witness points fix a value
+    return _certified(found, part, seed, should_stop or (lambda: False), lambda msg: None)[0]
 
 
 def _certified(locus, reference, seed, should_stop, progress, slice_compute=None):
@@ -289,7 +306,7 @@ def _complete(cert, numeric_ok: bool):
 
 
 def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF_CHECK_SAMPLES,
-                   progress=None, should_stop=None, method=None):
+                   progress=None, should_stop=None, method=None, workers=None):
     """The locus of ``tm``, certified, and recomputed when its certificate fails.
 
     Each computation is checked twice: numerically (:func:`~rankloci.numeric.crosscheck.
@@ -322,6 +339,10 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
     method : str, optional
         The method of the first computation; the subdeterminant method is tried last when it
         is another one.
+    workers : rankloci.parallel.Workers, optional
+        Where the numeric check runs beside the certificate, and the loci of the slices of
+        the certificate's recovery side by side (default: one after another, here).  The
+        result is the same.
 
     Returns
     -------
@@ -337,17 +358,15 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
     """
     from .numeric.crosscheck import cross_check
 
+    from .parallel import Workers
+
     progress = progress or (lambda msg: None)
     stop = should_stop or (lambda: False)
+    workers = workers if workers is not None else Workers(1)
+    here = workers.jobs == 1
 
     def slice_compute(var, value):
-        from .methods import compute_locus, method_for
-
-        part = _sliced(tm, var, value)
-        found = compute_locus(part, method_for(part.shape, method, strict=False),
-                              rng=np.random.default_rng(seed), should_stop=stop)
-        # the slice's own certificate completes its locus where witness points fix a value
-        return _certified(found, part, seed, stop, lambda msg: None)[0]
+        return workers.submit(_slice_locus, tm, var, value, method, seed, should_stop=None)
 
     plan = [(tm, seed, "as computed", None)]
     if tm.parameters:
@@ -382,13 +401,23 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
             attempts.append(f"{what}: did not finish within the time limit")
             timed_out = True
             break
-        report = cross_check(locus, reference.matrix, reference.variables,
-                             angles=reference.angles, parameters=reference.parameters,
-                             samples=samples, rng=np.random.default_rng(seed), seed=seed,
-                             progress=lambda msg: progress(f"self-{msg}"),
-                             earlier=report if how is None else None)
-        numeric_problems = _check_problems(report)
+        # the numeric check of the engine's locus, beside its certificate; a first
+        # computation that the certificate proves needs no numeric check
+        checking = workers.submit(
+            cross_check, locus, reference.matrix, reference.variables, angles=reference.angles,
+            parameters=reference.parameters, samples=samples, rng=np.random.default_rng(seed),
+            seed=seed, progress=(lambda msg: progress(f"self-{msg}")) if here else None,
+            earlier=report if how is None else None)
+        if not here:
+            progress("self-check: in a worker process, beside the certificate")
         locus, cert = _certified(locus, reference, seed, stop, progress, slice_compute)
+        if cert.verdict == "passed" and not attempts:
+            checking.cancel()
+            attempts.append(f"{what}: certificate passed")
+            best = (0, locus, [], True)
+            break
+        report = checking.result(stop)
+        numeric_problems = _check_problems(report)
         complete = _complete(cert, not numeric_problems)
         # a passing certificate is of the locus as completed; the numeric check was of the
         # engine's
