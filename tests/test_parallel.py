@@ -47,9 +47,13 @@ def test_one_and_two_processes_give_the_same_locus(capsys, argv):
     assert one["components"] and one == two
 
 
-def test_the_self_check_in_a_worker_gives_the_same_recomputation():
+def test_the_self_check_in_a_worker_gives_the_same_recomputation(monkeypatch):
     """A first locus that the certificate fails: its numeric check runs in a worker beside the
-    certificate, and its regular points go back as hints, as with one process."""
+    certificate (here for 3 joints too), and its regular points go back as hints, as with one
+    process."""
+    import rankloci.verify
+
+    monkeypatch.setattr(rankloci.verify, "WORKER_MIN_VARIABLES", 1)
     model = load_model("planar3r")
     tm, ref = task_matrix(model, frame="auto"), task_matrix(model)
     q2, q3 = tm.variables[1], tm.variables[2]
