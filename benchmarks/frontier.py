@@ -158,10 +158,11 @@ def render_markdown(rows, meta) -> str:
         "",
         f"Python {meta['python']} on {meta['machine']}, {meta['cores']} cores, {meta['date']}. "
         "Other work ran on the machine at the same time (a shared machine): the seconds are "
-        "those of a loaded machine. Machine speed in this run: the locus alone of "
-        f"{ref['label']} took {ref['seconds']:.2f} s here"
-        + (f", {ref['corpus_seconds']:.2f} s in benchmarks/corpus.md"
-           if ref.get("corpus_seconds") else "") + ".",
+        "those of a loaded machine."
+        + ("" if not ref else " Machine speed in this run: the locus alone of "
+           f"{ref['label']} took {ref['seconds']:.2f} s here"
+           + (f", {ref['corpus_seconds']:.2f} s in benchmarks/corpus.md"
+              if ref.get("corpus_seconds") else "") + "."),
         "",
         "| chain | joints | arguments | jobs | whole run (s) | locus (s) | certificate (s) | "
         "peak RSS (MiB) | target (s) | within | components | special | result |",
@@ -210,6 +211,8 @@ def main(argv=None) -> int:
     ap.add_argument("--cases", default="", help="comma-separated case names (default: all)")
     ap.add_argument("--timeout", type=float, default=300.0, help="limit per run (s)")
     ap.add_argument("--output", default=str(HERE / "frontier"))
+    ap.add_argument("--no-reference", dest="reference", action="store_false",
+                    help="leave out the reference chain's timing")
     ap.add_argument("--jobs", default="2",
                     help="comma-separated --jobs values, each case run with each (default 2)")
     opts = ap.parse_args(argv)
@@ -238,7 +241,8 @@ def main(argv=None) -> int:
             "cores": len(os.sched_getaffinity(0)), "jobs": jobs,
             "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
             "timeout_s": opts.timeout,
-            "reference": reference_time(root) if root is not None else {"label": "", "seconds": 0}}
+            "reference": reference_time(root) if root is not None and opts.reference
+            else None}
     out = Path(opts.output)
     out.with_suffix(".json").write_text(json.dumps({"meta": meta, "rows": rows}, indent=1) + "\n")
     out.with_suffix(".md").write_text(render_markdown(rows, meta))

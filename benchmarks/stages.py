@@ -13,6 +13,9 @@ certificate of a slice inside the recovery) is counted once, in the inner stage:
   and the loci of slices (:func:`rankloci.methods.compute_locus` called by the recovery);
 - **self-check**: :func:`rankloci.numeric.crosscheck.cross_check`;
 - **certificate**: :func:`rankloci.certify.certify_locus`;
+- **worker wait**: waiting for a part computed in a worker process (``--jobs`` above 1; the
+  part itself, in the worker, is in no other column); with one job, the parts run inside it
+  and are counted in their own columns;
 - **other**: the rest of the run (loading the model, merging, notes).
 
 The figures go to ``benchmarks/stages.json`` and ``benchmarks/stages.md``.  Usage::
@@ -42,7 +45,7 @@ CASES = (
     ("iiwa_offsets", str(EXTRA / "iiwa_offsets.urdf"), None, "link_7", ()),
 )
 
-STAGES = ("J", "engine", "recomputation", "self-check", "certificate")
+STAGES = ("J", "engine", "recomputation", "self-check", "certificate", "worker wait")
 
 
 def _child(path, base, tip, augment, jobs) -> dict:
@@ -52,6 +55,10 @@ def _child(path, base, tip, augment, jobs) -> dict:
     # by import_module: the package's own ``jacobian`` is the API function of that name
     augmented, certify, jacobian, methods, crosscheck = (import_module(f"rankloci.{m}") for m in (
         "augmented", "certify", "jacobian", "methods", "numeric.crosscheck"))
+    try:
+        parallel = import_module("rankloci.parallel")
+    except ImportError:         # a version without worker processes
+        parallel = None
     from rankloci.api.calls import certified_locus
     from rankloci.api.models import as_model
 
@@ -80,6 +87,8 @@ def _child(path, base, tip, augment, jobs) -> dict:
                 spent[s] += took - nested
                 if stack:
                     stack[-1][2] += took
+        # pickled by name for a worker process, where it is the function itself
+        wrapper.__module__, wrapper.__qualname__ = inner.__module__, inner.__qualname__
         setattr(module, name, wrapper)
 
     timed(jacobian, "task_matrix", "J")
@@ -87,6 +96,8 @@ def _child(path, base, tip, augment, jobs) -> dict:
     timed(methods, "compute_locus", "recomputation")
     timed(crosscheck, "cross_check", "self-check")
     timed(certify, "certify_locus", "certificate")
+    if parallel is not None:
+        timed(parallel.Task, "result", "worker wait")
     start = time.perf_counter()
     model = as_model(path, tip=tip, base_link=base)
     options = {"jobs": jobs} if jobs is not None else {}
@@ -143,7 +154,7 @@ def render_markdown(rows, meta) -> str:
             continue
         other = res["whole"] - sum(res["stages"].values())
         lines.append(f"| {r['name']} | {res['whole']:.1f} | "
-                     + " | ".join(f"{res['stages'][s]:.1f}" for s in STAGES)
+                     + " | ".join(f"{res['stages'].get(s, 0.0):.1f}" for s in STAGES)
                      + f" | {other:.1f} | {res['engine_calls']} | {res['components']} | "
                      f"{json.dumps(res['complete'])} |")
     lines.append("")
