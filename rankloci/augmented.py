@@ -239,6 +239,7 @@ def augmented_locus(model, tm, method: str | None = None, *, seed: int = 0, prog
 
     progress = progress or (lambda msg: None)
     base_task = None
+    workers = workers.sized(len(tm.variables)) if workers is not None else None
     if tm.n_constraint_rows and workers is not None and workers.jobs > 1:
         # J's locus needs nothing from J_aug's: a worker computes it meanwhile
         base_tm = base_matrix(model, tm)

@@ -11,7 +11,8 @@ merged in a fixed order whatever finishes first:
 - the loci of the slices that the certificate's recovery computes
   (:func:`~rankloci.verify.verified_locus`), one per fixed value.
 
-Each part is a pure function of its arguments (its own random generator, seeded as in a
+Parts of matrices in fewer than :data:`WORKER_MIN_VARIABLES` variables run here: they take
+less time than a worker takes to start.  Each part is a pure function of its arguments (its own random generator, seeded as in a
 computation with one process), so that the locus is the same for every ``jobs``: with
 ``jobs=1`` a part runs in the caller's process when its result is asked for, in the same
 order as before.  The branch tree itself is grown in one process: its pruning uses the
@@ -32,6 +33,11 @@ import time
 from .errors import ArgumentError, LocusTimeout
 
 __all__ = ["available_cores", "check_jobs", "Workers"]
+
+#: Joint variables from which a part runs in a worker.  Starting a worker costs about a second
+#: of CPU (a process that imports the package); the parts of smaller matrices take about that,
+#: and a worker would slow their run on a busy machine.
+WORKER_MIN_VARIABLES = 7
 
 #: Seconds between two looks at the caller's time limit while a worker's result is awaited.
 POLL_SECONDS = 0.1
@@ -185,6 +191,13 @@ class Workers:
         self.close()
         return False
 
+    def sized(self, n_variables: int) -> "Workers":
+        """These workers for the parts of a matrix in ``n_variables`` variables: themselves
+        from :data:`WORKER_MIN_VARIABLES` on, below it one job (the parts run here)."""
+        if self.jobs == 1 or n_variables >= WORKER_MIN_VARIABLES:
+            return self
+        return _HERE
+
     def submit(self, fn, /, *args, **kwargs) -> Task:
         """``fn(*args, **kwargs)`` as a :class:`Task`.
 
@@ -223,3 +236,7 @@ class Workers:
             if p.is_alive():
                 p.kill()
         executor.shutdown(wait=True, cancel_futures=True)
+
+
+#: Workers that run every part here (see :meth:`Workers.sized`).
+_HERE = Workers(1)

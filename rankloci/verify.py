@@ -48,12 +48,6 @@ SELF_CHECK_SAMPLES = 6
 #: certificate may fix other variables at the points still uncovered).
 SLICE_ROUNDS = 3
 
-#: Joint variables from which the numeric self-check starts in a worker process beside the
-#: certificate (with ``jobs`` above 1).  Starting a worker costs about a second of CPU (a
-#: process that imports the package); below this the check and the certificate take about
-#: that together, and the worker would slow the run on a busy machine.
-WORKER_MIN_VARIABLES = 7
-
 #: Rounds of recomputation with the configurations where the check found a component regular
 #: (each adds the new ones): a split leaf's pieces are checked in the next round.
 HINT_ROUNDS = 2
@@ -368,9 +362,8 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
 
     progress = progress or (lambda msg: None)
     stop = should_stop or (lambda: False)
-    workers = workers if workers is not None else Workers(1)
-    checker = workers if len(reference.variables) >= WORKER_MIN_VARIABLES else Workers(1)
-    here = checker.jobs == 1
+    workers = (workers if workers is not None else Workers(1)).sized(len(reference.variables))
+    here = workers.jobs == 1
 
     def slice_compute(var, value):
         return workers.submit(_slice_locus, tm, var, value, method, seed, should_stop=None)
@@ -410,7 +403,7 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
             break
         # the numeric check of the engine's locus, beside its certificate; a first
         # computation that the certificate proves needs no numeric check
-        checking = checker.submit(
+        checking = workers.submit(
             cross_check, locus, reference.matrix, reference.variables, angles=reference.angles,
             parameters=reference.parameters, samples=samples, rng=np.random.default_rng(seed),
             seed=seed, progress=(lambda msg: progress(f"self-{msg}")) if here else None,

@@ -41,7 +41,12 @@ def _locus_json(capsys, *argv):
     ["planar4r", "--augment", "q1 + q2 + q3 + q4"],     # J's locus in a worker beside J_aug's
     ["puma560", "--numeric-parameters"],
 ], ids=lambda a: " ".join(a))
-def test_one_and_two_processes_give_the_same_locus(capsys, argv):
+def test_one_and_two_processes_give_the_same_locus(capsys, monkeypatch, argv):
+    import rankloci.parallel
+
+    # the parts in workers also for these small chains (the command's child is forked from
+    # this process, the workers start afresh)
+    monkeypatch.setattr(rankloci.parallel, "WORKER_MIN_VARIABLES", 1)
     one = _locus_json(capsys, *argv, "--jobs", "1")
     two = _locus_json(capsys, *argv, "--jobs", "2")
     assert one["components"] and one == two
@@ -51,9 +56,9 @@ def test_the_self_check_in_a_worker_gives_the_same_recomputation(monkeypatch):
     """A first locus that the certificate fails: its numeric check runs in a worker beside the
     certificate (here for 3 joints too), and its regular points go back as hints, as with one
     process."""
-    import rankloci.verify
+    import rankloci.parallel
 
-    monkeypatch.setattr(rankloci.verify, "WORKER_MIN_VARIABLES", 1)
+    monkeypatch.setattr(rankloci.parallel, "WORKER_MIN_VARIABLES", 1)
     model = load_model("planar3r")
     tm, ref = task_matrix(model, frame="auto"), task_matrix(model)
     q2, q3 = tm.variables[1], tm.variables[2]
