@@ -5,18 +5,20 @@ merged in a fixed order whatever finishes first:
 
 - the numeric self-check of a computed locus (:func:`~rankloci.numeric.crosscheck.
   cross_check`) and its certificate: the self-check is started in a worker while the
-  certificate runs, and its report is taken only when the certificate does not pass;
+  certificate runs, where the certificate is not expected to decide
+  (:data:`~rankloci.verify.CHECK_AHEAD_CODIMENSION`) and after a first computation that it
+  did not pass, and its report is taken only when the certificate does not pass;
 - the locus of J without the constraint rows of an augmented J_aug
   (:func:`~rankloci.augmented.augmented_locus`), computed while J_aug's is;
 - the loci of the slices that the certificate's recovery computes
   (:func:`~rankloci.verify.verified_locus`), one per fixed value.
 
 Parts of matrices in fewer than :data:`WORKER_MIN_VARIABLES` variables run here: they take
-less time than a worker takes to start.  Each part is a pure function of its arguments (its own random generator, seeded as in a
-computation with one process), so that the locus is the same for every ``jobs``: with
-``jobs=1`` a part runs in the caller's process when its result is asked for, in the same
-order as before.  The branch tree itself is grown in one process: its pruning uses the
-components found so far, in the order they are found.
+less time than a worker takes to start.  Each part is a pure function of its arguments (its
+own random generator, seeded as in a computation with one process), so that the locus is
+the same for every ``jobs``: with ``jobs=1`` a part runs in the caller's process when its
+result is asked for, in the same order as before.  The branch tree itself is grown in one
+process: its pruning uses the components found so far, in the order they are found.
 
 Workers start from a forkserver and import what their part needs themselves (a forkserver
 that imported it first would hold up the first part until it had).  A part is

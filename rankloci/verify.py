@@ -48,6 +48,14 @@ SELF_CHECK_SAMPLES = 6
 #: certificate may fix other variables at the points still uncovered).
 SLICE_ROUNDS = 3
 
+#: Codimension from which the numeric check of a first computation starts in a worker beside
+#: its certificate (``jobs`` above 1): where components of codimension 3 or more can occur
+#: (n x m matrices with m - n >= 2), the certificate's eliminations of those codimensions are
+#: beyond its budget but for small matrices, and it leaves the long chains undecided (snake9,
+#: tiago's 9-joint chains), so the check is needed.  Below, the certificate decides, and a
+#: worker started for a check that is not needed costs a second of CPU on a busy machine.
+CHECK_AHEAD_CODIMENSION = 3
+
 #: Rounds of recomputation with the configurations where the check found a component regular
 #: (each adds the new ones): a split leaf's pieces are checked in the next round.
 HINT_ROUNDS = 2
@@ -363,7 +371,11 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
     progress = progress or (lambda msg: None)
     stop = should_stop or (lambda: False)
     workers = (workers if workers is not None else Workers(1)).sized(len(reference.variables))
-    here = workers.jobs == 1
+    one = Workers(1)
+    # the first numeric check starts beside the certificate only where the certificate is not
+    # expected to decide (CHECK_AHEAD_CODIMENSION)
+    n, m = sorted(reference.shape)
+    ahead = min(m - n + 1, len(reference.variables)) >= CHECK_AHEAD_CODIMENSION
 
     def slice_compute(var, value):
         return workers.submit(_slice_locus, tm, var, value, method, seed, should_stop=None)
@@ -403,7 +415,10 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
             break
         # the numeric check of the engine's locus, beside its certificate; a first
         # computation that the certificate proves needs no numeric check
-        checking = workers.submit(
+        # after a first attempt that did not pass, the next ones are not expected to either
+        checker = workers if ahead or attempts else one
+        here = checker.jobs == 1
+        checking = checker.submit(
             cross_check, locus, reference.matrix, reference.variables, angles=reference.angles,
             parameters=reference.parameters, samples=samples, rng=np.random.default_rng(seed),
             seed=seed, progress=(lambda msg: progress(f"self-{msg}")) if here else None,
