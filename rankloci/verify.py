@@ -294,8 +294,24 @@ def _certified(locus, reference, seed, should_stop, progress, slice_compute=None
             reference, matrix=reference.matrix[:reference.shape[0] - reference.n_constraint_rows, :],
             n_constraint_rows=0)
         base_cert = certify_locus(locus.base, base_ref, seed=seed, should_stop=should_stop)
+        base_notes = ()
+        if base_cert.verdict == "failed" and base_cert.discovered_complex \
+                and not base_cert.discovered:
+            # witness points on components without real points only (as for J_aug above)
+            again = certify_locus(locus.base, base_ref, seed=seed, should_stop=should_stop,
+                                  complex_only=base_cert.discovered_complex)
+            if again.verdict != "failed":
+                found = base_cert.discovered_complex
+                base_cert = dataclasses.replace(again, complex_components=tuple(
+                    tuple(c.equations) for c in found))
+                base_notes = (f"{len(found)} component{'s' * (len(found) != 1)} of the complex "
+                              "locus without real points (each fixes a variable at values none "
+                              "of which is real), not part of the robot's locus: "
+                              + "; ".join(", ".join(f"{sp.sstr(e)} = 0" for e in c.equations)
+                                          for c in found),)
         base = dataclasses.replace(locus.base, certificate=base_cert,
-                                   complete=_complete(base_cert, True))
+                                   complete=_complete(base_cert, True),
+                                   notes=locus.base.notes + base_notes)
         locus = dataclasses.replace(locus, base=base)
         if base_cert.verdict != "passed" and cert.verdict == "passed":
             cert = dataclasses.replace(cert, verdict=base_cert.verdict, findings=tuple(

@@ -142,3 +142,19 @@ def test_a_component_below_the_bound_is_reported():
         dataclasses.replace(c, dimension=0) for c in locus.components))
     (finding,) = dimension_findings(low)
     assert "below the bound 1" in finding
+
+
+@pytest.mark.slow
+def test_the_base_locus_certificate_knows_components_without_real_points(robots):
+    """The Panda with its elbow height as a constraint row: the witness points of J's own locus
+    that lie on no component lie on 17 sin q6 + 22 = 0, which has no real point.  The
+    certificate of J's locus counts them there, as the certificate of J_aug's does, and the
+    locus, unchanged, is certified."""
+    import rankloci
+
+    locus = rankloci.locus(robots / "panda_description/urdf/panda.urdf", base_link="panda_link0",
+                           tip="panda_link8", augment=["position(4, z)"], jobs=1)
+    assert locus.complete is True and locus.base.complete is True
+    assert locus.base.certificate.complex_components
+    assert len(locus.base.components) == 5
+    assert any("without real points" in n and "17*sin(q6) + 22" in n for n in locus.base.notes)
