@@ -142,13 +142,9 @@ class Task:
         ``should_stop`` is true while it is awaited (the workers are then ended)."""
         if self._done:
             return self._value
-        if self._future is None:
-            fn, args, kwargs = self._call
-            if "should_stop" in kwargs and kwargs["should_stop"] is None:
-                kwargs = {**kwargs, "should_stop": should_stop}
-            self._value = fn(*args, **kwargs)
-        else:
+        if self._future is not None:
             from concurrent.futures import wait
+            from concurrent.futures.process import BrokenProcessPool
 
             while True:
                 done, _ = wait([self._future], timeout=POLL_SECONDS)
@@ -158,7 +154,19 @@ class Task:
                     self._workers.close()
                     raise LocusTimeout("the time ran out while a worker process computed a "
                                        "part of the locus")
-            self._value = self._future.result()
+            try:
+                self._value = self._future.result()
+                self._done = True
+                return self._value
+            except BrokenProcessPool:
+                # the worker could not start or died (a script without a __main__ guard,
+                # whose import starts the computation again): the part is computed here
+                self._workers.close()
+                self._future = None
+        fn, args, kwargs = self._call
+        if "should_stop" in kwargs and kwargs["should_stop"] is None:
+            kwargs = {**kwargs, "should_stop": should_stop}
+        self._value = fn(*args, **kwargs)
         self._done = True
         return self._value
 

@@ -120,3 +120,22 @@ def test_a_bad_jobs_option_is_one_line_and_exit_2(capsys, tmp_path, command, val
     assert code == 2 and not out
     assert err.count("\n") == 1 and "--jobs" in err and repr(value) in err
     assert not list(tmp_path.iterdir())
+
+
+def _dies_in_a_worker(parent: int) -> str:
+    """Ends its process in a worker (as a worker whose start fails does); here it returns."""
+    import os
+
+    if os.getpid() != parent:
+        os._exit(3)
+    return "computed here"
+
+
+def test_a_part_whose_worker_dies_is_computed_here():
+    """A worker that cannot start or dies breaks the pool: the part, a pure function of its
+    arguments, is then computed in this process, and later parts start new workers."""
+    import os
+
+    with Workers(2) as workers:
+        assert workers.submit(_dies_in_a_worker, os.getpid()).result() == "computed here"
+        assert workers.submit(os.getpid).result() != os.getpid()
