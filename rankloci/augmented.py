@@ -211,7 +211,7 @@ def base_matrix(model, tm):
 
 
 def augmented_locus(model, tm, method: str | None = None, *, seed: int = 0, progress=None,
-                    should_stop=None, clock=None, hints=(), trees=None):
+                    should_stop=None, clock=None, hints=(), trees=None, workers=None):
     """Loci of J_aug (``tm``) and of J, and J_aug's components classified.
 
     ``method`` applies to J_aug and to J, as
@@ -219,7 +219,9 @@ def augmented_locus(model, tm, method: str | None = None, *, seed: int = 0, prog
     determinant method for a square matrix, svm otherwise); a request for
     the determinant method falls back to svm for J when only J_aug is
     square.  Both loci use the generator seeded with ``seed``.  ``hints`` and ``trees`` go to
-    :func:`~rankloci.methods.compute_locus` for J_aug.
+    :func:`~rankloci.methods.compute_locus` for J_aug.  With ``workers``
+    (:class:`~rankloci.parallel.Workers`), J's locus is computed in a worker process while
+    J_aug's is computed here; the result is the same.
 
     Examples
     --------
@@ -236,18 +238,32 @@ def augmented_locus(model, tm, method: str | None = None, *, seed: int = 0, prog
     from .methods import compute_locus, method_for
 
     progress = progress or (lambda msg: None)
+    base_task = None
+    workers = workers.sized(len(tm.variables)) if workers is not None else None
+    if tm.n_constraint_rows and workers is not None and workers.jobs > 1:
+        # J's locus needs nothing from J_aug's: a worker computes it meanwhile
+        base_tm = base_matrix(model, tm)
+        base_method = method_for(base_tm.shape, method, strict=False)
+        progress(f"locus of J without the constraint rows ({base_tm.shape[0]}x"
+                 f"{base_tm.shape[1]}), method {base_method}, in a worker process")
+        base_task = workers.submit(compute_locus, base_tm, base_method,
+                                   rng=np.random.default_rng(seed), should_stop=None,
+                                   clock=clock)
     aug = compute_locus(tm, method_for(tm.shape, method), rng=np.random.default_rng(seed),
                         progress=progress, should_stop=should_stop, clock=clock, hints=hints,
                         trees=trees)
     aug = directions_in_model_frame(aug, model, tm)
     if not tm.n_constraint_rows:
         return aug
-    base_tm = base_matrix(model, tm)
-    base_method = method_for(base_tm.shape, method, strict=False)
-    progress(f"locus of J without the constraint rows ({base_tm.shape[0]}x{base_tm.shape[1]}), "
-             f"method {base_method}")
-    base = compute_locus(base_tm, base_method, rng=np.random.default_rng(seed), progress=progress,
-                         should_stop=should_stop, clock=clock)
+    if base_task is not None:
+        base = base_task.result(should_stop)
+    else:
+        base_tm = base_matrix(model, tm)
+        base_method = method_for(base_tm.shape, method, strict=False)
+        progress(f"locus of J without the constraint rows ({base_tm.shape[0]}x"
+                 f"{base_tm.shape[1]}), method {base_method}")
+        base = compute_locus(base_tm, base_method, rng=np.random.default_rng(seed),
+                             progress=progress, should_stop=should_stop, clock=clock)
     base = directions_in_model_frame(base, model, base_tm)
     progress("classifying the components: kinematic, algorithmic or mixed")
     return classify(aug, base, tm, base_tm, rng=np.random.default_rng(seed))

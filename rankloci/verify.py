@@ -48,6 +48,14 @@ SELF_CHECK_SAMPLES = 6
 #: certificate may fix other variables at the points still uncovered).
 SLICE_ROUNDS = 3
 
+#: Codimension from which the numeric check of a first computation starts in a worker beside
+#: its certificate (``jobs`` above 1): where components of codimension 3 or more can occur
+#: (n x m matrices with m - n >= 2), the certificate's eliminations of those codimensions are
+#: beyond its budget but for small matrices, and it leaves the long chains undecided (snake9,
+#: tiago's 9-joint chains), so the check is needed.  Below, the certificate decides, and a
+#: worker started for a check that is not needed costs a second of CPU on a busy machine.
+CHECK_AHEAD_CODIMENSION = 3
+
 #: Rounds of recomputation with the configurations where the check found a component regular
 #: (each adds the new ones): a split leaf's pieces are checked in the next round.
 HINT_ROUNDS = 2
@@ -135,16 +143,21 @@ def _slice_recovery(locus, cert, reference, seed, should_stop, progress, slice_c
     from .locus import Component
 
     added, lifted_complex = [], []
+    # every slice's locus is started at once (in worker processes when there are any), and
+    # they are taken in the certificate's order
+    wanted = [(var, value) for var, values in cert.slices for value in values
+              if computed is None or (var, value) not in computed]
+    parts = {key: slice_compute(*key) for key in wanted}
     for var, values in cert.slices:
         for value in values:
             if should_stop():
                 break
-            if computed is not None and (var, value) in computed:
+            if (var, value) not in parts:
                 continue        # its pieces were offered in an earlier round
             progress(f"certificate: computing the locus on the slice {var} = {sp.sstr(value)}, "
                      "where witness points lie on no component")
             try:
-                part = slice_compute(var, value)
+                part = parts[(var, value)].result(should_stop)
             except LocusTimeout:
                 break
             if computed is not None:
@@ -268,6 +281,18 @@ def _sliced(tm, var, value):
                                angles=tuple(v for v in t.angles if v != var))
 
 
+def _slice_locus(tm, var, value, method, seed, should_stop=None):
+    """The certified locus of ``tm`` (parameters substituted) with ``var`` fixed at ``value``:
+    one part of the certificate's recovery, run in a worker process when there are any."""
+    from .methods import compute_locus, method_for
+
+    part = _sliced(tm, var, value)
+    found = compute_locus(part, method_for(part.shape, method, strict=False),
+                          rng=np.random.default_rng(seed), should_stop=should_stop)
+    # the slice's own certificate completes its locus where witness points fix a value
+    return _certified(found, part, seed, should_stop or (lambda: False), lambda msg: None)[0]
+
+
 def _certified(locus, reference, seed, should_stop, progress, slice_compute=None):
     """``locus`` with its certificate (and that of its base locus, for an augmented matrix)."""
     from .certify import certify_locus
@@ -333,8 +358,24 @@ def _certified(locus, reference, seed, should_stop, progress, slice_compute=None
             reference, matrix=reference.matrix[:reference.shape[0] - reference.n_constraint_rows, :],
             n_constraint_rows=0)
         base_cert = certify_locus(locus.base, base_ref, seed=seed, should_stop=should_stop)
+        base_notes = ()
+        if base_cert.verdict == "failed" and base_cert.discovered_complex \
+                and not base_cert.discovered:
+            # witness points on components without real points only (as for J_aug above)
+            again = certify_locus(locus.base, base_ref, seed=seed, should_stop=should_stop,
+                                  complex_only=base_cert.discovered_complex)
+            if again.verdict != "failed":
+                found = base_cert.discovered_complex
+                base_cert = dataclasses.replace(again, complex_components=tuple(
+                    tuple(c.equations) for c in found))
+                base_notes = (f"{len(found)} component{'s' * (len(found) != 1)} of the complex "
+                              "locus without real points (each fixes a variable at values none "
+                              "of which is real), not part of the robot's locus: "
+                              + "; ".join(", ".join(f"{sp.sstr(e)} = 0" for e in c.equations)
+                                          for c in found),)
         base = dataclasses.replace(locus.base, certificate=base_cert,
-                                   complete=_complete(base_cert, True))
+                                   complete=_complete(base_cert, True),
+                                   notes=locus.base.notes + base_notes)
         locus = dataclasses.replace(locus, base=base)
         if base_cert.verdict != "passed" and cert.verdict == "passed":
             cert = dataclasses.replace(cert, verdict=base_cert.verdict, findings=tuple(
@@ -353,7 +394,7 @@ def _complete(cert, numeric_ok: bool):
 
 
 def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF_CHECK_SAMPLES,
-                   progress=None, should_stop=None, method=None):
+                   progress=None, should_stop=None, method=None, workers=None):
     """The locus of ``tm``, certified, and recomputed when its certificate fails.
 
     Each computation is checked twice: numerically (:func:`~rankloci.numeric.crosscheck.
@@ -386,6 +427,10 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
     method : str, optional
         The method of the first computation; the subdeterminant method is tried last when it
         is another one.
+    workers : rankloci.parallel.Workers, optional
+        Where the numeric check runs beside the certificate, and the loci of the slices of
+        the certificate's recovery side by side (default: one after another, here).  The
+        result is the same.
 
     Returns
     -------
@@ -401,17 +446,19 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
     """
     from .numeric.crosscheck import cross_check
 
+    from .parallel import Workers
+
     progress = progress or (lambda msg: None)
     stop = should_stop or (lambda: False)
+    workers = (workers if workers is not None else Workers(1)).sized(len(reference.variables))
+    one = Workers(1)
+    # the first numeric check starts beside the certificate only where the certificate is not
+    # expected to decide (CHECK_AHEAD_CODIMENSION)
+    n, m = sorted(reference.shape)
+    ahead = min(m - n + 1, len(reference.variables)) >= CHECK_AHEAD_CODIMENSION
 
     def slice_compute(var, value):
-        from .methods import compute_locus, method_for
-
-        part = _sliced(tm, var, value)
-        found = compute_locus(part, method_for(part.shape, method, strict=False),
-                              rng=np.random.default_rng(seed), should_stop=stop)
-        # the slice's own certificate completes its locus where witness points fix a value
-        return _certified(found, part, seed, stop, lambda msg: None)[0]
+        return workers.submit(_slice_locus, tm, var, value, method, seed, should_stop=None)
 
     plan = [(tm, seed, "as computed", None)]
     if tm.parameters:
@@ -446,13 +493,26 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
             attempts.append(f"{what}: did not finish within the time limit")
             timed_out = True
             break
-        report = cross_check(locus, reference.matrix, reference.variables,
-                             angles=reference.angles, parameters=reference.parameters,
-                             samples=samples, rng=np.random.default_rng(seed), seed=seed,
-                             progress=lambda msg: progress(f"self-{msg}"),
-                             earlier=report if how is None else None)
-        numeric_problems = _check_problems(report)
+        # the numeric check of the engine's locus, beside its certificate; a first
+        # computation that the certificate proves needs no numeric check
+        # after a first attempt that did not pass, the next ones are not expected to either
+        checker = workers if ahead or attempts else one
+        here = checker.jobs == 1
+        checking = checker.submit(
+            cross_check, locus, reference.matrix, reference.variables, angles=reference.angles,
+            parameters=reference.parameters, samples=samples, rng=np.random.default_rng(seed),
+            seed=seed, progress=(lambda msg: progress(f"self-{msg}")) if here else None,
+            earlier=report if how is None else None)
+        if not here:
+            progress("self-check: in a worker process, beside the certificate")
         locus, cert = _certified(locus, reference, seed, stop, progress, slice_compute)
+        if cert.verdict == "passed" and not attempts:
+            checking.cancel()
+            attempts.append(f"{what}: certificate passed")
+            best = (0, locus, [], True)
+            break
+        report = checking.result(stop)
+        numeric_problems = _check_problems(report)
         complete = _complete(cert, not numeric_problems)
         # a passing certificate is of the locus as completed; the numeric check was of the
         # engine's

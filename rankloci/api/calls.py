@@ -123,7 +123,7 @@ def _deadline(seconds):
 
 
 def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None, verify=True,
-                progress=None, clock=time.perf_counter, should_stop=None):
+                progress=None, clock=time.perf_counter, should_stop=None, jobs=1):
     """The locus of a task matrix of ``model``, self-checked, with its frame noted.
 
     What ``rankloci locus`` computes once it has the matrix: the loci of J_aug
@@ -154,7 +154,19 @@ def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None,
         Fills ``Locus.seconds``.
     should_stop : callable, optional
         Used instead of ``timeout`` when given.
+    jobs : int
+        Processes (:class:`~rankloci.parallel.Workers`); the locus is the same for any.
     """
+    from ..parallel import Workers
+
+    with Workers(jobs) as workers:
+        return _model_locus(model, tm, method, task=task, extra=extra, seed=seed,
+                            timeout=timeout, verify=verify, progress=progress, clock=clock,
+                            should_stop=should_stop, workers=workers)
+
+
+def _model_locus(model, tm, method, *, task, extra, seed, timeout, verify, progress, clock,
+                 should_stop, workers):
     from ..augmented import augmented_locus
     from ..jacobian import task_matrix
     from ..verify import verified_locus
@@ -167,7 +179,8 @@ def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None,
 
     def compute(t, s, hints=(), method=None):
         return augmented_locus(model, t, method or asked, seed=s, progress=progress,
-                               should_stop=stop, clock=clock, hints=hints, trees=trees)
+                               should_stop=stop, clock=clock, hints=hints, trees=trees,
+                               workers=workers)
 
     asked = method
 
@@ -180,7 +193,7 @@ def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None,
         if progress:
             progress("self-check: the locus is checked numerically before it is shown")
         result = verified_locus(compute, tm, reference, seed=seed, progress=progress,
-                                should_stop=stop, method=method)[0]
+                                should_stop=stop, method=method, workers=workers)[0]
     else:
         result = compute(tm, seed)
     if tm.frame is not None and (tm.frame, tm.point) != (getattr(model, "frame", None), "tool"):
@@ -197,7 +210,7 @@ def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None,
 
 
 def certified_locus(model, *, task=None, augment=(), method=None, seed=0, numeric=False,
-                    verify=True, frame="auto", should_stop=None, progress=None):
+                    verify=True, frame="auto", should_stop=None, progress=None, jobs=None):
     """The locus of a loaded model, through the one pipeline every command uses.
 
     read (``model``) -> J (:func:`~rankloci.jacobian.task_matrix`) -> engine
@@ -217,6 +230,10 @@ def certified_locus(model, *, task=None, augment=(), method=None, seed=0, numeri
         Polled; True once the time is up (:class:`~rankloci.errors.LocusTimeout`).
     progress : callable, optional
         Called with one-line progress messages.
+    jobs : int, optional
+        Processes for the independent parts of the computation
+        (:mod:`rankloci.parallel`); None: every core.  The locus is the same for any, and
+        a kept result is given again whatever ``jobs`` asks.
 
     Returns
     -------
@@ -227,7 +244,9 @@ def certified_locus(model, *, task=None, augment=(), method=None, seed=0, numeri
     from ..jacobian import task_matrix
     from ..methods import method_for
     from ..model import RobotModel
+    from ..parallel import check_jobs
 
+    jobs = check_jobs(jobs)
     key = (model, tuple(task) if isinstance(task, (list, tuple)) else task, tuple(augment),
            method, seed, bool(numeric), bool(verify), frame)
     if key in _PIPELINE:
@@ -239,7 +258,7 @@ def certified_locus(model, *, task=None, augment=(), method=None, seed=0, numeri
     if progress:
         progress(f"{tm.name}: {tm.shape[0]}x{tm.shape[1]} matrix, method {chosen}, seed {seed}")
     result = model_locus(model, tm, chosen, task=task, extra=extra, seed=seed, verify=verify,
-                         progress=progress, should_stop=should_stop)
+                         progress=progress, should_stop=should_stop, jobs=jobs)
     if len(_PIPELINE) >= _MAX_CACHED:
         _PIPELINE.pop(next(iter(_PIPELINE)))
     _PIPELINE[key] = (result, tm)
@@ -254,7 +273,7 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
           parameters: ParameterValues | None = None, task: str | Sequence[int] | None = None,
           augment: Sequence[str] = (), method: str | None = None, timeout: float | None = None,
           seed: int = 0, numeric: bool = False, verify: bool = True, frame: str | int = "auto",
-          tip: str | None = None, base_link: str | None = None) -> Locus:
+          tip: str | None = None, base_link: str | None = None, jobs: int | None = None) -> Locus:
     """The rank-deficiency locus of a model or a matrix (the command ``rankloci locus``).
 
     Parameters
@@ -293,6 +312,11 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
         For a URDF file or a Pinocchio model: the chain's last link or frame.
     base_link : str, optional
         For a URDF file: the chain's first link.
+    jobs : int, optional
+        Processes for the independent parts of the computation: the numeric self-check
+        beside the certificate, J's locus beside J_aug's, the slices of the certificate's
+        recovery (:mod:`rankloci.parallel`).  Default: every core this process may use.
+        The locus is the same for any ``jobs``.
 
     Returns
     -------
@@ -339,9 +363,12 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
     from .results import task_note, with_model_notes
     from .symbols import caller_symbols, with_symbols
 
+    from ..parallel import check_jobs
+
     check_arguments(seed=seed, timeout=timeout, variables=variables, parameters=parameters,
                     task=task, augment=augment, method=method, numeric=numeric, verify=verify,
                     frame=frame, tip=tip, base_link=base_link)
+    jobs = check_jobs(jobs)
     with time_limit(timeout, "the locus computation") as should_stop:
         m = load_model(model, tip=tip, base_link=base_link, variables=variables,
                        parameters=parameters)
@@ -349,7 +376,7 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
         parse_augment(m, augment, flag="augment")     # its errors in the API's words
         result = certified_locus(m, task=task, augment=augment, method=method, seed=seed,
                                  numeric=numeric, verify=verify, frame=frame,
-                                 should_stop=should_stop, progress=log_progress)[0]
+                                 should_stop=should_stop, progress=log_progress, jobs=jobs)[0]
     note = task_note(result, m, task)
     if note:
         logging.getLogger(LOGGER_NAME).warning("%s: %s", m.name, note)
@@ -429,7 +456,7 @@ def _complex_only(locus, J):
 
 
 def check_model(model, given=None, *, samples=10, seed=0, numeric=False, should_stop=None,
-                progress=None) -> Check:
+                progress=None, jobs=None) -> Check:
     """What ``rankloci check`` computes: see :func:`check`."""
     import numpy as np
 
@@ -442,7 +469,7 @@ def check_model(model, given=None, *, samples=10, seed=0, numeric=False, should_
     if checked is None:
         tell(f"{model.name}: computing the locus (seed {seed})")
         checked = certified_locus(model, seed=seed, numeric=numeric, should_stop=should_stop,
-                                  progress=progress)[0]
+                                  progress=progress, jobs=jobs)[0]
     J = task_matrix(model)  # the model's own frame; parameters substituted by cross_check
     # (a locus file of schema /1, or one without "matrix", has no shape: 0x0)
     if given is not None and any(given.shape) and tuple(given.shape) != tuple(J.shape):
@@ -471,7 +498,7 @@ def check_model(model, given=None, *, samples=10, seed=0, numeric=False, should_
 
 
 def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
-          variables=None, parameters=None, tip=None, base_link=None) -> Check:
+          variables=None, parameters=None, tip=None, base_link=None, jobs=None) -> Check:
     """Check a locus numerically and exactly (the command ``rankloci check``).
 
     Parameters
@@ -489,6 +516,8 @@ def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
         Seconds allowed to the whole call (as for :func:`locus`).
     variables, parameters, tip, base_link
         See :func:`load_model`.
+    jobs : int, optional
+        Processes for the locus computation (see :func:`locus`); default every core.
 
     Returns
     -------
@@ -505,20 +534,24 @@ def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
     from .deadline import time_limit
     from .symbols import with_symbols
 
+    from ..parallel import check_jobs
+
     check_samples(samples)
     check_arguments(seed=seed, numeric=numeric, timeout=timeout, variables=variables,
                     parameters=parameters, tip=tip, base_link=base_link)
+    jobs = check_jobs(jobs)
     with time_limit(timeout, "the check") as should_stop:
         m = load_model(model, tip=tip, base_link=base_link, variables=variables,
                        parameters=parameters)
         if locus is not None:    # a locus in the caller's symbols: the model's own, by name
             locus = with_symbols(locus, {s.name: s for s in (*m.variables, *m.parameters)})
         return check_model(m, locus, samples=samples, seed=seed, numeric=numeric,
-                           should_stop=should_stop, progress=log_progress)
+                           should_stop=should_stop, progress=log_progress, jobs=jobs)
 
 
 def report(model, directory=None, *, formats=("md", "tex", "pdf"), seed=0, samples=10,
-           numeric=False, timeout=None, tip=None, base_link=None, fragment=False, timings=True):
+           numeric=False, timeout=None, tip=None, base_link=None, fragment=False, timings=True,
+           jobs=None):
     """Build a report on a model and, given a directory, write it (``rankloci report``).
 
     Needs matplotlib (the ``report`` extra).
@@ -544,6 +577,8 @@ def report(model, directory=None, *, formats=("md", "tex", "pdf"), seed=0, sampl
         The LaTeX without a preamble, to ``\\input`` into a paper (``--fragment``).
     timings : bool
         Include the timing table (``--no-timings`` leaves it out).
+    jobs : int, optional
+        Processes for the locus computation (see :func:`locus`); default every core.
 
     Returns
     -------
@@ -555,8 +590,11 @@ def report(model, directory=None, *, formats=("md", "tex", "pdf"), seed=0, sampl
     require_matplotlib("report")
     from ..report import FORMATS, build_report, read_model_notes, write_report
 
+    from ..parallel import check_jobs
+
     check_arguments(seed=seed, numeric=numeric, timeout=timeout, tip=tip, base_link=base_link)
     check_samples(samples)
+    jobs = check_jobs(jobs)
     if isinstance(formats, str):
         formats = tuple(f.strip() for f in formats.split(",") if f.strip())
     try:
@@ -573,7 +611,7 @@ def report(model, directory=None, *, formats=("md", "tex", "pdf"), seed=0, sampl
     m = load_model(model, tip=tip, base_link=base_link)
     built = build_report(m, seed=seed, samples=samples, numeric=numeric, timeout=timeout,
                          clock=time.perf_counter, progress=log_progress, dot=shutil.which("dot"),
-                         model_notes=read_model_notes(m))
+                         model_notes=read_model_notes(m), jobs=jobs)
     if directory is None:
         return built, []
     latex = next(((kind, exe) for kind in ("latexmk", "pdflatex")

@@ -207,9 +207,11 @@ def cmd_locus(args) -> int:
             tell(f"{tm.name}: {tm.shape[0]}x{tm.shape[1]} matrix, method {method}, "
                  f"seed {args.seed}")
         from ..api.calls import model_locus
+        from ..parallel import check_jobs
 
         locus = model_locus(model, tm, method, task=args.task, extra=extra, seed=args.seed,
-                            verify=args.verify, progress=tell, should_stop=should_stop)
+                            verify=args.verify, progress=tell, should_stop=should_stop,
+                            jobs=check_jobs(args.jobs))
         return locus, tm.row_labels
 
     got = _limited(args, work, progress, "the locus computation")
@@ -296,7 +298,7 @@ def cmd_check(args) -> int:
         return check_model(model, locus, samples=args.samples, seed=args.seed,
                            numeric=args.numeric,
                            should_stop=_deadline(args.timeout, getattr(args, "started", None)),
-                           progress=report_progress)
+                           progress=report_progress, jobs=args.jobs)
 
     try:
         result = run_limited(work, timeout=args.timeout, memory_mb=args.memory,
@@ -410,7 +412,8 @@ def cmd_report(args) -> int:
             report = build_report(model, seed=args.seed, samples=args.samples,
                                   numeric=args.numeric, timeout=args.timeout,
                                   clock=time.perf_counter, progress=tell,
-                                  dot=dot, model_notes=read_model_notes(model), stamp=stamp)
+                                  dot=dot, model_notes=read_model_notes(model), stamp=stamp,
+                                  jobs=args.jobs)
             try:
                 paths = write_report(report, out, formats=formats, fragment=args.fragment,
                                      latex=latex, timings=not args.no_timings,

@@ -138,6 +138,34 @@ def seed_arg(text: str) -> int:
     return seed
 
 
+def jobs_arg(text: str) -> int:
+    """A number of processes for one computation: an integer 1 or above.
+
+    Examples
+    --------
+    >>> jobs_arg("2")
+    2
+    >>> jobs_arg("0")
+    Traceback (most recent call last):
+        ...
+    argparse.ArgumentTypeError: '0' is not an integer 1 or above
+    """
+    try:
+        jobs = int(text)
+    except ValueError:
+        jobs = 0
+    if jobs < 1:
+        raise argparse.ArgumentTypeError(f"{text[:20]!r} is not an integer 1 or above")
+    return jobs
+
+
+def _jobs_option(p):
+    p.add_argument("--jobs", type=jobs_arg, default=None, metavar="N",
+                   help="processes for the parts of the computation that are independent "
+                        "(default: every core this process may use); the locus is the same "
+                        "for any N")
+
+
 def task_arg(text: str):
     """A task name, or a comma-separated list of rows of the 6-row Jacobian.
 
@@ -308,6 +336,7 @@ def build_parser() -> ArgumentParser:
                         "values) that runs before the locus is shown, and the recomputation it "
                         "triggers when it fails")
     p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
+    _jobs_option(p)
     p.set_defaults(frame_default="auto")
 
     p = sub.add_parser("check", help="cross-check a locus numerically against the SVD of J",
@@ -328,6 +357,7 @@ def build_parser() -> ArgumentParser:
     p.add_argument("--memory", type=memory_arg, default=DEFAULT_MEMORY_MB, metavar="MIB",
                    help=f"memory limit in MiB (default {DEFAULT_MEMORY_MB}; 0 = none)")
     p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
+    _jobs_option(p)
 
     p = sub.add_parser("report", help="write a report (Markdown, LaTeX, PDF, figures) on a model",
                        epilog=EPILOG_REPORT, formatter_class=raw)
@@ -352,6 +382,7 @@ def build_parser() -> ArgumentParser:
                         "out the report is written without the locus and says so")
     p.add_argument("--memory", type=memory_arg, default=DEFAULT_MEMORY_MB, metavar="MIB",
                    help=f"memory limit in MiB (default {DEFAULT_MEMORY_MB}; 0 = none)")
+    _jobs_option(p)
     p.add_argument("--no-timings", dest="no_timings", action="store_true",
                    help="leave out the timing table (then equal seeds give identical files)")
     p.add_argument("--timestamp", action="store_true",

@@ -163,7 +163,8 @@ class Report:
 
 def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = False,
                  timeout: float | None = None, clock=None, progress=None, dot: str | None = None,
-                 exact: bool = True, model_notes: str = "", stamp: str = "") -> Report:
+                 exact: bool = True, model_notes: str = "", stamp: str = "",
+                 jobs: int | None = 1) -> Report:
     """Compute the content of a report on ``model``.
 
     Parameters
@@ -195,6 +196,9 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
     stamp : str
         A date and time to print under the title; empty (the default) keeps
         the report free of dates.
+    jobs : int, optional
+        Processes for the locus (:func:`~rankloci.api.calls.certified_locus`); None: every
+        core.  The report is the same for any.
 
     Examples
     --------
@@ -255,7 +259,8 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
         # for an augmented matrix, with J's own locus attached and each component classified
         # the locus every command shows: certified, recomputed when its certificate fails
         locus = timed(f"locus ({method})", lambda: certified_locus(
-            model, seed=seed, numeric=numeric, should_stop=stopper(), progress=progress)[0])
+            model, seed=seed, numeric=numeric, should_stop=stopper(), progress=progress,
+            jobs=jobs)[0])
     except LocusTimeout:
         timings.append((f"locus ({method})", float(timeout or 0.0)))
         status = (f"The locus computation ({method}) did not finish within {timeout:g} s "

@@ -25,6 +25,7 @@ VALUES = {
     "--samples": ["1", "2", "0", "-3", "many"],
     "--tip": ["tool0"],
     "--base-link": ["base"],
+    "--jobs": ["1", "2", "0", "x"],
 }
 FLAGS = ["--quiet", "--numeric-parameters", "--numeric", "--no-verify", "--show-tree"]
 OPTIONS = {
@@ -32,9 +33,9 @@ OPTIONS = {
                  "--numeric"],
     "locus": ["--method", "--format", "--seed", "--timeout", "--memory", "--task", "--frame",
               "--augment", "--tip", "--numeric-parameters", "--no-verify", "--show-tree",
-              "--quiet"],
+              "--quiet", "--jobs"],
     "check": ["--format", "--seed", "--timeout", "--memory", "--samples",
-              "--numeric-parameters", "--quiet"],
+              "--numeric-parameters", "--quiet", "--jobs"],
 }
 
 
