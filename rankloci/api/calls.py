@@ -588,9 +588,8 @@ def report(model, directory=None, *, formats=("md", "tex", "pdf"), seed=0, sampl
     import shutil
 
     require_matplotlib("report")
-    from ..report import FORMATS, build_report, read_model_notes, write_report
-
     from ..parallel import check_jobs
+    from ..report import FORMATS, build_report, read_model_notes, write_report
 
     check_arguments(seed=seed, numeric=numeric, timeout=timeout, tip=tip, base_link=base_link)
     check_samples(samples)
