@@ -172,7 +172,7 @@ def _exact_outside(comp, names, kinds, limits):
 
     fixed = dict(comp.solved)
     for e in comp.equations:
-        e = sp.sympify(e)
+        e = sp.sympify(e, strict=True)
         if len(e.free_symbols) != 1:
             continue
         (var,) = e.free_symbols

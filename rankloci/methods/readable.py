@@ -71,7 +71,7 @@ def solved_at_values(eqs, variables, values) -> dict:
     subs = {k: sp.nsimplify(v, rational=True) for k, v in dict(values).items()}
     out = {}
     for e in eqs:
-        e = sp.sympify(e).subs(subs)
+        e = sp.sympify(e, strict=True).subs(subs)
         free = [q for q in variables if q in e.free_symbols]
         if len(free) != 1 or free[0] in out or e.free_symbols != {free[0]}:
             continue

@@ -85,7 +85,7 @@ def equal_parameter_forms(equations, params) -> tuple:
     rep = {p: g[0] for g in groups.values() if len(g) > 1 for p in g[1:]}
     out = []
     for k, e in enumerate(equations):
-        e = sp.sympify(e)
+        e = sp.sympify(e, strict=True)
         before = len(sp.Add.make_args(sp.expand(e)))
         used = tuple((p, r) for p, r in rep.items() if p in e.free_symbols
                      and len(sp.Add.make_args(sp.expand(e.xreplace({p: r})))) < before)
@@ -326,7 +326,7 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
         spelled = {s: f for s, f in notation}
         determinant = timed("det J factored", lambda: factored_determinant(
             model_tm.matrix, model_tm.variables, kinds,
-            [sp.sympify(f).subs(spelled) for f in forms], params, rng(seed)))
+            [sp.sympify(f, strict=True).subs(spelled) for f in forms], params, rng(seed)))
         if determinant is not None:   # shown in the notation of J, checked spelled out
             determinant = replace(determinant, factors=tuple(forms))
 

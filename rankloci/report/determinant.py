@@ -116,7 +116,7 @@ def factored_determinant(jacobian, variables, kinds, factors, params, rng):
         return None
     names = sorted(params, key=str)
     J = sp.lambdify(list(variables) + names, sp.Matrix(jacobian), "numpy")
-    funcs = [sp.lambdify(list(variables) + names, sp.sympify(f), "numpy") for f in factors]
+    funcs = [sp.lambdify(list(variables) + names, sp.sympify(f, strict=True), "numpy") for f in factors]
     base = {p: float(params[p]) for p in names}
     kappa, powers = _constant(J, variables, kinds, funcs, base, None, rng)
     if kappa is None:

@@ -220,7 +220,7 @@ def view_data(report) -> dict:
     model = report.model
     if not isinstance(model, RobotModel):
         return {}
-    params = {s: sp.sympify(v) for s, v in dict(model.parameters).items()}
+    params = {s: sp.sympify(v, strict=True) for s, v in dict(model.parameters).items()}
     variables = list(model.variables)
     index = {v: k for k, v in enumerate(variables)}
 
@@ -229,10 +229,10 @@ def view_data(report) -> dict:
 
     joints, reach = [], 0.0
     for j, coord in zip(model.joints, model.joint_coordinates):
-        multiple, var = sp.sympify(coord).as_coeff_Mul()
+        multiple, var = sp.sympify(coord, strict=True).as_coeff_Mul()
         pre, post = numbers(j.pre), numbers(j.post)
         reach += _length(pre) + _length(post)
-        joints.append({"kind": j.kind, "axis": [float(sp.sympify(a).subs(params)) for a in j.axis],
+        joints.append({"kind": j.kind, "axis": [float(sp.sympify(a, strict=True).subs(params)) for a in j.axis],
                        "pre": pre, "post": post, "variable": index[var],
                        "multiplier": float(multiple)})
     base, tool = numbers(model.base), numbers(model.tool)
@@ -302,7 +302,7 @@ def _followers(c, variables, params, sample, candidates) -> list:
     import numpy as np
     import scipy.linalg
 
-    eqs = [sp.sympify(e).subs(params) for e in c.equations]
+    eqs = [sp.sympify(e, strict=True).subs(params) for e in c.equations]
     if not eqs or not candidates:
         return []
     at = {v: sample[k] for k, v in enumerate(variables)}
@@ -319,7 +319,7 @@ def _scales(c, params) -> list:
     """The scale of each equation: the sum of the absolute values of its coefficients."""
     out = []
     for e in c.equations:
-        terms = sp.Add.make_args(sp.expand(sp.sympify(e).subs(params)))
+        terms = sp.Add.make_args(sp.expand(sp.sympify(e, strict=True).subs(params)))
         total = sum(abs(float(t.as_coeff_Mul()[0])) for t in terms)
         out.append(total if total > 0 else 1.0)
     return out
@@ -336,7 +336,7 @@ def _js(expr, variables, params):
     the functions of ``Math`` (checked on the text, so that nothing else reaches the page).
     """
     slots = {v: sp.Symbol(f"q[{k}]") for k, v in enumerate(variables)}
-    e = sp.sympify(expr).subs(params).xreplace(slots)
+    e = sp.sympify(expr, strict=True).subs(params).xreplace(slots)
     if e.free_symbols - set(slots.values()):
         return None
     text = sp.jscode(sp.N(e, 17))
@@ -360,7 +360,7 @@ def _component_code(c, variables, params, sample):
             continue
         options = values if isinstance(values, (tuple, list)) else (values,)
         try:
-            best = min(options, key=lambda x: abs(float(sp.sympify(x).subs(params).subs(at))
+            best = min(options, key=lambda x: abs(float(sp.sympify(x, strict=True).subs(params).subs(at))
                                                   - at[v]))
         except TypeError:
             return None

@@ -274,7 +274,7 @@ def _boom_at_zero(model, equations) -> int:
         if j.kind != "prismatic":
             continue
         for e in equations:
-            e = sp.sympify(e)
+            e = sp.sympify(e, strict=True)
             if e.free_symbols == {v} and sp.Poly(e, v).degree() == 1 and e.subs(v, 0) == 0:
                 return k + 1
     return 0

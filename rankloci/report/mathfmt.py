@@ -148,7 +148,7 @@ def scaled_integers(text: str) -> str:
 def has_long_integers(expr) -> bool:
     """Does ``expr`` hold an integer (or a rational's part) that :func:`latex` rounds?"""
     top = 10 ** LONG_INTEGER_DIGITS
-    for r in sp.sympify(expr).atoms(sp.Rational):
+    for r in sp.sympify(expr, strict=True).atoms(sp.Rational):
         if abs(r.p) >= top or abs(r.q) >= top:
             return True
     return False
