@@ -18,7 +18,7 @@ import sympy as sp
 from .expr import as_expression
 from .tolerances import LOCUS_CONTAINS_RTOL
 
-__all__ = ["Component", "Locus", "Outcome", "SCHEMA", "READABLE_SCHEMAS"]
+__all__ = ["Component", "Locus", "Outcome", "SCHEMA", "READABLE_SCHEMAS", "dimension_bound"]
 
 SCHEMA = "rankloci.locus/2"
 
@@ -68,6 +68,20 @@ class Outcome(enum.StrEnum):
 
 _COMPONENT_OUTCOMES = frozenset({Outcome.DEGENERATE, Outcome.BEYOND_REDUNDANCY,
                                  Outcome.NO_REDUNDANT_COLUMN, Outcome.ALL_MINORS_VANISH})
+
+
+def dimension_bound(shape, n_variables: int, rank_drop: int) -> int:
+    """The smallest dimension a component of the given rank drop can have.
+
+    Examples
+    --------
+    >>> dimension_bound((6, 7), 7, 1)      # a 6x7 Jacobian losing one rank: codimension <= 2
+    5
+    >>> dimension_bound((6, 6), 6, 2)      # square, rank drop 2: codimension <= 4
+    2
+    """
+    n, m = sorted(shape)
+    return max(0, n_variables - rank_drop * (m - n + rank_drop))
 
 
 @dataclass(frozen=True)
@@ -235,7 +249,7 @@ class Locus:
     base: "Locus | None" = None   # for an augmented matrix: the locus of J itself
     special: tuple = ()           # components for other parameter values only
     complete: bool | None = None  # the certificate passed (None: not certified either way)
-    certificate: object = None    # rankloci.exact.witness.Certificate, when one was computed
+    certificate: object = None    # rankloci.exact.certificate.Certificate, when one was computed
     joint_names: tuple = ()       # the model's joint (URDF) name of each variable, or ()
 
     def __repr__(self) -> str:

@@ -34,6 +34,7 @@ import numpy as np
 import sympy as sp
 
 from .errors import LocusTimeout
+from .locus import dimension_bound
 
 __all__ = ["Verification", "dimension_bound", "dimension_findings", "verified_locus",
            "SELF_CHECK_SAMPLES"]
@@ -74,20 +75,6 @@ class Verification:
     def to_dict(self) -> dict:
         return {"complete": self.complete, "attempts": list(self.attempts),
                 "problems": list(self.problems)}
-
-
-def dimension_bound(shape, n_variables: int, rank_drop: int) -> int:
-    """The smallest dimension a component of the given rank drop can have.
-
-    Examples
-    --------
-    >>> dimension_bound((6, 7), 7, 1)      # a 6x7 Jacobian losing one rank: codimension <= 2
-    5
-    >>> dimension_bound((6, 6), 6, 2)      # square, rank drop 2: codimension <= 4
-    2
-    """
-    n, m = sorted(shape)
-    return max(0, n_variables - rank_drop * (m - n + rank_drop))
 
 
 def dimension_findings(locus) -> list[str]:

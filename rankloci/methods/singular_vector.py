@@ -28,7 +28,7 @@ from ..tree.branch import Branch
 from ..tree.context import Context
 from ..tree import prune
 from ..tree.cover import children, distinct
-from .blocks import choose_columns
+from ..tree.blocks import choose_columns
 from .null_vectors import left_null_vectors
 
 __all__ = ["singular_vector_tree"]

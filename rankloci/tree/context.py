@@ -17,7 +17,7 @@ import sympy as sp
 from ..algebra import PolyMemo, PolyRing, circle_free_det, irreducible_factors
 from ..algebra.ring import square_root_primes
 from ..errors import LocusError, LocusTimeout
-from ..locus import Outcome
+from ..locus import Outcome, dimension_bound
 from . import cover, prune, reducible
 from .branch import Branch, SubstitutedMatrices
 from .modular import ModularProbe
@@ -218,7 +218,6 @@ class Context:
         :func:`rankloci.verify.dimension_bound` for rank drop 1, which bounds every
         component whatever its rank drop.
         """
-        from ..verify import dimension_bound
 
         joints = self.ring.n_angles + len(self.ring.others)
         return dimension_bound((len(self.M), len(self.M[0])), joints, 1)

@@ -633,7 +633,7 @@ def _minor(ctx: "Context", branch: "Branch", M, points):
     regular blocks (smallest entries first, the fewest determinant terms wins).
     """
     from ..errors import LocusError
-    from ..methods.blocks import choose_columns     # methods builds on tree: imported late
+    from .blocks import choose_columns
 
     try:
         return choose_columns(ctx, M, points, MINOR_CANDIDATES)[1]

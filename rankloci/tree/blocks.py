@@ -16,11 +16,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import LocusError
-from ..tree.modular import block_rank
-from ..tree.probe import numeric_rank
+from .modular import block_rank
+from .probe import numeric_rank
 
 if TYPE_CHECKING:
-    from ..tree.context import Context
+    from .context import Context
 
 __all__ = ["choose_columns", "choose_block"]
 

@@ -6,7 +6,7 @@ import numpy as np
 
 from rankloci.io import load_model
 from rankloci.jacobian import task_matrix
-from rankloci.methods import blocks
+from rankloci.tree import blocks
 from rankloci.tree.branch import Branch
 from rankloci.tree.context import Context
 
