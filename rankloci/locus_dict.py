@@ -222,7 +222,7 @@ def parse_locus_dict(data, model=None):
         raise ModelError("must be true, false or null", field="complete")
     certificate = data.get("certificate")
     if certificate is not None:
-        from .exact.witness import Certificate
+        from .exact.certificate import Certificate
 
         try:
             certificate = Certificate.from_dict(certificate)
