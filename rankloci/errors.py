@@ -14,6 +14,8 @@ __all__ = [
     "ShapeError",
     "LocusError",
     "LocusTimeout",
+    "UsageError",
+    "shortened",
 ]
 
 
@@ -113,3 +115,28 @@ class LocusError(RanklociError):
 
 class LocusTimeout(LocusError):
     """The computation was stopped because its time budget ran out."""
+
+
+class UsageError(RanklociError):
+    """The command line itself is wrong: an unknown option, a bad value, a missing file name."""
+
+
+#: Characters of a message shown whole: a progress line on stderr, the error line of a run that
+#: ran out of its limits.  The equations of a component found on a long chain can run to
+#: megabytes of digits, which a line of progress does not need.
+MESSAGE_MAX = 300
+
+
+def shortened(message: str, limit: int = MESSAGE_MAX) -> str:
+    """``message`` cut to ``limit`` characters, saying how many were left out.
+
+    Examples
+    --------
+    >>> shortened("x" * 10, 4)
+    'xxxx ... (6 more characters)'
+    >>> shortened("short")
+    'short'
+    """
+    if len(message) <= limit:
+        return message
+    return f"{message[:limit]} ... ({len(message) - limit} more characters)"

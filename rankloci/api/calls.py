@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from .arguments import check_arguments, check_for_model, check_samples, check_timeout
+from .deadline import stop_after
 from .models import as_model
 from .progress import log_progress
 
@@ -25,7 +26,7 @@ if TYPE_CHECKING:
     from ..model import MatrixModel, RobotModel
     from .models import ModelLike, ParameterValues, Variables
 
-__all__ = ["load_model", "jacobian", "locus", "check", "report", "is_singular", "Check",
+__all__ = ["load_model", "jacobian", "locus", "check", "is_singular", "Check",
            "model_locus", "certified_locus", "check_model"]
 
 
@@ -112,16 +113,6 @@ def jacobian(model: ModelLike, *, task: str | Sequence[int] | None = None,
     return with_symbols(tm, caller_symbols(model, variables, parameters))
 
 
-def _deadline(seconds):
-    """A ``should_stop`` that is True once ``seconds`` have passed; None for no limit."""
-    if check_timeout(seconds) is None:
-        return None
-    if seconds == 0:
-        return None
-    end = time.monotonic() + seconds
-    return lambda: time.monotonic() > end
-
-
 def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None, verify=True,
                 progress=None, clock=time.perf_counter, should_stop=None):
     """The locus of a task matrix of ``model``, self-checked, with its frame noted.
@@ -159,7 +150,7 @@ def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None,
     from ..jacobian import task_matrix
     from ..verify import verified_locus
 
-    stop = should_stop if should_stop is not None else _deadline(timeout)
+    stop = should_stop if should_stop is not None else stop_after(check_timeout(timeout))
 
     # the trees grown by this call's computations: a recomputation with the self-check's
     # hints resumes from its tree instead of growing it again
@@ -488,66 +479,6 @@ def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
             locus = with_symbols(locus, {s.name: s for s in (*m.variables, *m.parameters)})
         return check_model(m, locus, samples=samples, seed=seed, numeric=numeric,
                            should_stop=should_stop, progress=log_progress)
-
-
-def report(model, directory=None, *, formats=("md",), seed=0, samples=10, numeric=False,
-           timeout=None, tip=None, base_link=None):
-    """Build a report on a model and, given a directory, write it (``rankloci report``).
-
-    Needs matplotlib (the ``report`` extra).
-
-    Parameters
-    ----------
-    model
-        Anything :func:`load_model` accepts.
-    directory : path, optional
-        Where to write it; without it nothing is written.
-    formats : sequence of {"md", "tex", "pdf"}
-        The PDF needs ``latexmk`` or ``pdflatex`` on the PATH.
-    seed, samples, numeric, timeout
-        As for the command line.
-    tip, base_link
-        See :func:`load_model`.
-
-    Returns
-    -------
-    (Report, list of pathlib.Path)
-        The report's content and the files written.
-    """
-    import shutil
-
-    require_matplotlib("report")
-    from ..report import FORMATS, build_report, read_model_notes, write_report
-
-    check_arguments(seed=seed, numeric=numeric, timeout=timeout, tip=tip, base_link=base_link)
-    check_samples(samples)
-    if isinstance(formats, str):
-        formats = (formats,)
-    bad = [f for f in formats if f not in FORMATS]
-    if bad:
-        from ..errors import ArgumentError
-
-        raise ArgumentError(f"formats=: {bad[0]!r} is not one of {FORMATS}", argument="formats",
-                            value=formats)
-    m = load_model(model, tip=tip, base_link=base_link)
-    built = build_report(m, seed=seed, samples=samples, numeric=numeric, timeout=timeout,
-                         clock=time.perf_counter, progress=log_progress, dot=shutil.which("dot"),
-                         model_notes=read_model_notes(m))
-    if directory is None:
-        return built, []
-    latex = next(((kind, exe) for kind in ("latexmk", "pdflatex")
-                  if (exe := shutil.which(kind))), None) if "pdf" in formats else None
-    return built, write_report(built, directory, formats=formats, latex=latex)
-
-
-def require_matplotlib(what: str) -> None:
-    """Raise ImportError, saying what to install, when matplotlib is missing."""
-    import importlib.util
-
-    from ..extras import install_command
-
-    if importlib.util.find_spec("matplotlib") is None:
-        raise ImportError(f"the {what} needs matplotlib: {install_command('report')}")
 
 
 def is_singular(model, q, *, locus=None, **options):

@@ -3,7 +3,7 @@
 Each takes the parsed arguments and returns the exit code: :data:`EXIT_OK`,
 or :data:`EXIT_FAILED` when a check fails or a computation runs out of time.
 Bad input raises (a :class:`~rankloci.errors.RanklociError` or a
-:class:`~rankloci.cli.parser.UsageError`); :func:`rankloci.cli.main` turns
+:class:`~rankloci.errors.UsageError`); :func:`rankloci.cli.main` turns
 that into :data:`EXIT_USAGE`.  Heavy libraries are imported inside the
 functions so that ``rankloci --help`` stays fast.
 """
@@ -19,10 +19,11 @@ import time
 from .output import (check_names, clear_status, output_target, progress_printer, require_module,
                      write_atomic)
 from .near import cmd_ik, cmd_manipulability
-from .parser import UsageError
+from ..errors import UsageError
+from .running import command_deadline, limited
 from .sweep import cmd_sweep
 
-__all__ = ["COMMANDS", "EXIT_OK", "EXIT_FAILED", "EXIT_USAGE", "deadline_clock"]
+__all__ = ["COMMANDS", "EXIT_OK", "EXIT_FAILED", "EXIT_USAGE"]
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE = 0, 1, 2
 
@@ -91,26 +92,6 @@ def _task_matrix(args, model, extra, progress=None):
                        numeric=getattr(args, "numeric", False))
 
 
-def _limited(args, work, progress, what):
-    """``run_limited`` with the command's limits; None (after one error line) when they ran out."""
-    from ..errors import LocusTimeout
-    from .limits import LimitExceeded, run_limited
-
-    try:
-        return run_limited(work, timeout=args.timeout, memory_mb=args.memory, progress=progress,
-                           started=getattr(args, "started", None))
-    except LocusTimeout as e:
-        clear_status()
-        print(f"rankloci: error: {e}; raise --timeout (now {args.timeout:g} s) or try "
-              f"--numeric-parameters", file=sys.stderr)
-    except LimitExceeded as e:
-        clear_status()
-        print(f"rankloci: error: {what} {e}", file=sys.stderr)
-    finally:
-        clear_status()
-    return None
-
-
 def cmd_jacobian(args) -> int:
     from ..model import RobotModel
 
@@ -118,7 +99,7 @@ def cmd_jacobian(args) -> int:
     if isinstance(model, RobotModel) is False and args.point != "tool":
         raise UsageError("--point applies to robot models only")
     notes = tuple(getattr(model, "notes", ()))
-    text = _limited(args, lambda tell: _jacobian_text(args, _task_matrix(args, model, extra, tell),
+    text = limited(args, lambda tell: _jacobian_text(args, _task_matrix(args, model, extra, tell),
                                                       notes), None, "building the Jacobian")
     if text is None:
         return EXIT_FAILED
@@ -163,23 +144,6 @@ def _jacobian_text(args, tm, notes=()) -> str:
     return "\n".join(lines)
 
 
-#: The clock ``--timeout`` is measured on, in seconds.  A module-level name so
-#: that tests can put a fake clock in its place.
-deadline_clock = time.monotonic
-
-
-def _deadline(seconds, started=None):
-    """A ``should_stop`` that says True once ``seconds`` have passed since ``started`` (a
-    :func:`time.monotonic` reading; default now); None for no limit."""
-    if seconds is None or seconds <= 0:
-        return None
-    if started is not None:
-        seconds -= time.monotonic() - started
-    clock = deadline_clock
-    end = clock() + seconds
-    return lambda: clock() > end
-
-
 def cmd_locus(args) -> int:
     from pathlib import Path
 
@@ -196,7 +160,7 @@ def cmd_locus(args) -> int:
 
     def work(report):
         tell = report            # the parent prints it unless --quiet, and keeps the last one
-        should_stop = _deadline(args.timeout, getattr(args, "started", None))
+        should_stop = command_deadline(args.timeout, getattr(args, "started", None))
         tm = _task_matrix(args, model, extra, tell)
         try:
             method = method_for(tm.shape, args.method)
@@ -212,7 +176,7 @@ def cmd_locus(args) -> int:
                             verify=args.verify, progress=tell, should_stop=should_stop)
         return locus, tm.row_labels
 
-    got = _limited(args, work, progress, "the locus computation")
+    got = limited(args, work, progress, "the locus computation")
     if got is None:
         return EXIT_FAILED
     locus, row_labels = got
@@ -272,7 +236,7 @@ def _parsed_locus(raw: bytes, file: str, model):
 def cmd_check(args) -> int:
     from ..errors import LocusTimeout, ModelError
     from ..io import load_model
-    from .limits import LimitExceeded, run_limited
+    from ..process_limits import LimitExceeded, run_limited
 
     if args.samples < 1:
         raise UsageError(f"--samples must be at least 1, got {args.samples}")
@@ -295,7 +259,7 @@ def cmd_check(args) -> int:
         locus = None if raw is None else _parsed_locus(raw, args.locus, model)
         return check_model(model, locus, samples=args.samples, seed=args.seed,
                            numeric=args.numeric,
-                           should_stop=_deadline(args.timeout, getattr(args, "started", None)),
+                           should_stop=command_deadline(args.timeout, getattr(args, "started", None)),
                            progress=report_progress)
 
     try:
@@ -350,7 +314,7 @@ def cmd_report(args) -> int:
     from pathlib import Path
 
     from ..io import builtin_models, load_model
-    from .limits import LimitExceeded, run_limited
+    from ..process_limits import LimitExceeded, run_limited
     from ..report import (FORMATS, ReportError, build_report, file_stem, read_model_notes,
                           write_report)
     from ..report.write import report_workdir
