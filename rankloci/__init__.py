@@ -34,7 +34,7 @@ import importlib
 import sys
 import types
 
-__version__ = "0.1.0"
+from .version import __version__
 
 #: Public name -> the module that defines it.
 _EXPORTS = {
@@ -49,8 +49,8 @@ _EXPORTS = {
     "ModelError": "rankloci.errors",
     "ExpressionError": "rankloci.errors", "ShapeError": "rankloci.errors",
     "LocusError": "rankloci.errors", "LocusTimeout": "rankloci.errors",
-    "min_inf_norm": "rankloci.near.min_inf_norm", "manipulability": "rankloci.near.api",
-    "joint_rates": "rankloci.near.api", "nearest_component": "rankloci.near.api",
+    "min_inf_norm": "rankloci.near.min_inf_norm", "manipulability": "rankloci.api.near",
+    "joint_rates": "rankloci.api.near", "nearest_component": "rankloci.api.near",
     "within_limits": "rankloci.limits",
 }
 

@@ -188,7 +188,7 @@ def locus_slice(locus, jacobian=None, *, component: int = 1, axes=None):
 
     See :func:`plot_sigma_slice` for the arguments.
     """
-    from ..api import jacobian as task_jacobian
+    from ..api.calls import jacobian as task_jacobian
     from ..errors import ArgumentError
     from ..jacobian import TaskMatrix
     from ..numeric.equations import NumericMatrix

@@ -95,7 +95,7 @@ def near_data(model, locus, nm, params, seed: int, stem: str) -> NearData | None
     not a robot or whose task has no position rows.
     """
     from ..model import RobotModel
-    from ..near.api import joint_rates, manipulability
+    from ..api.near import joint_rates, manipulability
     from ..near.figures import path_figure, plot_manipulability
     from ..near.manipulability import ellipsoid
     from ..near.nearest import ComponentDistance

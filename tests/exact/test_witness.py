@@ -210,7 +210,7 @@ def test_certify_locus_substitutes_the_models_parameter_values():
 
 def test_every_command_shows_the_locus_rankloci_locus_certified():
     from rankloci.api.calls import certified_locus, check
-    from rankloci.near.api import nearest_component
+    from rankloci.api.near import nearest_component
 
     model = rankloci.load_model("planar2r")
     shown = rankloci.locus(model)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import report_helpers as RH
-from rankloci.near.api import manipulability
+from rankloci.api.near import manipulability
 from rankloci.report.analysis import model_components
 from rankloci.report.content import report_blocks
 from rankloci.report.near_section import NEAR_OFFSET
