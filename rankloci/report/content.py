@@ -489,6 +489,6 @@ def _reproduce_section(report):
 
 def _version() -> str:
     """The version of rankloci that writes the report."""
-    from .. import __version__
+    from ..version import __version__
 
     return __version__
