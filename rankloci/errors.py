@@ -1,7 +1,12 @@
 """Exceptions raised by rankloci.
 
-Every error that bad input can cause is a :class:`RanklociError`.  The command
-line turns one into a single line on stderr and exit code 2.
+Every error that bad input can cause is a :class:`RanklociError`, and so is
+every other failure rankloci raises by design (a limit reached, a report that
+LaTeX could not typeset, a sweep's cluster that cannot run it, a term budget
+exceeded).  The command line turns one into a single line on stderr and exit
+code 2.  The one exception outside it is
+:class:`rankloci.process_limits.ChildFailed`: a bug in a child process,
+passed on with its traceback.
 """
 
 from __future__ import annotations
@@ -20,7 +25,7 @@ __all__ = [
 
 
 class RanklociError(Exception):
-    """Base class of every error rankloci raises on bad input."""
+    """Base class of every error rankloci raises by design (bad input first of all)."""
 
 
 class ArgumentError(RanklociError, ValueError, TypeError):

@@ -151,3 +151,23 @@ def test_no_private_name_imported_from_another_module(imports):
     private = [f"{m}:{line} imports {name} from {t}" for m, t, name, line in imports
                if name and name.startswith("_") and not name.startswith("__") and t != m]
     assert not private, "\n".join(private)
+
+
+def test_every_exception_class_is_a_rankloci_error():
+    """Each exception class of the package derives from RanklociError, but the bug report of a
+    child process (ChildFailed), which must not pass for bad input."""
+    import importlib
+
+    from rankloci.errors import RanklociError
+
+    outside = []
+    for module, (path, _) in sorted(_modules().items()):
+        tree = ast.parse(path.read_text())
+        names = [n.name for n in tree.body if isinstance(n, ast.ClassDef)
+                 and any(ast.unparse(b).endswith(("Exception", "Error")) for b in n.bases)]
+        if not names:
+            continue
+        loaded = importlib.import_module(module)
+        outside += [f"{module}.{name}" for name in names
+                    if not issubclass(getattr(loaded, name), RanklociError)]
+    assert outside == ["rankloci.process_limits.ChildFailed"]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from flint.utils.flint_exceptions import DomainError
 
+from ..errors import RanklociError
 from .ring import PolyRing
 
 __all__ = ["laplace_det", "circle_free_det", "irreducible_factors", "abs_poly", "common_factor", "primitive_vector",
@@ -17,7 +18,7 @@ __all__ = ["laplace_det", "circle_free_det", "irreducible_factors", "abs_poly", 
 PRODUCT_BUDGET_FACTOR = 100
 
 
-class TermLimit(Exception):
+class TermLimit(RanklociError):
     """A determinant with a term budget went over it (see :func:`laplace_det`)."""
 
 

@@ -66,6 +66,7 @@ import flint
 import numpy as np
 import sympy as sp
 
+from ..errors import RanklociError
 from .certificate import CERTIFICATE_KIND, Certificate
 
 __all__ = ["Certificate", "NotCertifiable", "certify_components", "MAX_CODIMENSION",
@@ -91,7 +92,7 @@ PRIME_BITS = 61
 RETRIES = 3
 
 
-class NotCertifiable(Exception):
+class NotCertifiable(RanklociError):
     """The certificate does not apply to this matrix or these equations (with the reason)."""
 
 
@@ -410,7 +411,7 @@ def _field(f, P):
     return flint.fq_default_ctx(modulus=flint.fmpz_mod_poly_ctx(P)([int(c) for c in f.coeffs()]))
 
 
-class _Degenerate(Exception):
+class _Degenerate(RanklociError):
     """A random choice that does not separate points; retried with fresh choices."""
 
 
@@ -421,7 +422,7 @@ def _combinations(polys, count, P, rng):
     return out
 
 
-class _TooLarge(Exception):
+class _TooLarge(RanklociError):
     """The elimination would exceed :data:`MAX_ELIMINATION_DEGREE`."""
 
 

@@ -27,13 +27,15 @@ import subprocess
 import tempfile
 from pathlib import Path
 
+from ..errors import RanklociError
+
 __all__ = ["write_report", "report_workdir", "read_model_notes", "ReportError", "FORMATS"]
 
 #: The formats :func:`write_report` writes (the PNG figures come with each).
 FORMATS = ("md", "tex", "pdf")
 
 
-class ReportError(Exception):
+class ReportError(RanklociError):
     """A report could not be written (LaTeX failed on it): not bad input, a failure."""
 
 

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import functools
 
+from ..errors import RanklociError
 from .cases import expected_cost
 from .task import run_case
 
@@ -78,7 +79,7 @@ DASK_CONFIG = {
 }
 
 
-class SetupError(Exception):
+class SetupError(RanklociError):
     """The cluster cannot run the sweep (no worker, a worker without rankloci, ...)."""
 
 
