@@ -104,7 +104,7 @@ def parse_augment(model, texts, *, flag: str = "--augment"):
 
     Errors name ``flag`` (``"augment"`` for the Python API).
     """
-    from .jacobian import parse_constraints
+    from .jacobians import parse_constraints
 
     out = []
     for t in texts:
@@ -201,7 +201,7 @@ def classify(aug, base, tm_aug, tm_base, *, rng=None, samples: int = 4, tries: i
 
 def base_matrix(model, tm):
     """J without any constraint row, in the frame and about the point ``tm`` uses."""
-    from .jacobian import task_matrix
+    from .jacobians import task_matrix
     from .model import RobotModel
 
     task = tm.rows if isinstance(model, RobotModel) and tm.rows else None
@@ -224,7 +224,7 @@ def augmented_locus(model, tm, method: str | None = None, *, seed: int = 0, prog
     Examples
     --------
     >>> from rankloci.io import load_model
-    >>> from rankloci.jacobian import task_matrix
+    >>> from rankloci.jacobians import task_matrix
     >>> m = load_model("planar3r_orient")
     >>> locus = augmented_locus(m, task_matrix(m, numeric=True))
     >>> [(str(c.equations[0]), c.kind) for c in locus.components]

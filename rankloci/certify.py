@@ -66,7 +66,7 @@ def certify_locus(locus, reference, *, seed: int = 0, should_stop=None,
     Examples
     --------
     >>> import rankloci
-    >>> from rankloci.jacobian import task_matrix
+    >>> from rankloci.jacobians import task_matrix
     >>> L = rankloci.locus("planar2r", verify=False)
     >>> certify_locus(L, task_matrix(rankloci.load_model("planar2r"))).verdict
     'passed'

@@ -11,7 +11,7 @@ Each answer states how it was decided:
 - ``"sample point"``: the component's sample point (a revolute angle moved by
   whole turns where that helps) lies in the box.
 - ``"exact"``: the component fixes a bounded variable at exact values
-  (:attr:`~rankloci.locus.Component.solved`), and none of them (nor, for a
+  (:attr:`~rankloci.loci.Component.solved`), and none of them (nor, for a
   revolute joint, any value a whole number of turns away) lies within its
   limits: the component does not meet the box.  The values are compared in
   :data:`EXACT_DIGITS` digits.
@@ -19,7 +19,7 @@ Each answer states how it was decided:
   the box (a prismatic joint without limits over :data:`DEFAULT_STROKE`) are
   projected onto the component's equations by least squares bounded to the
   box; a point counts when its equations are within the tolerance of
-  :meth:`Locus.contains <rankloci.locus.Locus.contains>` and it is off the
+  :meth:`Locus.contains <rankloci.loci.Locus.contains>` and it is off the
   component's excluded sets.  When no start gives one, ``meets`` is None: not
   found, which is no proof that the component misses the box.
 

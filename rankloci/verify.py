@@ -34,7 +34,7 @@ import numpy as np
 import sympy as sp
 
 from .errors import LocusTimeout
-from .locus import dimension_bound
+from .loci import dimension_bound
 
 __all__ = ["Verification", "dimension_bound", "dimension_findings", "verified_locus",
            "SELF_CHECK_SAMPLES"]
@@ -291,7 +291,7 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
     ----------
     compute : callable
         ``compute(tm, seed, hints=(), method=None)`` returns the
-        :class:`~rankloci.locus.Locus` of a task matrix (``method`` None: the one asked for).
+        :class:`~rankloci.loci.Locus` of a task matrix (``method`` None: the one asked for).
     tm : TaskMatrix
         The matrix to compute the locus of.
     reference : TaskMatrix

@@ -21,8 +21,8 @@ from .progress import log_progress
 if TYPE_CHECKING:
     from collections.abc import Sequence
 
-    from ..jacobian import TaskMatrix
-    from ..locus import Locus
+    from ..jacobians import TaskMatrix
+    from ..loci import Locus
     from ..model import MatrixModel, RobotModel
     from .models import ModelLike, ParameterValues, Variables
 
@@ -99,7 +99,7 @@ def jacobian(model: ModelLike, *, task: str | Sequence[int] | None = None,
     ((2, 2), ('vx', 'vy'))
     """
     from ..augmented import parse_augment
-    from ..jacobian import task_matrix
+    from ..jacobians import task_matrix
 
     from .symbols import caller_symbols, with_symbols
 
@@ -128,7 +128,7 @@ def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None,
     ----------
     model : RobotModel or MatrixModel
     tm : TaskMatrix
-        The matrix, from :func:`~rankloci.jacobian.task_matrix` (any frame).
+        The matrix, from :func:`~rankloci.jacobians.task_matrix` (any frame).
     method : str
         As :func:`~rankloci.methods.method_for` returned it for ``tm``.
     task, extra
@@ -147,7 +147,7 @@ def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None,
         Used instead of ``timeout`` when given.
     """
     from ..augmented import augmented_locus
-    from ..jacobian import task_matrix
+    from ..jacobians import task_matrix
     from ..verify import verified_locus
 
     stop = should_stop if should_stop is not None else stop_after(check_timeout(timeout))
@@ -191,9 +191,9 @@ def certified_locus(model, *, task=None, augment=(), method=None, seed=0, numeri
                     verify=True, frame="auto", should_stop=None, progress=None):
     """The locus of a loaded model, through the one pipeline every command uses.
 
-    read (``model``) -> J (:func:`~rankloci.jacobian.task_matrix`) -> engine
+    read (``model``) -> J (:func:`~rankloci.jacobians.task_matrix`) -> engine
     (:func:`~rankloci.augmented.augmented_locus`) -> certificate and recomputation
-    (:func:`~rankloci.verify.verified_locus`) -> :class:`~rankloci.locus.Locus`.
+    (:func:`~rankloci.verify.verified_locus`) -> :class:`~rankloci.loci.Locus`.
     ``rankloci locus``, ``check``, ``report``, ``ik``, ``manipulability``, sweeps and the
     Python API all get their locus here, so that the same model, seed and options give the
     same locus everywhere.  Within a process a result is kept (by model and options) and given
@@ -215,7 +215,7 @@ def certified_locus(model, *, task=None, augment=(), method=None, seed=0, numeri
         The locus and the matrix it was computed from.
     """
     from ..augmented import parse_augment
-    from ..jacobian import task_matrix
+    from ..jacobians import task_matrix
     from ..methods import method_for
     from ..model import RobotModel
 
@@ -406,7 +406,7 @@ def check_model(model, given=None, *, samples=10, seed=0, numeric=False, should_
     import numpy as np
 
     from ..exact.singular import singular_cross_check
-    from ..jacobian import task_matrix
+    from ..jacobians import task_matrix
     from ..numeric.crosscheck import cross_check
 
     tell = progress or (lambda msg: None)
@@ -484,7 +484,7 @@ def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
 def is_singular(model, q, *, locus=None, **options):
     """Is the configuration ``q`` on the locus of ``model``?
 
-    Decided by the locus (:meth:`~rankloci.locus.Locus.contains`, which
+    Decided by the locus (:meth:`~rankloci.loci.Locus.contains`, which
     respects each component's ``excluding``), not by an SVD at ``q``.
 
     Parameters

@@ -222,7 +222,7 @@ def as_model(model, *, variables=None, parameters=None, tip=None, base_link=None
     import sympy as sp
 
     from ..io import load_model as load
-    from ..jacobian import TaskMatrix
+    from ..jacobians import TaskMatrix
     from ..model import MatrixModel, RobotModel
 
     if (variables is not None or parameters is not None) and not isinstance(model, sp.MatrixBase):

@@ -1,6 +1,6 @@
 """``rankloci report`` as a function: a report on a model, built and optionally written.
 
-It sits above the renderers of :mod:`rankloci.report`, which take their loci
+It sits above the renderers of :mod:`rankloci.reporting`, which take their loci
 from :mod:`rankloci.api.calls`.
 """
 
@@ -42,7 +42,7 @@ def report(model, directory=None, *, formats=("md",), seed=0, samples=10, numeri
     import shutil
 
     require_matplotlib("report")
-    from ..report import FORMATS, build_report, read_model_notes, write_report
+    from ..reporting import FORMATS, build_report, read_model_notes, write_report
 
     check_arguments(seed=seed, numeric=numeric, timeout=timeout, tip=tip, base_link=base_link)
     check_samples(samples)

@@ -82,7 +82,7 @@ def _load_model(args):
 
 def _task_matrix(args, model, extra, progress=None):
     """The task matrix the arguments ask for (symbolic work: run it under the limits)."""
-    from ..jacobian import task_matrix
+    from ..jacobians import task_matrix
 
     if progress:
         progress(f"building the symbolic matrix of {model.name}")
@@ -219,7 +219,7 @@ MAX_LOCUS_BYTES = 20_000_000
 def _parsed_locus(raw: bytes, file: str, model):
     """The locus of a ``--locus`` file's bytes; a ModelError naming the file."""
     from ..errors import ModelError
-    from ..locus import Locus
+    from ..loci import Locus
 
     try:
         data = json.loads(raw.decode("utf-8"))
@@ -315,9 +315,9 @@ def cmd_report(args) -> int:
 
     from ..io import builtin_models, load_model
     from ..process_limits import LimitExceeded, run_limited
-    from ..report import (FORMATS, ReportError, build_report, file_stem, read_model_notes,
+    from ..reporting import (FORMATS, ReportError, build_report, file_stem, read_model_notes,
                           write_report)
-    from ..report.write import report_workdir
+    from ..reporting.write import report_workdir
 
     formats = [f.strip() for f in args.format.split(",") if f.strip()]
     require_module("matplotlib", "report", "rankloci report")  # the figures

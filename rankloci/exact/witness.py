@@ -626,7 +626,7 @@ def certify_components(matrix, variables, angles, components, *, seed: int = 0,
         The matrix, every parameter replaced by its (exact) value.
     variables, angles : sequence of sympy.Symbol
         The matrix's variables, and those that enter through sin and cos.
-    components : sequence of rankloci.locus.Component
+    components : sequence of rankloci.loci.Component
         The reported components, their equations with the same parameter values.
     seed : int
         Seed of the random choices.
@@ -648,7 +648,7 @@ def certify_components(matrix, variables, angles, components, *, seed: int = 0,
     Examples
     --------
     >>> q1, q2 = sp.symbols("q1 q2", real=True)
-    >>> from rankloci.locus import Component
+    >>> from rankloci.loci import Component
     >>> J = sp.Matrix([[-sp.sin(q1) - sp.sin(q1 + q2), -sp.sin(q1 + q2)],
     ...                [sp.cos(q1) + sp.cos(q1 + q2), sp.cos(q1 + q2)]])
     >>> certify_components(J, (q1, q2), (q1, q2), [Component((sp.sin(q2),), dimension=1)]).verdict
@@ -1151,7 +1151,7 @@ def _discover(missing, forms, rows, n, N, P, rng):
     equations cut out)."""
     import itertools
 
-    from ..locus import Component
+    from ..loci import Component
 
     na = len(forms.angles)
     groups: dict = {}

@@ -17,8 +17,8 @@ import networkx as nx
 import numpy as np
 
 from ..errors import LocusError
-from ..jacobian import lift_directions, pivot_constant_columns
-from ..locus import Locus
+from ..jacobians import lift_directions, pivot_constant_columns
+from ..loci import Locus
 
 __all__ = ["compute_locus", "method_for", "METHODS"]
 
@@ -56,7 +56,7 @@ def method_for(shape, requested: str | None = None, *, strict: bool = True) -> s
 
 def compute_locus(tm, method: str = "svm", *, rng=None, progress=None,
                   should_stop=None, clock=None, hints=(), trees=None) -> Locus:
-    """Rank-deficiency locus of a :class:`~rankloci.jacobian.TaskMatrix`.
+    """Rank-deficiency locus of a :class:`~rankloci.jacobians.TaskMatrix`.
 
     Parameters
     ----------
@@ -87,7 +87,7 @@ def compute_locus(tm, method: str = "svm", *, rng=None, progress=None,
     Examples
     --------
     >>> from rankloci.io import load_model
-    >>> from rankloci.jacobian import task_matrix
+    >>> from rankloci.jacobians import task_matrix
     >>> locus = compute_locus(task_matrix(load_model("planar2r"), numeric=True))
     >>> [str(c.equations[0]) for c in locus.components]
     ['sin(q2)']

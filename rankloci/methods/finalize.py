@@ -1,6 +1,6 @@
-"""From the leaves of a branch tree to the components of a :class:`~rankloci.locus.Locus`.
+"""From the leaves of a branch tree to the components of a :class:`~rankloci.loci.Locus`.
 
-Each component leaf becomes a :class:`~rankloci.locus.Component`: its
+Each component leaf becomes a :class:`~rankloci.loci.Component`: its
 equations in readable form (:mod:`.readable`), its dimension (the rank of
 the equations' gradient at a sample point), its rank drop and lost
 directions there, and the exclusions it needs.  Then leaves q = 0 and q = pi
@@ -20,7 +20,7 @@ import numpy as np
 import sympy as sp
 
 from ..algebra import TermLimit, transpose
-from ..locus import Component, Outcome
+from ..loci import Component, Outcome
 from ..numeric.equations import dimension_from_gradient, normalised
 from ..numeric.gauss_newton import gauss_newton_rows
 from ..tolerances import (CONTAINED_EXCLUSION_RTOL, CONTAINED_RTOL,

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 from ..algebra import transpose
 from ..errors import LocusError
-from ..locus import Outcome
+from ..loci import Outcome
 from ..tree.branch import Branch
 from ..tree.context import Context
 from ..tree import prune

@@ -64,7 +64,7 @@ def _work(case, text, timeout):
         from ..api.calls import model_locus
         from ..augmented import parse_augment
         from ..errors import LocusError
-        from ..jacobian import task_matrix
+        from ..jacobians import task_matrix
         from ..methods import method_for
 
         model = _model(case, text)
@@ -99,7 +99,7 @@ def _preload() -> None:
     afresh in every child (about a second per case); loaded once in the worker, the
     children share them.
     """
-    from .. import augmented, jacobian, methods, verify  # noqa: F401
+    from .. import augmented, jacobians, methods, verify  # noqa: F401
     from ..api import calls  # noqa: F401
     from ..io import toml_model, urdf  # noqa: F401
     from ..numeric import crosscheck  # noqa: F401

@@ -17,7 +17,7 @@ import sympy as sp
 from ..algebra import PolyMemo, PolyRing, circle_free_det, irreducible_factors
 from ..algebra.ring import square_root_primes
 from ..errors import LocusError, LocusTimeout
-from ..locus import Outcome, dimension_bound
+from ..loci import Outcome, dimension_bound
 from . import cover, prune, reducible
 from .branch import Branch, SubstitutedMatrices
 from .modular import ModularProbe

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..algebra import transpose
-from ..locus import Outcome
+from ..loci import Outcome
 from .probe import numeric_rank, scaled_ratio
 
 if TYPE_CHECKING:

@@ -17,8 +17,8 @@ import rankloci
 from rankloci.certify import certify_locus
 from rankloci.cli import main
 from rankloci.exact.witness import Certificate, certify_components
-from rankloci.jacobian import task_matrix
-from rankloci.locus import Component
+from rankloci.jacobians import task_matrix
+from rankloci.loci import Component
 
 q1, q2, q3, q4 = sp.symbols("q1 q2 q3 q4", real=True)
 x, y, t = sp.symbols("x y t", real=True)

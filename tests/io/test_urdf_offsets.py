@@ -17,7 +17,7 @@ import pytest
 import sympy as sp
 
 from rankloci.io import load_model
-from rankloci.jacobian import task_matrix
+from rankloci.jacobians import task_matrix
 
 JOINT = ('<joint name="j{k}" type="revolute"><parent link="link_{p}"/><child link="link_{k}"/>'
          '<origin rpy="0 0 0" xyz="{xyz}"/><axis xyz="{axis}"/>'
@@ -103,7 +103,7 @@ def _straight_elbow(tm):
 
 def test_the_check_rejects_a_nearly_singular_component(urdf):
     """Double precision calls the widened straight elbow singular; 50 and 100 digits do not."""
-    from rankloci.locus import Component, Locus
+    from rankloci.loci import Component, Locus
     from rankloci.numeric.crosscheck import cross_check, render_check_text
     from rankloci.tolerances import ON_LOCUS_RTOL
 

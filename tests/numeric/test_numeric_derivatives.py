@@ -10,7 +10,7 @@ import pytest
 import sympy as sp
 
 from rankloci.io import load_model
-from rankloci.jacobian import task_matrix
+from rankloci.jacobians import task_matrix
 from rankloci.numeric.equations import Equations, NumericMatrix, is_analytic, points_on
 from rankloci.tolerances import DERIVATIVE_RTOL, ON_COMPONENT_RESIDUAL
 

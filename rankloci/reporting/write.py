@@ -3,14 +3,14 @@
 
 This is the only module of the report package that touches files; it runs
 LaTeX, and the only other program the package runs is graphviz's ``dot``
-(:func:`~rankloci.report.figures.tree_png`, on bytes in memory).
+(:func:`~rankloci.reporting.figures.tree_png`, on bytes in memory).
 :func:`write_report` builds the whole report in a temporary directory beside
 the target and then moves the files into place, so that a failure leaves
 nothing half-written.  The LaTeX command is passed in (or None): nothing here
 looks for programs.
 
 Every file a report writes is named ``STEM.ext`` or ``STEM-what.png``, where
-``STEM`` is :attr:`Report.name <rankloci.report.build.Report.name>` (ASCII
+``STEM`` is :attr:`Report.name <rankloci.reporting.build.Report.name>` (ASCII
 letters, digits, ``_`` and ``-``), and lies directly in the target
 directory.  When a report is written again, the figures of the previous one
 that it does not produce are removed: only files whose whole name is one a
@@ -87,7 +87,7 @@ def write_report(report, directory, *, formats=FORMATS, fragment: bool = False,
     Parameters
     ----------
     report : Report
-        What :func:`~rankloci.report.build.build_report` returned.
+        What :func:`~rankloci.reporting.build.build_report` returned.
     directory : path
     formats : sequence of {"md", "tex", "pdf"}
         The PNG figures are always written beside the text.

@@ -5,7 +5,7 @@ functions of :mod:`rankloci.near` at a regular pose and near each component
 (manipulability ellipsoid and polytope, distance to the component) and along one
 task-space line through a component (minimum infinity-norm joint rates), and draws
 their figures; :func:`near_blocks` turns the result into blocks of
-:mod:`~rankloci.report.blocks`.  Nothing is written to disk here.
+:mod:`~rankloci.reporting.blocks`.  Nothing is written to disk here.
 """
 
 from __future__ import annotations

@@ -136,7 +136,7 @@ def plot_sigma_slice(data, names=None, prismatic=None, *, jacobian=None, compone
         A locus: the slice passes through a sample point of its component
         ``component``, along the two joints ``axes`` (default: the two the
         component's equations depend on most), and its components are drawn.
-        Or the slice's data, from :func:`~rankloci.report.analysis.slice_grid`.
+        Or the slice's data, from :func:`~rankloci.reporting.analysis.slice_grid`.
     names : sequence of str, optional
         For slice data: the names of all joint variables (``data.axes`` index them).
     prismatic : sequence of bool, optional
@@ -161,12 +161,12 @@ def plot_sigma_slice(data, names=None, prismatic=None, *, jacobian=None, compone
     Examples
     --------
     >>> import rankloci
-    >>> from rankloci.report.figures import plot_sigma_slice
+    >>> from rankloci.reporting.figures import plot_sigma_slice
     >>> ax = plot_sigma_slice(rankloci.locus("planar2r"))
     >>> ax.get_xlabel(), ax.get_ylabel()
     ('q1 [rad]', 'q2 [rad]')
     """
-    from ..locus import Locus
+    from ..loci import Locus
 
     if isinstance(data, Locus):
         data, names, prismatic = locus_slice(data, jacobian, component=component, axes=axes)
@@ -190,7 +190,7 @@ def locus_slice(locus, jacobian=None, *, component: int = 1, axes=None):
     """
     from ..api.calls import jacobian as task_jacobian
     from ..errors import ArgumentError
-    from ..jacobian import TaskMatrix
+    from ..jacobians import TaskMatrix
     from ..numeric.equations import NumericMatrix
     from . import analysis as A
 
@@ -262,7 +262,7 @@ def _units_math(units: str) -> str:
 def plot_manipulability_path(path, *, units: str = "", ax=None):
     """w = sqrt(det(J J^T)) along one path, with every singular crossing marked.
 
-    ``path`` is a :class:`~rankloci.report.analysis.PathData`; its ``zeros``
+    ``path`` is a :class:`~rankloci.reporting.analysis.PathData`; its ``zeros``
     (the parameters where the path meets the locus) get a red marker and a
     dotted line each.
     """
@@ -341,7 +341,7 @@ def plot_robot(pose, *, highlight=(), arrow=None, arrow_label="", Jv=None, title
     Parameters
     ----------
     pose : RobotPose
-        From :func:`~rankloci.report.robot.robot_pose`.
+        From :func:`~rankloci.reporting.robot.robot_pose`.
     highlight : sequence of int
         1-based joints whose axes are drawn long and red (the axes a reading names).
     arrow : array_like of 3 floats, optional
@@ -427,7 +427,7 @@ _ROLE_STYLE = {
 
 
 def tree_dot_source(summary) -> str:
-    """Graphviz source of a :class:`~rankloci.report.tree_summary.TreeSummary`, top-down."""
+    """Graphviz source of a :class:`~rankloci.reporting.tree_summary.TreeSummary`, top-down."""
     def esc(s):
         return str(s).replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n")
 
@@ -471,7 +471,7 @@ def plot_tree(summary, ax=None):
     ----------
     summary : Locus or TreeSummary
         A locus (its branch tree ``Locus.tree``, cut down by
-        :func:`~rankloci.report.tree_summary.tree_summary`), or the cut-down tree.
+        :func:`~rankloci.reporting.tree_summary.tree_summary`), or the cut-down tree.
     ax : matplotlib.axes.Axes, optional
         Drawn into; a new Figure otherwise.
 
@@ -482,13 +482,13 @@ def plot_tree(summary, ax=None):
     Examples
     --------
     >>> import rankloci
-    >>> from rankloci.report.figures import plot_tree
+    >>> from rankloci.reporting.figures import plot_tree
     >>> L = rankloci.locus("planar2r")
     >>> ax = plot_tree(L)
     >>> len(ax.texts) == L.tree.number_of_nodes(), ax.axison    # a small tree is drawn whole
     (True, False)
     """
-    from ..locus import Locus
+    from ..loci import Locus
 
     if isinstance(summary, Locus):
         from .tree_summary import tree_summary
