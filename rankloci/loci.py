@@ -12,13 +12,12 @@ from __future__ import annotations
 
 import enum
 import math
-import re
 from dataclasses import dataclass, field
 
 import sympy as sp
 
 from .errors import ExpressionError, ModelError
-from .expr import as_expression, exact_number, parse_expression
+from .expr import as_expression, exact_number, natural_key, parse_expression
 from .tolerances import LOCUS_CONTAINS_RTOL
 
 __all__ = ["Component", "Locus", "Outcome", "SCHEMA", "READABLE_SCHEMAS", "dimension_bound",
@@ -201,7 +200,7 @@ class Component:
         eqs = [as_expression(e).subs(subs) for e in self.equations]
         if variables is None:
             symbols = set().union(*(e.free_symbols for e in eqs)) if eqs else set()
-            variables = sorted(symbols, key=_natural_key)
+            variables = sorted(symbols, key=natural_key)
         from .numeric.functions import numpy_function
 
         return numpy_function(tuple(variables), eqs)
@@ -452,11 +451,6 @@ class Locus:
         return c.to_dict() | extra
 
 
-def _natural_key(symbol):
-    """Sort ``q2`` before ``q10``."""
-    return [int(t) if t.isdigit() else t for t in re.split(r"(\d+)", str(symbol))]
-
-
 def _count(n: int, word: str) -> str:
     return f"{n} {word}{'' if n == 1 else 's'}"
 
@@ -499,19 +493,15 @@ def _table_html(components, locus) -> str:
     return f"{head}<table><tr>{header}</tr>{''.join(rows)}</table>"
 
 
-def _near_admitted(eqs, x, rng, tries: int = 6) -> bool:
+def _near_admitted(eqs, x, rng) -> bool:
     """Do points of the component with every exclusion nonzero lie near ``x``?"""
     import numpy as np
 
-    from .numeric.gauss_newton import gauss_newton
-    from .tolerances import NEAR_ADMITTED_RADIUS, NEAR_ADMITTED_STEP
+    from .numeric.closure import near_admitted
 
-    for _ in range(tries):
-        y = gauss_newton(lambda Y: eqs.batch(Y).T, x + NEAR_ADMITTED_STEP * rng.standard_normal(x.size))
-        if y is not None and eqs.residual(y) <= LOCUS_CONTAINS_RTOL \
-                and np.max(np.abs(y - x)) <= NEAR_ADMITTED_RADIUS and eqs.admits(y):
-            return True
-    return False
+    return near_admitted(lambda Y: eqs.batch(Y).T,
+                         lambda Y: np.array([eqs.residual(y) <= LOCUS_CONTAINS_RTOL for y in Y]),
+                         eqs.admits, x, rng)
 
 # --- a locus read back from its JSON document (``rankloci.locus/2`` or ``/1``) --------------
 #

@@ -236,6 +236,9 @@ CONTAINED_EXCLUSION_RTOL = 1e-7
 NEAR_ADMITTED_STEP = 1e-3
 NEAR_ADMITTED_RADIUS = 0.05
 NEAR_ADMITTED_EXCLUSION_RTOL = 1e-6
+#: ... from this many random starts (a point in the closure has admitted points all round
+#: it: any start of the few lands on one).
+NEAR_ADMITTED_TRIES = 6
 
 # ---------------------------------------------------------------------------
 # Numeric cross-check of a locus (rankloci.numeric.crosscheck)

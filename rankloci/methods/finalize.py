@@ -22,10 +22,9 @@ import sympy as sp
 from ..algebra import TermLimit, transpose
 from ..loci import Component, Outcome
 from ..numeric.equations import dimension_from_gradient, normalised
-from ..numeric.gauss_newton import gauss_newton_rows
-from ..tolerances import (CONTAINED_EXCLUSION_RTOL, CONTAINED_RTOL,
-                          DIMENSION_STEP, NEAR_ADMITTED_EXCLUSION_RTOL, NEAR_ADMITTED_RADIUS,
-                          NEAR_ADMITTED_STEP)
+from ..numeric.closure import near_admitted
+from ..tolerances import (CONTAINED_EXCLUSION_RTOL, CONTAINED_RTOL, DIMENSION_STEP,
+                          NEAR_ADMITTED_EXCLUSION_RTOL)
 from ..tree import prune
 from ..tree.branch import Branch, apply_substitution
 from ..tree.context import Context
@@ -375,29 +374,22 @@ def _admitted(funcs, x, nvars: int, rng, *, solve: bool = True) -> bool:
     return True
 
 
-def _near_admitted(f_rows, g, gscale, x, nvars, rng, tries: int = 6) -> bool:
+def _near_admitted(f_rows, g, gscale, x, nvars, rng) -> bool:
     """Are there points of {f = 0} with g != 0 within NEAR_ADMITTED_RADIUS of ``x``?
 
     ``f_rows`` maps rows of configurations (variables, then parameters) to rows of
-    equation values.
+    equation values; the variables move, the parameters stay at their values in ``x``.
     """
     def rows(Y):
         return f_rows(np.concatenate([Y, np.broadcast_to(x[nvars:], (len(Y), len(x) - nvars))],
                                      axis=1))
 
-    # every start at once: one evaluation of the equations per Gauss-Newton step
-    starts = x[:nvars] + NEAR_ADMITTED_STEP * rng.standard_normal((tries, nvars))
-    Y = gauss_newton_rows(rows, starts)
-    Y = Y[np.all(np.isfinite(Y), axis=1)]
-    if not len(Y):
-        return False
-    near = (np.max(np.abs(rows(Y)), axis=1) <= CONTAINED_RTOL) & \
-        (np.max(np.abs(Y - x[:nvars]), axis=1) <= NEAR_ADMITTED_RADIUS)
-    for y in Y[near]:
+    def admits(y):
         vals = np.abs(np.array(g(*np.concatenate([y, x[nvars:]])), dtype=float))
-        if np.all(vals > NEAR_ADMITTED_EXCLUSION_RTOL * gscale):
-            return True
-    return False
+        return bool(np.all(vals > NEAR_ADMITTED_EXCLUSION_RTOL * gscale))
+
+    return near_admitted(rows, lambda Y: np.max(np.abs(rows(Y)), axis=1) <= CONTAINED_RTOL,
+                         admits, x[:nvars], rng)
 
 
 def _coefficient_size(e):
