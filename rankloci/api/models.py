@@ -33,13 +33,9 @@ if TYPE_CHECKING:
     ParameterValues: TypeAlias = Mapping[sp.Symbol | str, int | float | sp.Expr | str]
 
 from ..errors import ArgumentError, ModelError
+from ..expr import natural_key
 
 _IDENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_]{0,31}\Z")
-
-
-def _natural_key(symbol):
-    """Sort ``q2`` before ``q10``."""
-    return [int(t) if t.isdigit() else t for t in re.split(r"(\d+)", symbol.name)]
 
 
 def _toml_value(value) -> str:
@@ -127,7 +123,7 @@ def matrix_model(matrix, *, variables=None, parameters=None, name: str = "matrix
     M = _sympy_matrix(matrix, [str(v) for v in variables or ()] + list(params))
     symbols = set().union(*(e.free_symbols for e in M)) if M else set()
     if variables is None:
-        variables = sorted((s for s in symbols if s.name not in params), key=_natural_key)
+        variables = sorted((s for s in symbols if s.name not in params), key=natural_key)
     names = [str(v) for v in variables]
     missing = sorted({s.name for s in symbols} - set(names) - set(params))
     if missing:
