@@ -151,10 +151,8 @@ def cmd_locus(args) -> int:
     from ..methods import method_for
     from ..render_text import locus_json, locus_latex, locus_text, tree_dot, tree_json, tree_text
 
-    if args.tree and Path(args.tree).suffix not in (".dot", ".json", ".txt"):
-        raise UsageError(f"--tree {args.tree!r}: the file must end in .dot, .json or .txt")
-    if args.tree:
-        output_target(args.tree, "--tree")     # before the computation, not after it
+    if args.tree:                 # before the computation, not after it
+        output_target(args.tree, "--tree", (".dot", ".json", ".txt"))
     progress = progress_printer(args.quiet)
     model, extra = _load_model(args)
 
@@ -184,7 +182,7 @@ def cmd_locus(args) -> int:
 
     locus = with_model_notes(locus, model, args.task)
     if args.tree:
-        text = {".dot": tree_dot, ".json": tree_json, ".txt": tree_text}[Path(args.tree).suffix](locus.tree)
+        text = {".dot": tree_dot, ".json": tree_json, ".txt": tree_text}[Path(args.tree).suffix.lower()](locus.tree)
         write_atomic(args.tree, text + "\n", "--tree")
     import numpy as np
 

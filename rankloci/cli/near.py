@@ -186,10 +186,7 @@ def _check_out(option, path, suffixes):
             from ..extras import install_command
 
             raise UsageError(f"--plot needs matplotlib ({install_command('report')})") from None
-    p = Path(path)
-    if suffixes and p.suffix.lower() not in suffixes:
-        raise UsageError(f"{option} {path!r}: the file must end in {', '.join(suffixes)}")
-    output_target(path, option)     # before the computation, not after it
+    output_target(path, option, suffixes)     # before the computation, not after it
 
 
 def _locus_distance(model, args, tell):

@@ -156,7 +156,7 @@ def check_names(path, option: str) -> None:
                          f"than {NAME_MAX} bytes")
 
 
-def output_target(path, option: str) -> Path:
+def output_target(path, option: str, suffixes: tuple = ()) -> Path:
     """The file that writing ``path`` replaces, checked; a usage error when it may not be.
 
     A symbolic link is written through: its target is replaced and the link
@@ -170,9 +170,15 @@ def output_target(path, option: str) -> Path:
     path : str or os.PathLike
     option : str
         How the command line names the file in its error line (``"-o"``, ``"--tree"``).
+    suffixes : tuple of str
+        The endings the file may have (lower case, any case accepted); empty: any.
     """
     shown = f"{option} {shortened(str(path), 80)!r}"
     p = Path(path)
+    if suffixes and p.suffix.lower() not in suffixes:
+        choices = ", ".join(suffixes[:-1]) + f" or {suffixes[-1]}" if len(suffixes) > 1 \
+            else suffixes[0]
+        raise UsageError(f"{shown}: the file must end in {choices}")
     check_names(p, option)
     real = Path(os.path.realpath(p))
     try:
