@@ -138,14 +138,15 @@ def _meeting_point(comp, base_comp, tm, nm, rng, tries):
     from scipy.optimize import least_squares
 
     from .numeric.equations import Equations
-    from .tolerances import ON_COMPONENT_RESIDUAL
+    from .tolerances import LEAST_SQUARES_TOL, ON_COMPONENT_RESIDUAL
 
     both = Equations(tuple(comp.equations) + tuple(base_comp.equations), tm.variables,
                       tm.parameters)
     if both.empty:
         return None
     for q0 in nm.random_q(rng, tries):
-        q = least_squares(both, q0, method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15,
+        q = least_squares(both, q0, method="trf", xtol=LEAST_SQUARES_TOL, ftol=LEAST_SQUARES_TOL,
+                          gtol=LEAST_SQUARES_TOL,
                           max_nfev=200 * len(q0)).x
         if both.residual(q) <= ON_COMPONENT_RESIDUAL and _singular(nm(q)):
             return q

@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from .tolerances import LOCUS_CONTAINS_RTOL
+from .tolerances import EXACT_DIGITS, LIMIT_SEARCH_STARTS, LOCUS_CONTAINS_RTOL
 
 __all__ = ["LimitCheck", "within_limits", "joint_limits", "joint_kinds", "joint_strokes",
            "DEFAULT_STROKE", "LIMIT_SEARCH_STARTS", "EXACT_DIGITS"]
@@ -43,14 +43,6 @@ __all__ = ["LimitCheck", "within_limits", "joint_limits", "joint_kinds", "joint_
 #: Stroke (m) over which a prismatic joint without limits is sampled and plotted.
 DEFAULT_STROKE = (-1.0, 1.0)
 
-#: Random starts of the bounded least-squares search per component.  The search stops at
-#: the first point it accepts; a component that meets the box in a set of positive measure
-#: on its own dimension is reached from a uniform start with a probability that grows with
-#: that set, and 64 starts reach every component of the built-in models that meets their box.
-LIMIT_SEARCH_STARTS = 64
-
-#: Digits in which exact solved values are compared with the limits.
-EXACT_DIGITS = 30
 
 _TURN = 2 * np.pi
 

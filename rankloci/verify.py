@@ -35,23 +35,10 @@ import sympy as sp
 
 from .errors import LocusTimeout
 from .loci import dimension_bound
+from .tolerances import SELF_CHECK_SAMPLES, SLICE_ROUNDS, HINT_ROUNDS
 
 __all__ = ["Verification", "dimension_bound", "dimension_findings", "verified_locus",
            "SELF_CHECK_SAMPLES"]
-
-#: Sample points per component, off-locus points and probe starts of the self-check.  The
-#: probe finds the components that are hit from random starts with high probability; a
-#: component missed by the self-check but found by ``rankloci check --samples 50`` is
-#: possible for small components (reported by that command).
-SELF_CHECK_SAMPLES = 6
-
-#: Rounds of slices computed from the witness points that lie on no component (each round's
-#: certificate may fix other variables at the points still uncovered).
-SLICE_ROUNDS = 3
-
-#: Rounds of recomputation with the configurations where the check found a component regular
-#: (each adds the new ones): a split leaf's pieces are checked in the next round.
-HINT_ROUNDS = 2
 
 
 @dataclass(frozen=True)

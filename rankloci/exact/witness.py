@@ -68,28 +68,12 @@ import sympy as sp
 
 from ..errors import RanklociError
 from .certificate import CERTIFICATE_KIND, Certificate
+from ..tolerances import (MAX_CODIMENSION, MAX_ELIMINATION_DEGREE, MAX_ELIMINATION_TERMS,
+                          MAX_FIXED_DEGREE, MAX_HEIGHT, MAX_RELATION_HEIGHT, PRIME_BITS,
+                          WITNESS_RETRIES as RETRIES)
 
 __all__ = ["Certificate", "NotCertifiable", "certify_components", "MAX_CODIMENSION",
            "CERTIFICATE_KIND"]
-
-#: Codimensions whose witness points are computed (affine subspaces of that dimension): one
-#: variable is eliminated per codimension above 1, and each elimination squares the degrees.
-MAX_CODIMENSION = 4
-#: The largest degree an elimination may reach (the square of the degree of the polynomials it
-#: eliminates from); beyond it the codimension is left undecided.  A resultant of two
-#: polynomials of degree 60 in few variables takes flint about a second.
-MAX_ELIMINATION_DEGREE = 3600
-#: ... and the most terms it may have (a resultant in two or more remaining variables): beyond,
-#: one resultant takes minutes.
-MAX_ELIMINATION_TERMS = 20000
-#: Primes are drawn from [2**PRIME_BITS, 2**(PRIME_BITS + 1)): word-sized for flint's nmod
-#: arithmetic, and large enough that the Schwartz-Zippel bound of a wrong verdict (degrees of a
-#: few thousand) is below 1e-12.
-PRIME_BITS = 61
-#: Fresh random choices tried when one is degenerate (a projection that does not separate the
-#: witness points, a denominator divisible by the prime): such a choice has a probability
-#: below 1e-12, so two retries are plenty.
-RETRIES = 3
 
 
 class NotCertifiable(RanklociError):
@@ -988,18 +972,6 @@ def _component_points(eqs, exc, plane, rng, k, findings):
                             f"part of larger dimension than the stated {k.dimension}")
             return None
     return pts
-
-
-#: A variable is taken as fixed on the missing components when the values it takes at their
-#: witness points are the roots of one polynomial of at most this degree whose coefficients
-#: are rationals of small height (MAX_HEIGHT): random values (a free variable) give such a
-#: polynomial with probability below 1e-12.
-MAX_FIXED_DEGREE = 6
-MAX_HEIGHT = 2 ** 24
-#: The height of an integer relation of degree 2 found by lattice reduction for a value in
-#: GF(P) alone (its conjugate not among the witness points): random values have shortest
-#: relations near P**(1/3), about 2**20.
-MAX_RELATION_HEIGHT = 2 ** 14
 
 
 def _rational(a: int, P: int):

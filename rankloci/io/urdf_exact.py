@@ -35,15 +35,14 @@ import sympy as sp
 
 from ..expr import exact_number
 from ..model import trans
-from ..tolerances import URDF_ANGLE_SNAP_ATOL, URDF_LENGTH_SNAP_ATOL, URDF_ROTATION_ATOL
+from ..tolerances import (MAX_TRANSFORM_DIGITS, URDF_ANGLE_SNAP_ATOL,
+                          URDF_DENOMINATOR_BLOCK as _DENOMINATOR_BLOCK,
+                          URDF_DENOMINATOR_MAX as _DENOMINATOR_MAX, URDF_LENGTH_SNAP_ATOL,
+                          URDF_ROTATION_ATOL)
 
 __all__ = ["exact_origin", "exact_axis", "exact_motion", "expanded_product", "bounded", "Snaps",
            "simplest_rational", "read_angle", "read_axis", "cos_sin"]
 
-#: Digits a rational entry of a composed transform may have before its rotation is replaced by
-#: the nearest short exact rotation (:func:`bounded`).  One rpy rotation of a float angle has
-#: entries of about 34 digits; a chain of them would multiply the digits without bound.
-MAX_TRANSFORM_DIGITS = 40
 
 # Exact values a unit-axis component may snap to (besides their negatives).
 _NICE_COMPONENTS = (sp.Integer(0), sp.Rational(1, 2), sp.sqrt(2) / 2, sp.sqrt(3) / 2,
@@ -127,12 +126,6 @@ def _short(x: float, tol: float) -> sp.Rational:
     """The rational of smallest denominator within ``tol`` of ``x``."""
     f = simplest_rational(Fraction(x) - Fraction(tol), Fraction(x) + Fraction(tol))
     return sp.Rational(f.numerator, f.denominator)
-
-
-#: Denominators searched at once by :func:`_common_denominator` (one numpy block), and the
-#: largest searched (about a second) before each number gets its own short rational.
-_DENOMINATOR_BLOCK = 1 << 20
-_DENOMINATOR_MAX = 1 << 26
 
 
 def _common_denominator(xs, tol: float) -> list[sp.Rational]:

@@ -24,7 +24,8 @@ from ..loci import Component, Outcome
 from ..numeric.equations import dimension_from_gradient, normalised
 from ..numeric.closure import near_admitted
 from ..tolerances import (CONTAINED_EXCLUSION_RTOL, CONTAINED_RTOL, DIMENSION_STEP,
-                          NEAR_ADMITTED_EXCLUSION_RTOL)
+                          MAX_DIRECTION_COFACTOR_TERMS, MAX_DIRECTION_MATRIX_TERMS,
+                          MAX_DIRECTION_TERMS, NEAR_ADMITTED_EXCLUSION_RTOL)
 from ..tree import prune
 from ..tree.branch import Branch, apply_substitution
 from ..tree.context import Context
@@ -229,23 +230,6 @@ def _with_exclusions(ctx: Context, cand: _Candidate) -> _Candidate:
                         keep.append(expr)
                     break
     return cand.replace(excluding=tuple(keep)) if keep else cand
-
-
-MAX_DIRECTION_TERMS = 400
-#: The cofactors a symbolic direction is built from are abandoned beyond this many terms.  Their
-#: common factor divides out (:func:`~rankloci.algebra.primitive_vector`; PUMA 560's shoulder:
-#: 4312 terms -> 169), so this is far above MAX_DIRECTION_TERMS: on the built-in models the
-#: largest is 58208 (SSRMS, 1366 after the division); URDF chains with rotations that do not
-#: snap reach 200000-280000 terms (centauro's arm, 2-4 s each) and never come under
-#: MAX_DIRECTION_TERMS.
-MAX_DIRECTION_COFACTOR_TERMS = 60_000
-#: A direction is abandoned, before any cofactor, where the whole matrix with the branch's
-#: substitutions applied holds more terms than this.  The matrices whose directions came out
-#: small enough to show held at most 7740 terms (9R snake; 1192 on talos' arm, 990 on
-#: centauro's, 344 on the built-in models); on the snake, substituting one leaf's matrix
-#: (1173201 terms) and then its cofactors took 35 s of the locus's 100 s, for a direction
-#: abandoned anyway.
-MAX_DIRECTION_MATRIX_TERMS = 50_000
 
 
 def _with_direction(ctx: Context, cand: _Candidate) -> Component:

@@ -30,12 +30,9 @@ from ..tree import prune
 from ..tree.cover import children, distinct
 from ..tree.blocks import choose_columns
 from .null_vectors import left_null_vectors
+from ..tolerances import MINOR_CANDIDATES
 
 __all__ = ["singular_vector_tree"]
-
-#: Regular blocks whose determinants are compared on a branch where the null vectors
-#: degenerate (the smallest wins); each costs one determinant of the substituted matrix.
-MINOR_CANDIDATES = 3
 
 
 def singular_vector_tree(ctx: Context) -> bool:

@@ -32,7 +32,7 @@ import itertools
 
 import numpy as np
 
-from ..tolerances import INF_NORM_RTOL, INF_NORM_ZERO_RTOL, RANK_RTOL
+from ..tolerances import INF_NORM_RTOL, INF_NORM_ZERO_RTOL, MAX_SIGN_CHOICES, RANK_RTOL
 from .inf_norm import InfNormSolution, checked_system, on_range, solution
 
 __all__ = ["METHODS", "InfNormSolution", "min_inf_norm", "ha_lee", "linear_program",
@@ -40,11 +40,6 @@ __all__ = ["METHODS", "InfNormSolution", "min_inf_norm", "ha_lee", "linear_progr
 
 #: The methods of :func:`min_inf_norm`.
 METHODS = ("ha_lee", "cadzow", "lp")
-
-#: Where A_2'u has k zero entries (a degenerate dual solution), Ha and Lee choose
-#: sgn(0) at random; here the 2**k choices are tried in a fixed order, for k up to
-#: this (beyond it only the first, the signs of x2).
-MAX_SIGN_CHOICES = 4
 
 
 def haar_condition(A) -> bool:

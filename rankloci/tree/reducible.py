@@ -22,6 +22,9 @@ import numpy as np
 from ..algebra import transpose
 from ..loci import Outcome
 from .probe import numeric_rank, scaled_ratio
+from ..tolerances import (BISECT_LEVELS, LEAF_POINTS, MINOR_CANDIDATES, SCAN_GRID,
+                          SPECIAL_PARTIAL_ROWS, SPECIAL_POINTS, SPECIAL_SOLVES, SPECIAL_SOLVE_ROWS,
+                          SPECIAL_STARTS)
 
 if TYPE_CHECKING:
     from .branch import Branch
@@ -29,28 +32,6 @@ if TYPE_CHECKING:
 
 __all__ = ["LEAF_POINTS", "ranked_points", "refine_leaves", "repair_leaves", "special_points",
            "special_solved_points", "split_on_minor"]
-
-#: Points sampled on a leaf before it is recorded.  The sampler's first three points decide
-#: the rank of a branch; a regular piece of a reducible leaf attracted 1 to 3 of 5 random solves
-#: on PR2's arm chains, so twelve miss it with probability below 0.8**12 = 7e-2 each, and the
-#: leaves found on those chains are all caught (PR2's finger chain in tests/io/test_corpus.py;
-#: tests/tree/test_reducible.py has a matrix of its own).
-LEAF_POINTS = 12
-#: Starts with angles at multiples of pi/2 screened for exact points of a leaf (one batch
-#: evaluation): a piece that fixes k angles at one of two values each is hit by about
-#: SPECIAL_STARTS / 4**k of them, 8 for k = 4.
-SPECIAL_STARTS = 2048
-#: Of those exact points, at most this many have their rank tested.
-SPECIAL_POINTS = 64
-#: Regular blocks whose determinants are compared; the one with fewest terms splits the branch.
-MINOR_CANDIDATES = 3
-#: Groups of special starts at which some of a leaf's equations vanish exactly, and not all,
-#: solved for the rest with their angles at multiples of pi/2 held (see special_solved_points),
-#: and starts solved per group.
-SPECIAL_SOLVES = 8
-SPECIAL_SOLVE_ROWS = 2
-#: Of the special starts at which some equations vanish, those whose held angles are sought.
-SPECIAL_PARTIAL_ROWS = 64
 
 
 def ranked_points(ctx: "Context", branch: "Branch") -> tuple[list, list, bool]:
@@ -236,12 +217,6 @@ def _scan(ctx, branch, angles, others, params) -> list:
                 continue
         out.append(G[0])
     return out
-
-
-#: Values of one unknown at which an equation is evaluated in search of sign changes.
-SCAN_GRID = 256
-#: Bisection steps of a line solve decided by one evaluation (of 2**BISECT_LEVELS - 1 points).
-BISECT_LEVELS = 3
 
 
 def _solve_on_line(sampler, branch, angles, others, params, ev, x, k, is_angle, rng):
