@@ -11,14 +11,19 @@ lost there.  :meth:`Locus.to_dict` writes a locus as a JSON document and
 from __future__ import annotations
 
 import enum
+import functools
 import math
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import sympy as sp
 
 from .errors import ExpressionError, ModelError
 from .expr import as_expression, exact_number, natural_key, parse_expression
 from .tolerances import LOCUS_CONTAINS_RTOL
+
+if TYPE_CHECKING:
+    import networkx as nx
 
 __all__ = ["Component", "Locus", "Outcome", "SCHEMA", "READABLE_SCHEMAS", "dimension_bound",
            "parse_locus_dict", "MAX_LOCUS_COMPONENTS", "MAX_RANK_DROP"]
@@ -231,6 +236,9 @@ class Locus:
     components that exist only for other parameter values (a link length of
     zero, two equal offsets the model does not have): the analysis found
     them with symbolic parameters, and they say where the locus would change.
+    A component given in ``components`` that does not exist for the model
+    is moved to ``special`` when the locus is made; :attr:`all_components`
+    gives both.
 
     ``joint_names`` gives, for a URDF chain, the URDF joint of each variable
     (``q1`` is ``joint_names[0]``), and ``()`` for other models; ``contains``
@@ -246,7 +254,7 @@ class Locus:
     method: str
     components: tuple
     degenerate: bool = False
-    tree: object = None        # networkx.DiGraph of the branch tree, or None
+    tree: nx.DiGraph | None = None    # the branch tree, or None
     seconds: float = 0.0
     notes: tuple = ()
     base: "Locus | None" = None   # for an augmented matrix: the locus of J itself
@@ -254,6 +262,20 @@ class Locus:
     complete: bool | None = None  # the certificate passed (None: not certified either way)
     certificate: object = None    # rankloci.exact.certificate.Certificate, when one was computed
     joint_names: tuple = ()       # the model's joint (URDF) name of each variable, or ()
+
+    def __post_init__(self):
+        # the one place where components are split: those without real points for the model's
+        # own parameter values go to ``special``, whoever built the locus
+        apart = tuple(c for c in self.components if not c.exists_for_model)
+        if apart:
+            object.__setattr__(self, "components",
+                               tuple(c for c in self.components if c.exists_for_model))
+            object.__setattr__(self, "special", tuple(self.special) + apart)
+
+    @property
+    def all_components(self) -> tuple:
+        """:attr:`components`, then :attr:`special`: every component the computation found."""
+        return tuple(self.components) + tuple(self.special)
 
     def __repr__(self) -> str:
         special = f" (+{len(self.special)} special)" if self.special else ""
@@ -270,10 +292,6 @@ class Locus:
 
     def _repr_html_(self) -> str:
         return _table_html(self.components, self)
-
-    def __getstate__(self):
-        # the numeric equations cached by contains() hold lambdified functions
-        return {k: v for k, v in self.__dict__.items() if k != "_numeric"}
 
     def contains(self, q, *, rtol: float = LOCUS_CONTAINS_RTOL):
         """Is the configuration ``q`` on the locus (of the model's own components)?
@@ -334,15 +352,14 @@ class Locus:
         return bool(inside[0]) if single else inside
 
     def _equations(self, k):
-        """The scaled numeric equations of component ``k``, lambdified once."""
-        from .numeric.equations import Equations
-
-        numeric = self.__dict__.setdefault("_numeric", {})
-        if k not in numeric:
-            comp = self.components[k]
-            numeric[k] = Equations(comp.equations, self.variables, self.parameters,
-                                   comp.excluding)
-        return numeric[k]
+        """The scaled numeric equations of component ``k`` (lambdified once per content)."""
+        comp = self.components[k]
+        key = (tuple(comp.equations), tuple(self.variables),
+               tuple(dict(self.parameters).items()), tuple(comp.excluding))
+        try:
+            return _numeric_equations(*key)
+        except TypeError:          # a value that cannot be hashed: not kept
+            return _numeric_equations.__wrapped__(*key)
 
     def equations_function(self, k: int):
         """The equations of component ``k`` as a numpy function of the joint vector.
@@ -449,6 +466,15 @@ class Locus:
     def _component_dict(self, c) -> dict:
         extra = {"kind": c.kind, "meets": list(c.meets)} if self.base is not None else {}
         return c.to_dict() | extra
+
+
+@functools.lru_cache(maxsize=256)
+def _numeric_equations(equations, variables, parameters, excluding):
+    """:class:`~rankloci.numeric.equations.Equations` of a component, kept by content: a locus
+    stays immutable, and asking the same locus (or an equal one) again costs no lambdify."""
+    from .numeric.equations import Equations
+
+    return Equations(equations, variables, dict(parameters), excluding)
 
 
 def _count(n: int, word: str) -> str:
@@ -724,8 +750,7 @@ def parse_locus_dict(data, model=None):
         model=str(data.get("model", model.name if model is not None else "locus"))[:200],
         variables=variables, parameters=params, shape=dims,
         method=str(data.get("method", "file"))[:40],
-        components=tuple(c for c in out if c.exists_for_model),
-        special=tuple(c for c in out if not c.exists_for_model),
+        components=tuple(out),
         degenerate=bool(data.get("degenerate", False)),
         seconds=_number(data.get("seconds", 0.0), "seconds"),
         notes=tuple(notes), base=base, complete=complete, certificate=certificate,
