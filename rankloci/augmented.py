@@ -173,12 +173,8 @@ def classify(aug, base, tm_aug, tm_base, *, rng=None, samples: int = 4, tries: i
 
     rng = np.random.default_rng(0) if rng is None else rng
     nm = _numeric(tm_base)
-    base_comps = [c for c in base.components if c.exists_for_model]
     out = []
     for comp in aug.components:
-        if not comp.exists_for_model:
-            out.append(comp)
-            continue
         eqs = _equations(comp, tm_base)
         pts = [np.array([comp.sample[str(v)] for v in tm_base.variables], dtype=float)]
         pts += points_on(eqs, nm, rng, samples)
@@ -188,8 +184,6 @@ def classify(aug, base, tm_aug, tm_base, *, rng=None, samples: int = 4, tries: i
             continue
         meets = []
         for i, b in enumerate(base.components, start=1):
-            if b not in base_comps:
-                continue
             q = _meeting_point(comp, b, tm_base, nm, rng, tries)
             if q is not None:
                 meets.append({"base_component": i,

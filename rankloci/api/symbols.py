@@ -97,7 +97,7 @@ def _symbols_of(result) -> set:
     if isinstance(result, TaskMatrix):
         return set(result.matrix.free_symbols) | set(result.variables) | set(result.parameters)
     found = set(result.variables) | set(result.parameters)
-    for c in result.components + result.special:
+    for c in result.all_components:
         for e in (*c.equations, *c.excluding, *c.parameter_conditions, *c.free, *c.solved,
                   *(x for vals in c.solved.values() for x in vals),
                   *(x for vec in c.direction for x in vec)):

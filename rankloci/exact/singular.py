@@ -166,7 +166,7 @@ def _compare(primes, gens, cs, tm, locus, rng):
         return bool(np.all(vals <= ON_SET_RTOL * np.array(scales[k])))
 
     findings = []
-    comps = [c for c in locus.components if c.exists_for_model]
+    comps = list(locus.components)
     for c in comps:
         q = _component_point(c, tm, rng)
         if q is None:

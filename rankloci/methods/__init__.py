@@ -145,7 +145,6 @@ def compute_locus(tm, method: str = "svm", *, rng=None, progress=None,
     components = [lift_directions(c, [r for r, _ in pivots], shape[0]) for c in finalize(ctx)]
     return Locus(model=tm.name, variables=tm.variables, parameters=dict(tm.parameters),
                  shape=shape, method=method,
-                 components=tuple(c for c in components if c.exists_for_model),
-                 special=tuple(c for c in components if not c.exists_for_model),
+                 components=tuple(components),
                  degenerate=degenerate, tree=ctx.tree,
                  seconds=(clock() - t0) if clock else 0.0, notes=tuple(notes + ctx.notes))

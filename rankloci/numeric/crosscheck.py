@@ -278,9 +278,6 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
     for i, comp in enumerate(locus.components, start=1):
         tell(f"check: component {i} of {len(locus.components)}")
         eq_text = tuple(sp.sstr(e) for e in comp.equations)
-        if not comp.exists_for_model:
-            skipped.append(eq_text)
-            continue
         ex_text = tuple(sp.sstr(e) for e in comp.excluding)
         eqs = Equations([prepared(e) for e in comp.equations], nm.variables, {},
                          [prepared(e) for e in comp.excluding])
