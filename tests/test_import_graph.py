@@ -174,3 +174,31 @@ def test_every_exception_class_is_a_rankloci_error():
         outside += [f"{module}.{name}" for name in names
                     if not issubclass(getattr(loaded, name), RanklociError)]
     assert outside == ["rankloci.process_limits.ChildFailed"]
+
+
+def test_the_state_of_a_locus_computation_changes_only_in_its_own_module():
+    """Context (tree/context.py) owns its state: no other module assigns to an attribute of a
+    ``ctx`` or changes one in place (its methods note, add_exclusions, ... do)."""
+    mutators = {"append", "extend", "add", "update", "pop", "clear", "setdefault", "remove",
+                "discard", "insert"}
+    found = []
+    for module, (path, _) in sorted(_modules().items()):
+        if module == "rankloci.tree.context":
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            targets = []
+            if isinstance(node, (ast.Assign, ast.AugAssign, ast.AnnAssign, ast.Delete)):
+                targets = getattr(node, "targets", None) or [node.target]
+            elif (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute)
+                  and node.func.attr in mutators):
+                targets = [node.func.value]
+            for target in targets:
+                while isinstance(target, ast.Subscript):
+                    target = target.value
+                if isinstance(target, ast.Attribute):
+                    base = target.value
+                    while isinstance(base, (ast.Attribute, ast.Subscript)):
+                        base = base.value
+                    if isinstance(base, ast.Name) and base.id == "ctx":
+                        found.append(f"{module}:{node.lineno} {ast.unparse(target)}")
+    assert not found, "\n".join(found)

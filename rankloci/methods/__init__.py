@@ -125,9 +125,7 @@ def compute_locus(tm, method: str = "svm", *, rng=None, progress=None,
         # the leaves repaired by earlier hints stay repaired (the hints come again, and a
         # split leaf's pieces or a kept exclusion no longer admit them); the notes of the
         # earlier finalisation are written again
-        del ctx.notes[n_notes:]
-        ctx.progress, ctx.should_stop = progress or (lambda msg: None), should_stop or (lambda: False)
-        ctx.reporting = progress is not None
+        ctx.resume(progress=progress, should_stop=should_stop, notes_kept=n_notes)
         ctx.progress("taking up the branch tree grown before, with the hints")
     else:
         ctx = Context(reduced, method=method, rng=rng, progress=progress, should_stop=should_stop)
@@ -138,8 +136,8 @@ def compute_locus(tm, method: str = "svm", *, rng=None, progress=None,
         if trees is not None:
             trees[key] = (tm, ctx, degenerate, len(ctx.notes), (clock() - t0) if clock else 0.0)
     if hints:
-        ctx.repaired += repair_leaves(ctx, hints)
-        ctx.notes.append(f"{ctx.repaired} of the leaves were split or kept an exclusion at "
+        repaired = ctx.count_repaired(repair_leaves(ctx, hints))
+        ctx.note(f"{repaired} of the leaves were split or kept an exclusion at "
                          f"{len(hints)} configuration{'' if len(hints) == 1 else 's'} where a "
                          f"check of the first computation found a component regular")
     components = [lift_directions(c, [r for r, _ in pivots], shape[0]) for c in finalize(ctx)]
@@ -147,4 +145,4 @@ def compute_locus(tm, method: str = "svm", *, rng=None, progress=None,
                  shape=shape, method=method,
                  components=tuple(components),
                  degenerate=degenerate, tree=ctx.tree,
-                 seconds=(clock() - t0) if clock else 0.0, notes=tuple(notes + ctx.notes))
+                 seconds=(clock() - t0) if clock else 0.0, notes=tuple(notes) + ctx.notes)

@@ -83,7 +83,7 @@ def finalize(ctx: Context) -> list[Component]:
         raw.append((eqs, branch, pts, node))
     if ctx.sampler.fell_back:
         k = len(ctx.sampler.fell_back)
-        ctx.notes.append(f"{k} {'branch has' if k == 1 else 'branches have'} real points for the "
+        ctx.note(f"{k} {'branch has' if k == 1 else 'branches have'} real points for the "
                          "model's parameter values but none were found for random nearby values: "
                          "the components found there may exist only in a range of parameters")
     cands = [_component(ctx, eqs, branch, pts) for eqs, branch, pts, _ in raw]
@@ -235,17 +235,16 @@ def _with_exclusions(ctx: Context, cand: _Candidate) -> _Candidate:
 def _with_direction(ctx: Context, cand: _Candidate) -> Component:
     """The component, with its lost direction as expressions where they are small.
 
-    Kept per leaf in ``ctx.directions``: a computation resumed for the self-check's hints
+    Kept per leaf by ``ctx.symbolic_direction``: a computation resumed for the self-check's hints
     (:func:`~rankloci.methods.compute_locus`, ``trees``) finalises the same leaves again, and
     on a 9R snake the directions took half of each finalisation.
     """
     if cand.branch is None:
         return cand.comp
     key = (cand.branch.key, cand.comp.rank_drop)
-    if key not in ctx.directions:
-        ctx.directions[key] = _symbolic_direction(ctx, cand.branch, list(cand.points),
-                                                  cand.comp.rank_drop)
-    return dataclasses.replace(cand.comp, direction=ctx.directions[key])
+    direction = ctx.symbolic_direction(
+        key, lambda: _symbolic_direction(ctx, cand.branch, list(cand.points), cand.comp.rank_drop))
+    return dataclasses.replace(cand.comp, direction=direction)
 
 
 def _symbolic_direction(ctx, branch, pts, drop):

@@ -69,7 +69,7 @@ def ranked_points(ctx: "Context", branch: "Branch") -> tuple[list, list, bool]:
     degenerate = _degenerate_pairs(ctx, branch, pts)
     excl = _exceptional_exclusions(ctx, branch, pts, degenerate)
     if excl:
-        ctx.exceptional_exclusions[branch.key] = excl
+        ctx.set_exclusions(branch, excl)
     # the sampled points (not the exact special ones) that double precision does not show
     # regular are decided in extended precision, where the branch is small enough
     precise = ctx.precise.affordable(branch)
@@ -395,22 +395,18 @@ def _keep_exceptional_exclusions(ctx: "Context", branch: "Branch") -> None:
     # _exceptional_exclusions looks only at the points where the matrix is regular
     found = _exceptional_exclusions(ctx, branch, pts, _degenerate_pairs(ctx, branch, pts))
     own = ctx.sampler.points(branch)
-    kept = ctx.exceptional_exclusions.setdefault(branch.key, [])
+    fresh = []
     for f in found:
-        if ctx.probe.vanishing([f], own).any() or any(f == k for k in kept):
-            continue
-        kept.append(f)
+        if not ctx.probe.vanishing([f], own).any() and not any(f == k for k in fresh):
+            fresh.append(f)
+    ctx.add_exclusions(branch, fresh)
 
 
 def _split_leaf(ctx: "Context", branch: "Branch", node: int, regular) -> bool:
     """Replace the recorded leaf ``branch`` by its pieces (:func:`split_on_minor` at the
     ``regular`` points); it stays, in its place, when the minor vanishes on it."""
-    at = next(i for i, (b, n) in enumerate(ctx.leaves) if b is branch and n == node)
-    del ctx.leaves[at]
-    if split_on_minor(ctx, branch, node, regular, ctx.tree.nodes[node]["outcome"]):
-        return True
-    ctx.leaves.insert(at, (branch, node))
-    return False
+    return ctx.replace_leaf(branch, node, lambda: split_on_minor(
+        ctx, branch, node, regular, ctx.tree.nodes[node]["outcome"]))
 
 
 def repair_leaves(ctx: "Context", hints) -> int:
@@ -450,10 +446,7 @@ def repair_leaves(ctx: "Context", hints) -> int:
             if not vanishing and degenerate.any():
                 vanishing = _exceptional_exclusions(ctx, branch, [g], degenerate)
             if vanishing:
-                kept = ctx.exceptional_exclusions.setdefault(branch.key, [])
-                new = [f for f in vanishing if not any(f == k for k in kept)]
-                kept.extend(new)
-                changed += bool(new)
+                changed += bool(ctx.add_exclusions(branch, vanishing))
                 continue
             if not degenerate.any():
                 changed += _split_leaf(ctx, branch, node, [g])
