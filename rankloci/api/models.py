@@ -33,7 +33,6 @@ if TYPE_CHECKING:
     ParameterValues: TypeAlias = Mapping[sp.Symbol | str, int | float | sp.Expr | str]
 
 from ..errors import ArgumentError, ModelError
-from ..expr import natural_key
 
 _IDENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_]{0,31}\Z")
 
@@ -117,6 +116,7 @@ def matrix_model(matrix, *, variables=None, parameters=None, name: str = "matrix
     import sympy as sp
 
     from ..errors import ModelError
+    from ..expr import natural_key
     from ..io.toml_model import parse_model
 
     params = {str(k): v for k, v in (parameters or {}).items()}

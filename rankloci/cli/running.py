@@ -10,7 +10,6 @@ from __future__ import annotations
 import sys
 import time
 
-from ..api.deadline import stop_after
 from .output import clear_status
 
 __all__ = ["limited", "command_deadline", "deadline_clock"]
@@ -25,6 +24,8 @@ def command_deadline(seconds, started=None):
     """A ``should_stop`` that says True once ``seconds`` have passed since ``started`` (a
     :func:`time.monotonic` reading; default now), on :data:`deadline_clock`; None for no
     limit."""
+    from ..api.deadline import stop_after
+
     return stop_after(seconds, started, clock=deadline_clock)
 
 
