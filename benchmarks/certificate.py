@@ -55,7 +55,7 @@ def measure(name, model, options) -> dict:
     import rankloci
     from rankloci.api.calls import _PIPELINE
     from rankloci.certify import certify_locus
-    from rankloci.jacobian import task_matrix
+    from rankloci.jacobians import task_matrix
 
     loaded = rankloci.load_model(model, tip=options.get("tip"))
     t0 = time.perf_counter()

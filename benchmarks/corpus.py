@@ -471,7 +471,7 @@ def grade(model, tm, locus, ref: PinocchioJacobian, rng) -> dict:
     import numpy as np
     import sympy as sp
 
-    from rankloci.jacobian import task_matrix
+    from rankloci.jacobians import task_matrix
     from rankloci.numeric.equations import Equations, NumericMatrix, points_on
 
     kinds = ref.kinds
@@ -587,7 +587,7 @@ def run_case(chain: Chain, root: Path, *, time_limit: float | None = 60.0, seed:
 
     from rankloci.errors import LocusTimeout, RanklociError
     from rankloci.io import load_model
-    from rankloci.jacobian import task_matrix
+    from rankloci.jacobians import task_matrix
     from rankloci.methods import compute_locus, method_for
 
     out = {"status": "error", "reason": "", "components": None}
@@ -662,7 +662,7 @@ def self_checked(model, tm, method, chain: Chain, ref, seed: int, *, emit=None,
     """
     import numpy as np
 
-    from rankloci.jacobian import task_matrix
+    from rankloci.jacobians import task_matrix
     from rankloci.methods import compute_locus
     from rankloci.verify import verified_locus
 

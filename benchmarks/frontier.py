@@ -119,7 +119,7 @@ def reference_time(root: Path) -> dict:
     code = (
         "import sys, time, json\n"
         "from rankloci.io import load_model\n"
-        "from rankloci.jacobian import task_matrix\n"
+        "from rankloci.jacobians import task_matrix\n"
         "from rankloci.methods import compute_locus\n"
         "m = load_model(sys.argv[1], base_link=sys.argv[2], tip=sys.argv[3])\n"
         "tm = task_matrix(m, task='full', frame='auto', numeric=True)\n"

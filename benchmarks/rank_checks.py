@@ -42,7 +42,7 @@ def svd_decision(J):
 
 def main(argv=None):
     from rankloci.io import load_model
-    from rankloci.jacobian import task_matrix
+    from rankloci.jacobians import task_matrix
     from rankloci.numeric.batch_jacobian import BatchJacobian
     from rankloci.numeric.equations import NumericMatrix
 

@@ -25,7 +25,7 @@ CHILD = r"""
 import json, resource, sys, time
 t0 = time.perf_counter()
 from rankloci.io import load_model
-from rankloci.jacobian import task_matrix
+from rankloci.jacobians import task_matrix
 from rankloci.methods import compute_locus
 t1 = time.perf_counter()
 name, method, numeric = sys.argv[1], sys.argv[2], sys.argv[3] == "1"

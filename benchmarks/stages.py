@@ -7,7 +7,7 @@ certificate of a slice inside the recovery) is counted once, in the inner stage:
 
 - **imports**: ``import rankloci`` and what the pipeline imports on its first call
   (measured apart, in a process of its own, and subtracted from nothing);
-- **J**: :func:`rankloci.jacobian.task_matrix` (the matrix and the self-check's reference);
+- **J**: :func:`rankloci.jacobians.task_matrix` (the matrix and the self-check's reference);
 - **engine**: the first :func:`rankloci.augmented.augmented_locus`;
 - **recomputation**: every later one (with the self-check's hints, other seeds or values)
   and the loci of slices (:func:`rankloci.methods.compute_locus` called by the recovery);

@@ -14,11 +14,11 @@ starts fast.
   Python and Pinocchio (:mod:`rankloci.adapters`);
 - :class:`Locus`, :class:`Component`, :class:`Outcome`: the result types;
   :class:`LocusTimeout` and the other errors (:mod:`rankloci.errors`);
-- the submodules (``rankloci.io``, ``rankloci.methods``, ...) are attributes too,
-  except that ``rankloci.locus``, ``rankloci.jacobian`` and ``rankloci.report``
-  are the functions: import those modules by name (``from rankloci.locus import
-  Locus``, ``importlib.import_module("rankloci.report")``); the submodules of
-  ``rankloci.report`` are also attributes of the function
+- the submodules (``rankloci.io``, ``rankloci.methods``, ...) are attributes too.
+  No submodule is named like a function: the result types are in
+  ``rankloci.loci``, the task matrices in ``rankloci.jacobians`` and the
+  report's parts in ``rankloci.reporting``, whose submodules are also
+  attributes of the function ``rankloci.report``
   (``rankloci.report.figures.plot_sigma_slice``).
 
 Examples
@@ -31,10 +31,8 @@ Examples
 
 import functools
 import importlib
-import sys
-import types
 
-__version__ = "0.1.0"
+from .version import __version__
 
 #: Public name -> the module that defines it.
 _EXPORTS = {
@@ -42,52 +40,32 @@ _EXPORTS = {
     "check": "rankloci.api", "report": "rankloci.api", "is_singular": "rankloci.api",
     "Check": "rankloci.api", "from_rtb": "rankloci.adapters",
     "from_pinocchio": "rankloci.adapters",
-    "Locus": "rankloci.locus", "Component": "rankloci.locus", "Outcome": "rankloci.locus",
+    "Locus": "rankloci.loci", "Component": "rankloci.loci", "Outcome": "rankloci.loci",
     "RobotModel": "rankloci.model", "MatrixModel": "rankloci.model",
-    "TaskMatrix": "rankloci.jacobian",
+    "TaskMatrix": "rankloci.jacobians",
     "RanklociError": "rankloci.errors", "ArgumentError": "rankloci.errors",
     "ModelError": "rankloci.errors",
     "ExpressionError": "rankloci.errors", "ShapeError": "rankloci.errors",
     "LocusError": "rankloci.errors", "LocusTimeout": "rankloci.errors",
-    "min_inf_norm": "rankloci.near.min_inf_norm", "manipulability": "rankloci.near.api",
-    "joint_rates": "rankloci.near.api", "nearest_component": "rankloci.near.api",
+    "min_inf_norm": "rankloci.near.min_inf_norm", "manipulability": "rankloci.api.near",
+    "joint_rates": "rankloci.api.near", "nearest_component": "rankloci.api.near",
     "within_limits": "rankloci.limits",
 }
 
 #: Submodules reachable as attributes without importing them first.
-_SUBMODULES = ("adapters", "algebra", "api", "augmented", "cli", "directions", "errors", "exact",
-               "expr", "io", "jacobian", "kinematics", "limits", "locus", "methods", "model", "near",
-               "numeric", "render_text", "report", "tolerances", "tree", "verify")
+_SUBMODULES = ("adapters", "algebra", "api", "augmented", "certify", "cli", "directions", "errors",
+               "exact", "expr", "extras", "io", "jacobians", "kinematics", "limits", "loci",
+               "methods", "model", "near", "numeric", "process_limits", "render_text", "reporting",
+               "sweep", "tolerances", "tree", "verify", "version")
 
 __all__ = ["__version__", *_EXPORTS]
 
 
-#: Functions named like a submodule: the attribute stays the function.
-_FUNCTIONS_OVER_MODULES = frozenset({"locus", "jacobian", "report"})
-
-
-class _Package(types.ModuleType):
-    """The package module, whose function attributes are not replaced by submodules.
-
-    Importing ``rankloci.locus`` for the first time sets the package's
-    attribute ``locus`` to that module; that one assignment is dropped, so
-    ``rankloci.locus`` stays the function (the module is in ``sys.modules``).
-    """
-
-    def __setattr__(self, name, value):
-        if name in _FUNCTIONS_OVER_MODULES and isinstance(value, types.ModuleType):
-            return
-        super().__setattr__(name, value)
-
-
-sys.modules[__name__].__class__ = _Package
-
-
 class _ReportCall:
-    """``rankloci.report``: the function, whose attributes are also the package's submodules.
+    """``rankloci.report``: the function, whose attributes are also :mod:`rankloci.reporting`'s.
 
     ``rankloci.report(...)`` builds a report (:func:`rankloci.api.report`);
-    ``rankloci.report.figures`` is the module :mod:`rankloci.report.figures`
+    ``rankloci.report.figures`` is the module :mod:`rankloci.reporting.figures`
     (the plotting functions), imported on first use.
     """
 
@@ -100,11 +78,11 @@ class _ReportCall:
     def __getattr__(self, name):
         if name.startswith("__"):
             raise AttributeError(name)
-        package = importlib.import_module("rankloci.report")
+        package = importlib.import_module("rankloci.reporting")
         if hasattr(package, name):
             return getattr(package, name)
         try:
-            return importlib.import_module(f"rankloci.report.{name}")
+            return importlib.import_module(f"rankloci.reporting.{name}")
         except ModuleNotFoundError:
             raise AttributeError(f"rankloci.report has no attribute {name!r}") from None
 

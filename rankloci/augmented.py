@@ -104,7 +104,7 @@ def parse_augment(model, texts, *, flag: str = "--augment"):
 
     Errors name ``flag`` (``"augment"`` for the Python API).
     """
-    from .jacobian import parse_constraints
+    from .jacobians import parse_constraints
 
     out = []
     for t in texts:
@@ -138,14 +138,15 @@ def _meeting_point(comp, base_comp, tm, nm, rng, tries):
     from scipy.optimize import least_squares
 
     from .numeric.equations import Equations
-    from .tolerances import ON_COMPONENT_RESIDUAL
+    from .tolerances import LEAST_SQUARES_TOL, ON_COMPONENT_RESIDUAL
 
     both = Equations(tuple(comp.equations) + tuple(base_comp.equations), tm.variables,
                       tm.parameters)
     if both.empty:
         return None
     for q0 in nm.random_q(rng, tries):
-        q = least_squares(both, q0, method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15,
+        q = least_squares(both, q0, method="trf", xtol=LEAST_SQUARES_TOL, ftol=LEAST_SQUARES_TOL,
+                          gtol=LEAST_SQUARES_TOL,
                           max_nfev=200 * len(q0)).x
         if both.residual(q) <= ON_COMPONENT_RESIDUAL and _singular(nm(q)):
             return q
@@ -172,12 +173,8 @@ def classify(aug, base, tm_aug, tm_base, *, rng=None, samples: int = 4, tries: i
 
     rng = np.random.default_rng(0) if rng is None else rng
     nm = _numeric(tm_base)
-    base_comps = [c for c in base.components if c.exists_for_model]
     out = []
     for comp in aug.components:
-        if not comp.exists_for_model:
-            out.append(comp)
-            continue
         eqs = _equations(comp, tm_base)
         pts = [np.array([comp.sample[str(v)] for v in tm_base.variables], dtype=float)]
         pts += points_on(eqs, nm, rng, samples)
@@ -187,8 +184,6 @@ def classify(aug, base, tm_aug, tm_base, *, rng=None, samples: int = 4, tries: i
             continue
         meets = []
         for i, b in enumerate(base.components, start=1):
-            if b not in base_comps:
-                continue
             q = _meeting_point(comp, b, tm_base, nm, rng, tries)
             if q is not None:
                 meets.append({"base_component": i,
@@ -201,7 +196,7 @@ def classify(aug, base, tm_aug, tm_base, *, rng=None, samples: int = 4, tries: i
 
 def base_matrix(model, tm):
     """J without any constraint row, in the frame and about the point ``tm`` uses."""
-    from .jacobian import task_matrix
+    from .jacobians import task_matrix
     from .model import RobotModel
 
     task = tm.rows if isinstance(model, RobotModel) and tm.rows else None
@@ -226,7 +221,7 @@ def augmented_locus(model, tm, method: str | None = None, *, seed: int = 0, prog
     Examples
     --------
     >>> from rankloci.io import load_model
-    >>> from rankloci.jacobian import task_matrix
+    >>> from rankloci.jacobians import task_matrix
     >>> m = load_model("planar3r_orient")
     >>> locus = augmented_locus(m, task_matrix(m, numeric=True))
     >>> [(str(c.equations[0]), c.kind) for c in locus.components]

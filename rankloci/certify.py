@@ -66,7 +66,7 @@ def certify_locus(locus, reference, *, seed: int = 0, should_stop=None,
     Examples
     --------
     >>> import rankloci
-    >>> from rankloci.jacobian import task_matrix
+    >>> from rankloci.jacobians import task_matrix
     >>> L = rankloci.locus("planar2r", verify=False)
     >>> certify_locus(L, task_matrix(rankloci.load_model("planar2r"))).verdict
     'passed'
@@ -141,7 +141,7 @@ def real_part_components(locus, reference, *, seed: int = 0):
     import numpy as np
 
     from .exact.real_points import definite_parts, real_point_components
-    from .locus import Component
+    from .loci import Component
 
     values = _values(reference.parameters)
     values.update({sp.Symbol(v.name): v for v in reference.variables})

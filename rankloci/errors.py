@@ -1,7 +1,12 @@
 """Exceptions raised by rankloci.
 
-Every error that bad input can cause is a :class:`RanklociError`.  The command
-line turns one into a single line on stderr and exit code 2.
+Every error that bad input can cause is a :class:`RanklociError`, and so is
+every other failure rankloci raises by design (a limit reached, a report that
+LaTeX could not typeset, a sweep's cluster that cannot run it, a term budget
+exceeded).  The command line turns one into a single line on stderr and exit
+code 2.  The one exception outside it is
+:class:`rankloci.process_limits.ChildFailed`: a bug in a child process,
+passed on with its traceback.
 """
 
 from __future__ import annotations
@@ -14,11 +19,13 @@ __all__ = [
     "ShapeError",
     "LocusError",
     "LocusTimeout",
+    "UsageError",
+    "shortened",
 ]
 
 
 class RanklociError(Exception):
-    """Base class of every error rankloci raises on bad input."""
+    """Base class of every error rankloci raises by design (bad input first of all)."""
 
 
 class ArgumentError(RanklociError, ValueError, TypeError):
@@ -113,3 +120,28 @@ class LocusError(RanklociError):
 
 class LocusTimeout(LocusError):
     """The computation was stopped because its time budget ran out."""
+
+
+class UsageError(RanklociError):
+    """The command line itself is wrong: an unknown option, a bad value, a missing file name."""
+
+
+#: Characters of a message shown whole: a progress line on stderr, the error line of a run that
+#: ran out of its limits.  The equations of a component found on a long chain can run to
+#: megabytes of digits, which a line of progress does not need.
+MESSAGE_MAX = 300
+
+
+def shortened(message: str, limit: int = MESSAGE_MAX) -> str:
+    """``message`` cut to ``limit`` characters, saying how many were left out.
+
+    Examples
+    --------
+    >>> shortened("x" * 10, 4)
+    'xxxx ... (6 more characters)'
+    >>> shortened("short")
+    'short'
+    """
+    if len(message) <= limit:
+        return message
+    return f"{message[:limit]} ... ({len(message) - limit} more characters)"

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import ast
 import math
+import re
 import warnings
 from fractions import Fraction
 from typing import Mapping
@@ -24,7 +25,8 @@ import sympy as sp
 from .errors import ExpressionError
 from .tolerances import ANGLE_SNAP_ATOL
 
-__all__ = ["parse_expression", "as_expression", "exact_number", "snap_angle", "FUNCTIONS", "AngleSnapWarning"]
+__all__ = ["parse_expression", "as_expression", "exact_number", "snap_angle", "natural_key",
+           "FUNCTIONS", "AngleSnapWarning"]
 
 #: Functions an expression may call, by name.
 FUNCTIONS = {
@@ -346,3 +348,14 @@ def as_expression(value, names: Mapping[str, sp.Expr] | None = None) -> sp.Expr:
     except sp.SympifyError:
         raise ExpressionError(repr(value)[:40], f"a {type(value).__name__} is not a number or "
                                                 "an expression") from None
+
+
+def natural_key(symbol) -> list:
+    """A sort key that puts ``q2`` before ``q10``: the digits of a name compare as numbers.
+
+    Examples
+    --------
+    >>> sorted(sp.symbols("q10 q2 d1"), key=natural_key)
+    [d1, q2, q10]
+    """
+    return [int(t) if t.isdigit() else t for t in re.split(r"(\d+)", str(symbol))]

@@ -11,7 +11,7 @@ Each answer states how it was decided:
 - ``"sample point"``: the component's sample point (a revolute angle moved by
   whole turns where that helps) lies in the box.
 - ``"exact"``: the component fixes a bounded variable at exact values
-  (:attr:`~rankloci.locus.Component.solved`, or the real roots of an equation in a
+  (:attr:`~rankloci.loci.Component.solved`, or the real roots of an equation in a
   prismatic variable alone, such as a boom's ``q3 = 0``), and none of them (nor, for a
   revolute joint, any value a whole number of turns away) lies within its
   limits: the component does not meet the box.  The values are compared in
@@ -20,7 +20,7 @@ Each answer states how it was decided:
   the box (a prismatic joint without limits over :data:`DEFAULT_STROKE`) are
   projected onto the component's equations by least squares bounded to the
   box; a point counts when its equations are within the tolerance of
-  :meth:`Locus.contains <rankloci.locus.Locus.contains>` and it is off the
+  :meth:`Locus.contains <rankloci.loci.Locus.contains>` and it is off the
   component's excluded sets.  When no start gives one, ``meets`` is None: not
   found, which is no proof that the component misses the box.
 
@@ -36,7 +36,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from .tolerances import LOCUS_CONTAINS_RTOL
+from .tolerances import EXACT_DIGITS, LIMIT_SEARCH_STARTS, LOCUS_CONTAINS_RTOL
 
 __all__ = ["LimitCheck", "within_limits", "joint_limits", "joint_kinds", "joint_strokes",
            "DEFAULT_STROKE", "LIMIT_SEARCH_STARTS", "EXACT_DIGITS"]
@@ -44,14 +44,6 @@ __all__ = ["LimitCheck", "within_limits", "joint_limits", "joint_kinds", "joint_
 #: Stroke (m) over which a prismatic joint without limits is sampled and plotted.
 DEFAULT_STROKE = (-1.0, 1.0)
 
-#: Random starts of the bounded least-squares search per component.  The search stops at
-#: the first point it accepts; a component that meets the box in a set of positive measure
-#: on its own dimension is reached from a uniform start with a probability that grows with
-#: that set, and 64 starts reach every component of the built-in models that meets their box.
-LIMIT_SEARCH_STARTS = 64
-
-#: Digits in which exact solved values are compared with the limits.
-EXACT_DIGITS = 30
 
 _TURN = 2 * np.pi
 

@@ -1,4 +1,4 @@
-"""Every numeric tolerance rankloci uses, in one place.
+"""Every numeric tolerance rankloci uses, and every count and budget that decides a result.
 
 All rank decisions are relative to the largest singular value sigma_max, as in
 ``numpy.linalg.matrix_rank``: a matrix is numerically rank deficient when
@@ -244,6 +244,9 @@ CONTAINED_EXCLUSION_RTOL = 1e-7
 NEAR_ADMITTED_STEP = 1e-3
 NEAR_ADMITTED_RADIUS = 0.05
 NEAR_ADMITTED_EXCLUSION_RTOL = 1e-6
+#: ... from this many random starts (a point in the closure has admitted points all round
+#: it: any start of the few lands on one).
+NEAR_ADMITTED_TRIES = 6
 
 # ---------------------------------------------------------------------------
 # Numeric cross-check of a locus (rankloci.numeric.crosscheck)
@@ -290,12 +293,6 @@ PROBE_DESCENT_RTOL = 1e-13
 #: point.  The probe starts at normal(0, 1) values; lengths of the models in millimetres stay
 #: below 1e4, so a real singular point near a start is far inside this bound.
 PROBE_ESCAPE_ABS = 1e6
-
-#: dJ/dq by the complex step (rankloci.numeric.equations.NumericMatrix) and by the symbolic
-#: derivative agree to this, relative to the largest |dJ/dq_k| entry at the same q.  Both are
-#: exact up to rounding (the complex step subtracts nothing); on the built-in arms they differ
-#: by <= 6e-16, and 1e-12 leaves room for the cancellation among the ~100 terms of an entry.
-DERIVATIVE_RTOL = 1e-12
 
 #: A singular probe point is covered when some component's scaled equations are all at most this.
 #: A minimiser stops within ~ratio/|grad ratio| (~1e-8 rad) of a smooth locus, ~1e-6 rad near
@@ -448,3 +445,338 @@ VIEW_ON_LOCUS_RTOL = RANK_RTOL
 #: sigma_min/sigma_max above 1e-3 (cond below 1e3), so honest ratios agree to ~1e-12, while a
 #: wrong exponent or a missing factor changes the ratio by order one between points.
 DET_FACTOR_RTOL = 1e-8
+
+# --- proved points next to numeric ones (tree/certify.py) ----------------------------------------
+
+#: Working precision of the ball arithmetic: coefficients of several hundred digits are exact
+#: balls, and 256 bits leave ~70 digits after cancellations of one part in 1e6 and more.
+PRECISION_BITS = 256
+
+#: Newton steps in doubles from a start 1e-3 off the equations (admitted_near), to within
+#: rounding of the zero.
+FLOAT_NEWTON_STEPS = 8
+
+#: ... and stops earlier once every equation is below this relative to the size of its terms:
+#: rounding in doubles (a few terms' worth of 1.1e-16), far within ROOT_XTOL, and the
+#: refinement in PRECISION_BITS takes over from there.
+FLOAT_NEWTON_SETTLED = 1e-15
+
+#: Then at most this many refinement steps in ``PRECISION_BITS``-bit arithmetic: the residual F
+#: exact at the point, its Jacobian in doubles (mixed-precision refinement).  Each step gains
+#: about 53 - log2(cond) bits, so from the double zero two or three steps reach NEWTON_SETTLED;
+#: the rest is margin for ill-conditioned pivots.
+NEWTON_STEPS = 6
+
+#: The refinement stops once a step is below this relative to max(1, |pivot|): the Krawczyk
+#: box (BOX_RTOL) is then 2**20 times the distance left to the zero.
+NEWTON_SETTLED = 2.0 ** -120
+
+#: Radius of the Krawczyk box, relative to max(1, |pivot|): far above the Newton residual
+#: (NEWTON_SETTLED), far below any distance at which two zeros of a regular system could be told
+#: apart in double precision.
+BOX_RTOL = 2.0 ** -100
+
+#: Krawczyk's test is not attempted when the double Jacobian at the zero found in doubles, or at
+#: the refined zero, has a condition number (max-row-sum norms) above this: a zero on a piece of
+#: the system of excess dimension, whose Jacobian is singular there.  The double condition number
+#: saturates near 1e16 on a singular Jacobian; the test needs the double inverse to be a good
+#: one, and J to vary little over the box.  Measured with the test run in ball arithmetic up to
+#: 1e30: every passed test had a condition number below 1e12 (49 on panda's finger chain, 1295 on
+#: tiago's arm), while 370 of panda's 442 failed ones were above 1e27 (most 1e72 to 1e84).
+#: Skipping the test decides nothing: the point stays unproved, as a failed test leaves it.
+FLOAT_SINGULAR_COND = 1e14
+
+#: Pivot columns whose smallest singular value is below this times the largest are no chart
+#: of the branch at the point (a point where components meet); the point stays undecided.
+PIVOT_RTOL = 1e-12
+
+#: Choices of pivots tried from one start by :func:`rankloci.tree.certify.admitted_near`.
+PIVOT_CHOICES = 6
+
+# --- batched SVD screens (numeric/svd.py) --------------------------------------------------------
+
+#: Screening threshold on (sigma_min/sigma_max)**2 from the Gram matrix.  Its
+#: eigenvalues carry an absolute error of a few eps * sigma_max**2, i.e. the
+#: squared ratio is known to ~1e-15; above 1e-10 (ratio above 1e-5, three
+#: orders over RANK_RTOL) the matrix is certainly of full rank.
+GRAM_SCREEN = 1e-10
+
+# --- the exact cross-check with Singular (exact/singular.py) -------------------------------------
+
+#: The cross-check is attempted on at most this many terms of the minors sent to Singular, and
+#: on at most SINGULAR_MAX_ANGLES angles (two ring variables each): primary decomposition grows
+#: fast with more, and beyond them the check reports itself skipped.
+SINGULAR_MAX_TERMS = 200
+SINGULAR_MAX_ANGLES = 4
+#: Seconds Singular gets before the check reports itself skipped (it decides nothing then).
+SINGULAR_TIMEOUT_S = 30.0
+#: Residual (relative to the coefficient size) below which an equation holds at a point.
+SINGULAR_ON_SET_RTOL = 1e-7
+
+# --- Gauss-Newton (numeric/gauss_newton.py) ------------------------------------------------------
+
+#: Step lengths of the line search tried per residual call: 1, 1/2, 1/4, 1/8 of the step.
+LINE_LEVELS = 4
+#: A start stops once its residual norm is below this: rounding of well-scaled equations
+#: (a few 1e-16 per term), far below ON_COMPONENT_RESIDUAL.
+GN_RESIDUAL_FLOOR = 1e-14
+#: ... or once its residual has not halved in this many steps: no convergence in sight (a
+#: start that converges gains digits every step).
+GN_STALL_STEPS = 8
+#: ... or once its step is shortened below this fraction: the start is stuck.
+GN_MIN_STEP = 1e-4
+#: ... and after this many steps at most (Gauss-Newton converges in a handful near a zero).
+GN_MAX_ITER = 60
+#: Forward-difference step of the Jacobian: about sqrt(eps), which balances truncation and
+#: rounding for well-scaled equations.
+GN_DIFFERENCE_STEP = 1e-7
+#: scipy's least_squares (trust region reflective) is run to rounding: its xtol, ftol and gtol
+#: far below ON_COMPONENT_RESIDUAL, so that only max_nfev stops it short of a zero.
+LEAST_SQUARES_TOL = 1e-15
+
+# --- points on a component's equations (numeric/equations.py) ------------------------------------
+
+#: Random starts per requested point (root finding, off-locus draws).
+EQUATIONS_MAX_TRIES = 40
+
+#: Iterations without halving its cost after which a root-finding start above the
+#: acceptance threshold is given up (see :func:`points_on`).  Starts that reach the
+#: component halved their cost at least every 48 iterations (160 starts: xarm7, panda,
+#: centauro's arm, puma560, pa10, mobile10); the others sat at a positive minimum of the
+#: cost (residual ~7e-4) until max_nfev, 1400 evaluations.
+STALL_ITERATIONS = 200
+
+#: The refinement stops once a step moves the double-precision point by at most this many units
+#: in the last place of each coordinate, or of 1 for a coordinate below 1 in size (a joint value
+#: is no finer than that).  A converged point keeps moving by the rounding of the working
+#: precision, which changes the double value of a coordinate at 0: on romeo_laas_small's gripper
+#: chain one point (q6 = 0) took all 200 steps (35 s), moving by 1e-48 after the third, while
+#: the others stopped after 3 to 5.
+SETTLED_ULPS = 4
+
+#: Step of the complex-step derivative Im f(x + i h) / h.  Its error is h^2 |f'''| / 6 relative
+#: to f' and nothing cancels, so any h far below sqrt(machine epsilon) gives f' to rounding;
+#: 1e-30 keeps h^2 below every double's precision while h * f' stays far above the smallest
+#: positive double.
+COMPLEX_STEP = 1e-30
+
+# --- the self-check of a locus (verify.py) -------------------------------------------------------
+
+#: Sample points per component, off-locus points and probe starts of the self-check.  The
+#: probe finds the components that are hit from random starts with high probability; a
+#: component missed by the self-check but found by ``rankloci check --samples 50`` is
+#: possible for small components (reported by that command).
+SELF_CHECK_SAMPLES = 6
+
+#: Rounds of slices computed from the witness points that lie on no component (each round's
+#: certificate may fix other variables at the points still uncovered).
+SLICE_ROUNDS = 3
+
+#: Codimension from which the numeric check of a first computation starts in a worker beside
+#: its certificate (``jobs`` above 1): where components of codimension 3 or more can occur
+#: (n x m matrices with m - n >= 2), the certificate's eliminations of those codimensions are
+#: beyond its budget but for small matrices, and it leaves the long chains undecided (snake9,
+#: tiago's 9-joint chains), so the check is needed.  Below, the certificate decides, and a
+#: worker started for a check that is not needed costs a second of CPU on a busy machine.
+CHECK_AHEAD_CODIMENSION = 3
+
+#: Rounds of recomputation with the configurations where the check found a component regular
+#: (each adds the new ones): a split leaf's pieces are checked in the next round.
+HINT_ROUNDS = 2
+
+# --- the certificate's budgets (exact/witness.py) ------------------------------------------------
+
+#: Codimensions whose witness points are computed (affine subspaces of that dimension): one
+#: variable is eliminated per codimension above 1, and each elimination squares the degrees.
+MAX_CODIMENSION = 4
+
+#: The largest degree an elimination may reach (the square of the degree of the polynomials it
+#: eliminates from); beyond it the codimension is left undecided.  A resultant of two
+#: polynomials of degree 60 in few variables takes flint about a second.
+MAX_ELIMINATION_DEGREE = 3600
+
+#: ... and the most terms it may have (a resultant in two or more remaining variables): beyond,
+#: one resultant takes minutes.
+MAX_ELIMINATION_TERMS = 20000
+
+#: Primes are drawn from [2**PRIME_BITS, 2**(PRIME_BITS + 1)): word-sized for flint's nmod
+#: arithmetic, and large enough that the Schwartz-Zippel bound of a wrong verdict (degrees of a
+#: few thousand) is below 1e-12.
+PRIME_BITS = 61
+
+#: Fresh random choices tried when one is degenerate (a projection that does not separate the
+#: witness points, a denominator divisible by the prime): such a choice has a probability
+#: below 1e-12, so two retries are plenty.
+WITNESS_RETRIES = 3
+
+#: A variable is taken as fixed on the missing components when the values it takes at their
+#: witness points are the roots of one polynomial of at most this degree whose coefficients
+#: are rationals of small height (MAX_HEIGHT): random values (a free variable) give such a
+#: polynomial with probability below 1e-12.
+MAX_FIXED_DEGREE = 6
+MAX_HEIGHT = 2 ** 24
+
+#: The height of an integer relation of degree 2 found by lattice reduction for a value in
+#: GF(P) alone (its conjugate not among the witness points): random values have shortest
+#: relations near P**(1/3), about 2**20.
+MAX_RELATION_HEIGHT = 2 ** 14
+
+# --- leaves that also hold on a regular piece: samples and budgets (tree/reducible.py) -----------
+
+#: Points sampled on a leaf before it is recorded.  The sampler's first three points decide
+#: the rank of a branch; a regular piece of a reducible leaf attracted 1 to 3 of 5 random solves
+#: on PR2's arm chains, so twelve miss it with probability below 0.8**12 = 7e-2 each, and the
+#: leaves found on those chains are all caught (PR2's finger chain in tests/io/test_corpus.py;
+#: tests/tree/test_reducible.py has a matrix of its own).
+LEAF_POINTS = 12
+
+#: Starts with angles at multiples of pi/2 screened for exact points of a leaf (one batch
+#: evaluation): a piece that fixes k angles at one of two values each is hit by about
+#: SPECIAL_STARTS / 4**k of them, 8 for k = 4.
+SPECIAL_STARTS = 2048
+
+#: Of those exact points, at most this many have their rank tested.
+SPECIAL_POINTS = 64
+
+#: Regular blocks whose determinants are compared; the one with fewest terms splits the branch.
+MINOR_CANDIDATES = 3
+
+#: Groups of special starts at which some of a leaf's equations vanish exactly, and not all,
+#: solved for the rest with their angles at multiples of pi/2 held (see special_solved_points),
+#: and starts solved per group.
+SPECIAL_SOLVES = 8
+SPECIAL_SOLVE_ROWS = 2
+
+#: Of the special starts at which some equations vanish, those whose held angles are sought.
+SPECIAL_PARTIAL_ROWS = 64
+
+#: Values of one unknown at which an equation is evaluated in search of sign changes.
+SCAN_GRID = 256
+
+#: Bisection steps of a line solve decided by one evaluation (of 2**BISECT_LEVELS - 1 points).
+BISECT_LEVELS = 3
+
+# --- exact rank decisions modulo a prime (tree/modular.py) ---------------------------------------
+
+#: Random points per branch; the rank is the largest over them (a rank mod P can only drop,
+#: and a branch cut by several equations can consist of pieces of different rank).
+MODULAR_POINTS = 3
+
+#: Branches with more implicit equations are left to the numeric probes.
+MODULAR_MAX_IMPLICIT = 3
+
+#: Failed attempts at one prime before the next, and primes tried before a branch is left to
+#: the numeric probes: a random univariate polynomial mod P has a root with probability ~0.63,
+#: a quadratic with a non-square discriminant has roots for half of the primes.
+MODULAR_MISSES = 4
+MODULAR_PRIMES = 8
+
+# --- block choice (tree/blocks.py) ---------------------------------------------------------------
+
+#: At most this many column sets are ranked by size when choosing a block.
+MAX_COLUMN_SETS = 5000
+
+#: Once a regular block's determinant has more terms than this, no further candidate is
+#: formed: on 8-joint URDF chains (icub's arm with its torso) the root's candidates have 1.2 to
+#: 4.3 million terms and take 29 to 84 s each, and the smallest is usually among the first
+#: (the blocks are tried smallest entries first).
+CANDIDATE_MAX_TERMS = 200_000
+
+#: Blocks of the null-vector level are searched only when there are at most this many.
+MAX_BLOCKS = 400
+
+# --- lost directions (methods/finalize.py) -------------------------------------------------------
+
+#: A lost direction is given as expressions only when its entries hold at most this many terms
+#: together (after their common factor divides out): longer ones are too long to read.
+MAX_DIRECTION_TERMS = 400
+
+#: The cofactors a symbolic direction is built from are abandoned beyond this many terms.  Their
+#: common factor divides out (:func:`~rankloci.algebra.primitive_vector`; PUMA 560's shoulder:
+#: 4312 terms -> 169), so this is far above MAX_DIRECTION_TERMS: on the built-in models the
+#: largest is 58208 (SSRMS, 1366 after the division); URDF chains with rotations that do not
+#: snap reach 200000-280000 terms (centauro's arm, 2-4 s each) and never come under
+#: MAX_DIRECTION_TERMS.
+MAX_DIRECTION_COFACTOR_TERMS = 60_000
+
+#: A direction is abandoned, before any cofactor, where the whole matrix with the branch's
+#: substitutions applied holds more terms than this.  The matrices whose directions came out
+#: small enough to show held at most 7740 terms (9R snake; 1192 on talos' arm, 990 on
+#: centauro's, 344 on the built-in models); on the snake, substituting one leaf's matrix
+#: (1173201 terms) and then its cofactors took 35 s of the locus's 100 s, for a direction
+#: abandoned anyway.
+MAX_DIRECTION_MATRIX_TERMS = 50_000
+
+# --- branches (tree/branch.py) -------------------------------------------------------------------
+
+#: A condition a*C + b*S whose a and b have more terms than this together stays an implicit
+#: equation instead of becoming the substitution (C, S) ~ (b, -a).  Substituting multiplies an
+#: entry of degree d in the pair by about (terms of a and b)**d: on panda's finger chain a
+#: 39 + 51 term pair gave entries of about 1100 terms and one 5 x 5 minor of 443072 terms (23 s
+#: of the chain's 94 s); with that condition implicit the chain takes 49 s.  alex's arms (pairs
+#: of 110 and 201 terms) went from over 300 s to 45-53 s.  The pairs on tiago's, PR2's and
+#: human's 8-9 joint chains have at most 30 terms.
+PAIR_MAX_TERMS = 60
+
+# --- rank decisions in 40 digits (tree/precise.py) -----------------------------------------------
+
+#: Terms of a branch's conditions above which its points are not refined: each Gauss-Newton
+#: step evaluates the conditions and their gradients exactly, and leaves of 8- and 9-joint
+#: chains have conditions of thousands of terms.
+PRECISE_MAX_TERMS = 2000
+
+#: Gauss-Newton steps before a refinement that has not converged is given up.
+PRECISE_STEPS = 30
+
+# --- points of a branch (tree/sampler.py) --------------------------------------------------------
+
+#: Rows of one batch whose tiny exclusion is put to the proof of .certify: a branch needs a
+#: few points, and a row in an excluded set costs a failed proof.
+CERTIFY_ROWS = 4
+
+# --- determinants (algebra/polys.py) -------------------------------------------------------------
+
+#: With a term budget (``max_terms``), :func:`laplace_det` stops before a product of an entry
+#: and a minor whose term counts multiply to more than this many times the budget.  Such a
+#: product is formed in full before any reduction (one of a 4 x 4 minor on a 9R snake: 25258
+#: terms times 174532, a 6.4 GB allocation that aborted the process), and a determinant built
+#: from it is, unless nearly all of it cancels, far over the budget.
+PRODUCT_BUDGET_FACTOR = 100
+
+# --- joint limits (limits.py) --------------------------------------------------------------------
+
+#: Random starts of the bounded least-squares search per component.  The search stops at
+#: the first point it accepts; a component that meets the box in a set of positive measure
+#: on its own dimension is reached from a uniform start with a probability that grows with
+#: that set, and 64 starts reach every component of the built-in models that meets their box.
+LIMIT_SEARCH_STARTS = 64
+
+#: Digits in which exact solved values are compared with the limits.
+EXACT_DIGITS = 30
+
+# --- exact values of a URDF file's floats (io/urdf_exact.py) -------------------------------------
+
+#: Digits a rational entry of a composed transform may have before its rotation is replaced by
+#: the nearest short exact rotation (:func:`rankloci.io.urdf_exact.bounded`).  One rpy rotation of a float angle has
+#: entries of about 34 digits; a chain of them would multiply the digits without bound.
+MAX_TRANSFORM_DIGITS = 40
+
+#: Denominators searched at once by the common-denominator search of
+#: :mod:`rankloci.io.urdf_exact` (one numpy block), and the largest searched (about a second)
+#: before each number gets its own short rational.
+URDF_DENOMINATOR_BLOCK = 1 << 20
+URDF_DENOMINATOR_MAX = 1 << 26
+
+# --- minimum infinity-norm solutions (near/min_inf_norm.py) --------------------------------------
+
+#: Where A_2'u has k zero entries (a degenerate dual solution), Ha and Lee choose
+#: sgn(0) at random; here the 2**k choices are tried in a fixed order, for k up to
+#: this (beyond it only the first, the signs of x2).
+MAX_SIGN_CHOICES = 4
+
+# --- the nearest component (near/nearest.py) -----------------------------------------------------
+
+#: Longest step (joint-space norm, radians) of the projection onto a component.  A full
+#: Gauss-Newton step from far away can jump past the nearest zero of a trigonometric
+#: equation to another; short steps follow the descent of the residual to the nearest.
+MAX_PROJECTION_STEP = 0.1

@@ -34,31 +34,11 @@ import numpy as np
 import sympy as sp
 
 from .errors import LocusTimeout
+from .loci import dimension_bound
+from .tolerances import CHECK_AHEAD_CODIMENSION, HINT_ROUNDS, SELF_CHECK_SAMPLES, SLICE_ROUNDS
 
 __all__ = ["Verification", "dimension_bound", "dimension_findings", "verified_locus",
            "SELF_CHECK_SAMPLES"]
-
-#: Sample points per component, off-locus points and probe starts of the self-check.  The
-#: probe finds the components that are hit from random starts with high probability; a
-#: component missed by the self-check but found by ``rankloci check --samples 50`` is
-#: possible for small components (reported by that command).
-SELF_CHECK_SAMPLES = 6
-
-#: Rounds of slices computed from the witness points that lie on no component (each round's
-#: certificate may fix other variables at the points still uncovered).
-SLICE_ROUNDS = 3
-
-#: Codimension from which the numeric check of a first computation starts in a worker beside
-#: its certificate (``jobs`` above 1): where components of codimension 3 or more can occur
-#: (n x m matrices with m - n >= 2), the certificate's eliminations of those codimensions are
-#: beyond its budget but for small matrices, and it leaves the long chains undecided (snake9,
-#: tiago's 9-joint chains), so the check is needed.  Below, the certificate decides, and a
-#: worker started for a check that is not needed costs a second of CPU on a busy machine.
-CHECK_AHEAD_CODIMENSION = 3
-
-#: Rounds of recomputation with the configurations where the check found a component regular
-#: (each adds the new ones): a split leaf's pieces are checked in the next round.
-HINT_ROUNDS = 2
 
 
 @dataclass(frozen=True)
@@ -82,20 +62,6 @@ class Verification:
     def to_dict(self) -> dict:
         return {"complete": self.complete, "attempts": list(self.attempts),
                 "problems": list(self.problems)}
-
-
-def dimension_bound(shape, n_variables: int, rank_drop: int) -> int:
-    """The smallest dimension a component of the given rank drop can have.
-
-    Examples
-    --------
-    >>> dimension_bound((6, 7), 7, 1)      # a 6x7 Jacobian losing one rank: codimension <= 2
-    5
-    >>> dimension_bound((6, 6), 6, 2)      # square, rank drop 2: codimension <= 4
-    2
-    """
-    n, m = sorted(shape)
-    return max(0, n_variables - rank_drop * (m - n + rank_drop))
 
 
 def dimension_findings(locus) -> list[str]:
@@ -140,7 +106,7 @@ def _slice_recovery(locus, cert, reference, seed, should_stop, progress, slice_c
     the matrix with that variable at each value (the same engine, one variable fewer), lifted,
     keeping the components the certificate needs."""
     from .certify import certify_locus
-    from .locus import Component
+    from .loci import Component
 
     added, lifted_complex = [], []
     # every slice's locus is started at once (in worker processes when there are any), and
@@ -409,7 +375,7 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
     ----------
     compute : callable
         ``compute(tm, seed, hints=(), method=None)`` returns the
-        :class:`~rankloci.locus.Locus` of a task matrix (``method`` None: the one asked for).
+        :class:`~rankloci.loci.Locus` of a task matrix (``method`` None: the one asked for).
     tm : TaskMatrix
         The matrix to compute the locus of.
     reference : TaskMatrix

@@ -14,7 +14,7 @@ from scipy.optimize import least_squares, minimize
 
 from rankloci.io import load_model
 from rankloci.io.toml_model import parse_model
-from rankloci.jacobian import task_matrix
+from rankloci.jacobians import task_matrix
 from rankloci.methods import compute_locus
 from rankloci.tolerances import EXCLUSION_RTOL, RANK_RTOL
 

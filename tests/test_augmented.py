@@ -18,7 +18,7 @@ from rankloci.augmented import augmented_locus, expand_preset, parse_augment
 from rankloci.cli import main
 from rankloci.errors import ModelError
 from rankloci.io import load_model
-from rankloci.jacobian import task_matrix
+from rankloci.jacobians import task_matrix
 from rankloci.numeric.fsp import dependent_rows
 from rankloci.tolerances import RANK_RTOL
 

@@ -9,7 +9,7 @@ import pytest
 import sympy as sp
 
 from rankloci.io import load_model
-from rankloci.jacobian import task_matrix
+from rankloci.jacobians import task_matrix
 from rankloci.methods import compute_locus, method_for
 from rankloci.verify import dimension_bound, dimension_findings, verified_locus
 

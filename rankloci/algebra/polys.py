@@ -4,20 +4,15 @@ from __future__ import annotations
 
 from flint.utils.flint_exceptions import DomainError
 
+from ..errors import RanklociError
 from .ring import PolyRing
+from ..tolerances import PRODUCT_BUDGET_FACTOR
 
 __all__ = ["laplace_det", "circle_free_det", "irreducible_factors", "abs_poly", "common_factor", "primitive_vector",
            "transpose", "PolyMemo", "TermLimit"]
 
-#: With a term budget (``max_terms``), :func:`laplace_det` stops before a product of an entry
-#: and a minor whose term counts multiply to more than this many times the budget.  Such a
-#: product is formed in full before any reduction (one of a 4 x 4 minor on a 9R snake: 25258
-#: terms times 174532, a 6.4 GB allocation that aborted the process), and a determinant built
-#: from it is, unless nearly all of it cancels, far over the budget.
-PRODUCT_BUDGET_FACTOR = 100
 
-
-class TermLimit(Exception):
+class TermLimit(RanklociError):
     """A determinant with a term budget went over it (see :func:`laplace_det`)."""
 
 

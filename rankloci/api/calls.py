@@ -14,18 +14,19 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from .arguments import check_arguments, check_for_model, check_samples, check_timeout
+from .deadline import stop_after
 from .models import as_model
 from .progress import log_progress
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
 
-    from ..jacobian import TaskMatrix
-    from ..locus import Locus
+    from ..jacobians import TaskMatrix
+    from ..loci import Locus
     from ..model import MatrixModel, RobotModel
     from .models import ModelLike, ParameterValues, Variables
 
-__all__ = ["load_model", "jacobian", "locus", "check", "report", "is_singular", "Check",
+__all__ = ["load_model", "jacobian", "locus", "check", "is_singular", "Check",
            "model_locus", "certified_locus", "check_model"]
 
 
@@ -98,7 +99,7 @@ def jacobian(model: ModelLike, *, task: str | Sequence[int] | None = None,
     ((2, 2), ('vx', 'vy'))
     """
     from ..augmented import parse_augment
-    from ..jacobian import task_matrix
+    from ..jacobians import task_matrix
 
     from .symbols import caller_symbols, with_symbols
 
@@ -110,16 +111,6 @@ def jacobian(model: ModelLike, *, task: str | Sequence[int] | None = None,
     tm = task_matrix(m, task=task, frame=frame, point=point,
                      augment=parse_augment(m, augment, flag="augment"), numeric=numeric)
     return with_symbols(tm, caller_symbols(model, variables, parameters))
-
-
-def _deadline(seconds):
-    """A ``should_stop`` that is True once ``seconds`` have passed; None for no limit."""
-    if check_timeout(seconds) is None:
-        return None
-    if seconds == 0:
-        return None
-    end = time.monotonic() + seconds
-    return lambda: time.monotonic() > end
 
 
 def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None, verify=True,
@@ -137,7 +128,7 @@ def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None,
     ----------
     model : RobotModel or MatrixModel
     tm : TaskMatrix
-        The matrix, from :func:`~rankloci.jacobian.task_matrix` (any frame).
+        The matrix, from :func:`~rankloci.jacobians.task_matrix` (any frame).
     method : str
         As :func:`~rankloci.methods.method_for` returned it for ``tm``.
     task, extra
@@ -168,10 +159,10 @@ def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None,
 def _model_locus(model, tm, method, *, task, extra, seed, timeout, verify, progress, clock,
                  should_stop, workers):
     from ..augmented import augmented_locus
-    from ..jacobian import task_matrix
+    from ..jacobians import task_matrix
     from ..verify import verified_locus
 
-    stop = should_stop if should_stop is not None else _deadline(timeout)
+    stop = should_stop if should_stop is not None else stop_after(check_timeout(timeout))
 
     # the trees grown by this call's computations: a recomputation with the self-check's
     # hints resumes from its tree instead of growing it again
@@ -213,9 +204,9 @@ def certified_locus(model, *, task=None, augment=(), method=None, seed=0, numeri
                     verify=True, frame="auto", should_stop=None, progress=None, jobs=None):
     """The locus of a loaded model, through the one pipeline every command uses.
 
-    read (``model``) -> J (:func:`~rankloci.jacobian.task_matrix`) -> engine
+    read (``model``) -> J (:func:`~rankloci.jacobians.task_matrix`) -> engine
     (:func:`~rankloci.augmented.augmented_locus`) -> certificate and recomputation
-    (:func:`~rankloci.verify.verified_locus`) -> :class:`~rankloci.locus.Locus`.
+    (:func:`~rankloci.verify.verified_locus`) -> :class:`~rankloci.loci.Locus`.
     ``rankloci locus``, ``check``, ``report``, ``ik``, ``manipulability``, sweeps and the
     Python API all get their locus here, so that the same model, seed and options give the
     same locus everywhere.  Within a process a result is kept (by model and options) and given
@@ -241,7 +232,7 @@ def certified_locus(model, *, task=None, augment=(), method=None, seed=0, numeri
         The locus and the matrix it was computed from.
     """
     from ..augmented import parse_augment
-    from ..jacobian import task_matrix
+    from ..jacobians import task_matrix
     from ..methods import method_for
     from ..model import RobotModel
     from ..parallel import check_jobs
@@ -441,7 +432,7 @@ def _complex_only(locus, J):
     (one of its equations has no real zero): the certificate may count them as covering
     complex witness points.  The others are left out, and their points stay uncovered."""
     from ..exact.real_points import without_real_points
-    from ..locus import Component
+    from ..loci import Component
 
     cert = locus.certificate
     N = len(J.variables)
@@ -461,7 +452,7 @@ def check_model(model, given=None, *, samples=10, seed=0, numeric=False, should_
     import numpy as np
 
     from ..exact.singular import singular_cross_check
-    from ..jacobian import task_matrix
+    from ..jacobians import task_matrix
     from ..numeric.crosscheck import cross_check
 
     tell = progress or (lambda msg: None)
@@ -549,97 +540,10 @@ def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
                            should_stop=should_stop, progress=log_progress, jobs=jobs)
 
 
-def report(model, directory=None, *, formats=("md", "tex", "pdf"), seed=0, samples=10,
-           numeric=False, timeout=None, tip=None, base_link=None, fragment=False, timings=True,
-           jobs=None):
-    """Build a report on a model and, given a directory, write it (``rankloci report``).
-
-    Needs matplotlib (the ``report`` extra).
-
-    Parameters
-    ----------
-    model
-        Anything :func:`load_model` accepts.
-    directory : path, optional
-        Where to write it; without it nothing is written.
-    formats : str or sequence of {"md", "tex", "pdf", "html"}
-        What to write, as ``rankloci report --format md,tex,pdf``; the default,
-        md, tex and pdf, is the command's.  The PDF needs ``latexmk`` or
-        ``pdflatex`` on the PATH: without either it is skipped with a warning on
-        the ``rankloci`` logger, as the command skips it with a note.  ``"html"``
-        is one self-contained page with an interactive view of the arm.  A
-        string may be one format or a comma list (``"md,tex"``).
-    seed, samples, numeric, timeout
-        As for the command line.
-    tip, base_link
-        See :func:`load_model`.
-    fragment : bool
-        The LaTeX without a preamble, to ``\\input`` into a paper (``--fragment``).
-    timings : bool
-        Include the timing table (``--no-timings`` leaves it out).
-    jobs : int, optional
-        Processes for the locus computation (see :func:`locus`); default every core.
-
-    Returns
-    -------
-    (Report, list of pathlib.Path)
-        The report's content and the files written.
-    """
-    import shutil
-
-    require_matplotlib("report")
-    from ..parallel import check_jobs
-    from ..report import FORMATS, build_report, read_model_notes, write_report
-
-    check_arguments(seed=seed, numeric=numeric, timeout=timeout, tip=tip, base_link=base_link)
-    check_samples(samples)
-    jobs = check_jobs(jobs)
-    if isinstance(formats, str):
-        formats = tuple(f.strip() for f in formats.split(",") if f.strip())
-    try:
-        formats = tuple(formats)
-    except TypeError:
-        formats = (formats,)
-    bad = [f for f in formats if not isinstance(f, str) or f not in FORMATS] or (
-        [] if formats else [""])
-    if bad:
-        from ..errors import ArgumentError
-
-        raise ArgumentError(f"formats=: {bad[0]!r} is not one of {FORMATS}", argument="formats",
-                            value=formats)
-    m = load_model(model, tip=tip, base_link=base_link)
-    built = build_report(m, seed=seed, samples=samples, numeric=numeric, timeout=timeout,
-                         clock=time.perf_counter, progress=log_progress, dot=shutil.which("dot"),
-                         model_notes=read_model_notes(m), jobs=jobs)
-    if directory is None:
-        return built, []
-    latex = next(((kind, exe) for kind in ("latexmk", "pdflatex")
-                  if (exe := shutil.which(kind))), None) if "pdf" in formats else None
-    if "pdf" in formats and latex is None:
-        import logging
-
-        from .progress import LOGGER_NAME
-
-        logging.getLogger(LOGGER_NAME).warning("PDF skipped: neither latexmk nor pdflatex is "
-                                               "installed")
-    return built, write_report(built, directory, formats=formats, latex=latex,
-                               fragment=bool(fragment), timings=bool(timings))
-
-
-def require_matplotlib(what: str) -> None:
-    """Raise ImportError, saying what to install, when matplotlib is missing."""
-    import importlib.util
-
-    from ..extras import install_command
-
-    if importlib.util.find_spec("matplotlib") is None:
-        raise ImportError(f"the {what} needs matplotlib: {install_command('report')}")
-
-
 def is_singular(model, q, *, locus=None, **options):
     """Is the configuration ``q`` on the locus of ``model``?
 
-    Decided by the locus (:meth:`~rankloci.locus.Locus.contains`, which
+    Decided by the locus (:meth:`~rankloci.loci.Locus.contains`, which
     respects each component's ``excluding``), not by an SVD at ``q``.
 
     Parameters

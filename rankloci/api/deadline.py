@@ -22,7 +22,7 @@ from contextlib import contextmanager
 
 from ..errors import LocusTimeout
 
-__all__ = ["time_limit", "REPEAT_S", "WATCHDOG_GRACE_S"]
+__all__ = ["time_limit", "stop_after", "REPEAT_S", "WATCHDOG_GRACE_S"]
 
 #: Seconds after the limit at which the watchdog interrupts the call: the polled deadline
 #: gets this long to stop the computation with its own message first.
@@ -36,7 +36,7 @@ class _Expired(LocusTimeout):
     """What the watchdog raises in the calling thread (no message: raised by class)."""
 
 
-def _deadline(seconds):
+def _end_time(seconds):
     """The end time of ``seconds`` on the monotonic clock; None for no limit."""
     if seconds is None:
         return None
@@ -47,6 +47,27 @@ def _deadline(seconds):
     if seconds == 0:
         return None
     return time.monotonic() + seconds
+
+
+def stop_after(seconds, started=None, *, clock=time.monotonic):
+    """A ``should_stop`` that says True once ``seconds`` have passed; None for no limit.
+
+    The time counts from ``started`` (a :func:`time.monotonic` reading; default
+    now) and is read on ``clock``.  ``seconds`` None, 0 or below: no limit.
+
+    Examples
+    --------
+    >>> stop_after(None) is None
+    True
+    >>> stop_after(3600)()
+    False
+    """
+    if seconds is None or seconds <= 0:
+        return None
+    if started is not None:
+        seconds -= time.monotonic() - started
+    end = clock() + seconds
+    return lambda: clock() > end
 
 
 def _raise_in(thread_id: int, exc) -> None:
@@ -87,7 +108,7 @@ def time_limit(seconds, what: str = "the call"):
     ...     print(e)
     the loop did not finish within 0.05 s
     """
-    end = _deadline(seconds)
+    end = _end_time(seconds)
     if end is None:
         yield None
         return

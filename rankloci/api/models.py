@@ -37,11 +37,6 @@ from ..errors import ArgumentError, ModelError
 _IDENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_]{0,31}\Z")
 
 
-def _natural_key(symbol):
-    """Sort ``q2`` before ``q10``."""
-    return [int(t) if t.isdigit() else t for t in re.split(r"(\d+)", symbol.name)]
-
-
 def _toml_value(value) -> str:
     """A parameter value written into TOML: a number, or an exact expression string."""
     import sympy as sp
@@ -129,6 +124,7 @@ def matrix_model(matrix, *, variables=None, parameters=None, name: str = "matrix
     import sympy as sp
 
     from ..errors import ModelError
+    from ..expr import natural_key
     from ..io.toml_model import parse_model
 
     params = {str(k): v for k, v in (parameters or {}).items()}
@@ -140,7 +136,7 @@ def matrix_model(matrix, *, variables=None, parameters=None, name: str = "matrix
     M = _sympy_matrix(matrix, [str(v) for v in variables or ()] + list(params))
     symbols = set().union(*(e.free_symbols for e in M)) if M else set()
     if variables is None:
-        variables = sorted((s for s in symbols if s.name not in params), key=_natural_key)
+        variables = sorted((s for s in symbols if s.name not in params), key=natural_key)
     names = [str(v) for v in variables]
     missing = sorted({s.name for s in symbols} - set(names) - set(params))
     if missing:
@@ -210,6 +206,8 @@ def _with_stand_ins(matrix, variables, params, name, stand_ins):
     """:func:`matrix_model` of the matrix with its unusable symbol names replaced."""
     import sympy as sp
 
+    from ..expr import natural_key
+
     def renamed(x):
         text = str(x)
         return stand_ins.get(text, text)
@@ -218,7 +216,7 @@ def _with_stand_ins(matrix, variables, params, name, stand_ins):
                    for e in matrix for s in e.free_symbols if s.name in stand_ins}
     if variables is None:       # the default order is that of the caller's names
         symbols = {s for e in matrix for s in e.free_symbols if s.name not in params}
-        variables = sorted(symbols, key=_natural_key)
+        variables = sorted(symbols, key=natural_key)
     return matrix_model(sp.Matrix(matrix).xreplace(to_stand_in),
                         variables=None if variables is None else [renamed(v) for v in variables],
                         parameters={renamed(k): v for k, v in params.items()}, name=name)
@@ -354,7 +352,7 @@ def as_model(model, *, variables=None, parameters=None, tip=None, base_link=None
     import sympy as sp
 
     from ..io import load_model as load
-    from ..jacobian import TaskMatrix
+    from ..jacobians import TaskMatrix
     from ..model import MatrixModel, RobotModel
 
     if (variables is not None or parameters is not None) and not isinstance(model, sp.MatrixBase):

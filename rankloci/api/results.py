@@ -45,7 +45,7 @@ def task_note(locus, model, task=None) -> str | None:
     Examples
     --------
     >>> import rankloci
-    >>> from rankloci.locus import Locus
+    >>> from rankloci.loci import Locus
     >>> m = rankloci.load_model("planar2r")
     >>> task_note(Locus("planar2r", m.variables, {}, (6, 2), "svm", ()), m, "full")[:60]
     'the task has 6 rows (vx, vy, vz, wx, wy, wz) and planar2r ha'

@@ -4,7 +4,7 @@ A sympy matrix goes through the parser of model files (:func:`~rankloci.api.mode
 which makes every symbol real (``Symbol("x", real=True)``).  sympy tells symbols apart by
 their assumptions, so an equation in the real ``x`` ignores ``subs({x: 0.3})`` with the
 caller's plain ``x``.  :func:`with_symbols` puts the caller's symbols back, by name, into a
-:class:`~rankloci.locus.Locus` or a :class:`~rankloci.jacobian.TaskMatrix`.
+:class:`~rankloci.loci.Locus` or a :class:`~rankloci.jacobians.TaskMatrix`.
 """
 
 from __future__ import annotations
@@ -65,14 +65,14 @@ def with_symbols(result, symbols):
     Examples
     --------
     >>> import sympy as sp
-    >>> from rankloci.locus import Component, Locus
+    >>> from rankloci.loci import Component, Locus
     >>> xr = sp.Symbol("x", real=True)
     >>> L = Locus("m", (xr,), {}, (1, 1), "determinant", (Component((sp.sin(xr),)),))
     >>> x = sp.Symbol("x")
     >>> with_symbols(L, {"x": x}).components[0].equations[0].subs({x: 0})
     0
     """
-    from ..jacobian import TaskMatrix
+    from ..jacobians import TaskMatrix
 
     own = {s for s in _symbols_of(result) if s.name in symbols and symbols[s.name] != s}
     if not own:
@@ -98,12 +98,12 @@ def _symbols_of(result) -> set:
     """Every symbol of the fields :func:`with_symbols` rewrites."""
     import sympy as sp
 
-    from ..jacobian import TaskMatrix
+    from ..jacobians import TaskMatrix
 
     if isinstance(result, TaskMatrix):
         return set(result.matrix.free_symbols) | set(result.variables) | set(result.parameters)
     found = set(result.variables) | set(result.parameters)
-    for c in result.components + result.special:
+    for c in result.all_components:
         for e in (*c.equations, *c.excluding, *c.parameter_conditions, *c.free, *c.solved,
                   *(x for vals in c.solved.values() for x in vals),
                   *(x for vec in c.direction for x in vec)):

@@ -19,7 +19,8 @@ from pathlib import Path
 from ..errors import ModelError, RanklociError
 from .commands import COMMANDS, EXIT_OK, EXIT_USAGE
 from .output import detach_progress, show_warning
-from .parser import OLD_OPTIONS, UsageError, build_parser
+from ..errors import UsageError
+from .parser import OLD_OPTIONS, build_parser
 
 __all__ = ["main", "main_exit", "build_parser"]
 
@@ -31,7 +32,7 @@ def main(argv=None, *, started: float | None = None) -> int:
     (default: the call; the console script passes the start of the process).
 
     Bad input, a :class:`~rankloci.errors.RanklociError` or a
-    :class:`~rankloci.cli.parser.UsageError`, is one line on stderr and exit
+    :class:`~rankloci.errors.UsageError`, is one line on stderr and exit
     code 2 (naming the model file, when the model is a file and the error
     does not name one); any other exception is a bug and propagates.  Warnings are
     printed as ``rankloci: warning: ...`` while it runs; the process's
@@ -121,7 +122,7 @@ def main_exit() -> None:
     import atexit
     import os
 
-    from .limits import process_started
+    from ..process_limits import process_started
 
     code = main(started=process_started())
     atexit._run_exitfuncs()

@@ -3,7 +3,7 @@
 Each takes the parsed arguments and returns the exit code: :data:`EXIT_OK`,
 or :data:`EXIT_FAILED` when a check fails or a computation runs out of time.
 Bad input raises (a :class:`~rankloci.errors.RanklociError` or a
-:class:`~rankloci.cli.parser.UsageError`); :func:`rankloci.cli.main` turns
+:class:`~rankloci.errors.UsageError`); :func:`rankloci.cli.main` turns
 that into :data:`EXIT_USAGE`.  Heavy libraries are imported inside the
 functions so that ``rankloci --help`` stays fast.
 """
@@ -19,10 +19,11 @@ import time
 from .output import (check_names, clear_status, output_target, progress_printer, require_module,
                      write_atomic)
 from .near import cmd_ik, cmd_manipulability
-from .parser import UsageError
+from ..errors import UsageError
+from .running import command_deadline, limited
 from .sweep import cmd_sweep
 
-__all__ = ["COMMANDS", "EXIT_OK", "EXIT_FAILED", "EXIT_USAGE", "deadline_clock"]
+__all__ = ["COMMANDS", "EXIT_OK", "EXIT_FAILED", "EXIT_USAGE"]
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE = 0, 1, 2
 
@@ -81,7 +82,7 @@ def _load_model(args):
 
 def _task_matrix(args, model, extra, progress=None):
     """The task matrix the arguments ask for (symbolic work: run it under the limits)."""
-    from ..jacobian import task_matrix
+    from ..jacobians import task_matrix
 
     if progress:
         progress(f"building the symbolic matrix of {model.name}")
@@ -91,26 +92,6 @@ def _task_matrix(args, model, extra, progress=None):
                        numeric=getattr(args, "numeric", False))
 
 
-def _limited(args, work, progress, what):
-    """``run_limited`` with the command's limits; None (after one error line) when they ran out."""
-    from ..errors import LocusTimeout
-    from .limits import LimitExceeded, run_limited
-
-    try:
-        return run_limited(work, timeout=args.timeout, memory_mb=args.memory, progress=progress,
-                           started=getattr(args, "started", None))
-    except LocusTimeout as e:
-        clear_status()
-        print(f"rankloci: error: {e}; raise --timeout (now {args.timeout:g} s) or try "
-              f"--numeric", file=sys.stderr)
-    except LimitExceeded as e:
-        clear_status()
-        print(f"rankloci: error: {what} {e}", file=sys.stderr)
-    finally:
-        clear_status()
-    return None
-
-
 def cmd_jacobian(args) -> int:
     from ..model import RobotModel
 
@@ -118,7 +99,7 @@ def cmd_jacobian(args) -> int:
     if isinstance(model, RobotModel) is False and args.point != "tool":
         raise UsageError("--point applies to robot models only")
     notes = tuple(getattr(model, "notes", ()))
-    text = _limited(args, lambda tell: _jacobian_text(args, _task_matrix(args, model, extra, tell),
+    text = limited(args, lambda tell: _jacobian_text(args, _task_matrix(args, model, extra, tell),
                                                       notes), None, "building the Jacobian")
     if text is None:
         return EXIT_FAILED
@@ -163,23 +144,6 @@ def _jacobian_text(args, tm, notes=()) -> str:
     return "\n".join(lines)
 
 
-#: The clock ``--timeout`` is measured on, in seconds.  A module-level name so
-#: that tests can put a fake clock in its place.
-deadline_clock = time.monotonic
-
-
-def _deadline(seconds, started=None):
-    """A ``should_stop`` that says True once ``seconds`` have passed since ``started`` (a
-    :func:`time.monotonic` reading; default now); None for no limit."""
-    if seconds is None or seconds <= 0:
-        return None
-    if started is not None:
-        seconds -= time.monotonic() - started
-    clock = deadline_clock
-    end = clock() + seconds
-    return lambda: clock() > end
-
-
 def cmd_locus(args) -> int:
     from pathlib import Path
 
@@ -187,16 +151,14 @@ def cmd_locus(args) -> int:
     from ..methods import method_for
     from ..render_text import locus_json, locus_latex, locus_text, tree_dot, tree_json, tree_text
 
-    if args.tree and Path(args.tree).suffix not in (".dot", ".json", ".txt"):
-        raise UsageError(f"--tree {args.tree!r}: the file must end in .dot, .json or .txt")
-    if args.tree:
-        output_target(args.tree, "--tree")     # before the computation, not after it
+    if args.tree:                 # before the computation, not after it
+        output_target(args.tree, "--tree", (".dot", ".json", ".txt"))
     progress = progress_printer(args.quiet)
     model, extra = _load_model(args)
 
     def work(report):
         tell = report            # the parent prints it unless --quiet, and keeps the last one
-        should_stop = _deadline(args.timeout, getattr(args, "started", None))
+        should_stop = command_deadline(args.timeout, getattr(args, "started", None))
         tm = _task_matrix(args, model, extra, tell)
         try:
             method = method_for(tm.shape, args.method)
@@ -214,7 +176,7 @@ def cmd_locus(args) -> int:
                             jobs=check_jobs(args.jobs))
         return locus, tm.row_labels
 
-    got = _limited(args, work, progress, "the locus computation")
+    got = limited(args, work, progress, "the locus computation")
     if got is None:
         return EXIT_FAILED
     locus, row_labels = got
@@ -222,7 +184,7 @@ def cmd_locus(args) -> int:
 
     locus = with_model_notes(locus, model, args.task)
     if args.tree:
-        text = {".dot": tree_dot, ".json": tree_json, ".txt": tree_text}[Path(args.tree).suffix](locus.tree)
+        text = {".dot": tree_dot, ".json": tree_json, ".txt": tree_text}[Path(args.tree).suffix.lower()](locus.tree)
         write_atomic(args.tree, text + "\n", "--tree")
     import numpy as np
 
@@ -257,7 +219,7 @@ MAX_LOCUS_BYTES = 20_000_000
 def _parsed_locus(raw: bytes, file: str, model):
     """The locus of a ``--locus`` file's bytes; a ModelError naming the file."""
     from ..errors import ModelError
-    from ..locus import Locus
+    from ..loci import Locus
 
     try:
         data = json.loads(raw.decode("utf-8"))
@@ -274,7 +236,7 @@ def _parsed_locus(raw: bytes, file: str, model):
 def cmd_check(args) -> int:
     from ..errors import LocusTimeout, ModelError
     from ..io import load_model
-    from .limits import LimitExceeded, run_limited
+    from ..process_limits import LimitExceeded, run_limited
 
     if args.samples < 1:
         raise UsageError(f"--samples must be at least 1, got {args.samples}")
@@ -297,7 +259,7 @@ def cmd_check(args) -> int:
         locus = None if raw is None else _parsed_locus(raw, args.locus, model)
         return check_model(model, locus, samples=args.samples, seed=args.seed,
                            numeric=args.numeric,
-                           should_stop=_deadline(args.timeout, getattr(args, "started", None)),
+                           should_stop=command_deadline(args.timeout, getattr(args, "started", None)),
                            progress=report_progress, jobs=args.jobs)
 
     try:
@@ -352,10 +314,10 @@ def cmd_report(args) -> int:
     from pathlib import Path
 
     from ..io import builtin_models, load_model
-    from .limits import LimitExceeded, run_limited
-    from ..report import (FORMATS, ReportError, build_report, file_stem, read_model_notes,
+    from ..process_limits import LimitExceeded, run_limited
+    from ..reporting import (FORMATS, ReportError, build_report, file_stem, read_model_notes,
                           write_report)
-    from ..report.write import report_workdir
+    from ..reporting.write import report_workdir
 
     formats = [f.strip() for f in args.format.split(",") if f.strip()]
     require_module("matplotlib", "report", "rankloci report")  # the figures

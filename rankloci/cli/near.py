@@ -18,8 +18,10 @@ import sys
 from pathlib import Path
 
 from .output import output_target, progress_printer, write_atomic
-from .parser import UsageError, memory_arg, seed_arg, timeout_arg
-from .limits import DEFAULT_MEMORY_MB
+from ..errors import UsageError
+from .arguments import memory_arg, seed_arg, timeout_arg
+from .running import command_deadline, limited
+from ..process_limits import DEFAULT_MEMORY_MB
 
 __all__ = ["add_parsers", "cmd_ik", "cmd_manipulability", "parse_vector", "parse_waypoints"]
 
@@ -184,22 +186,18 @@ def _check_out(option, path, suffixes):
             from ..extras import install_command
 
             raise UsageError(f"--plot needs matplotlib ({install_command('report')})") from None
-    p = Path(path)
-    if suffixes and p.suffix.lower() not in suffixes:
-        raise UsageError(f"{option} {path!r}: the file must end in {', '.join(suffixes)}")
-    output_target(path, option)     # before the computation, not after it
+    output_target(path, option, suffixes)     # before the computation, not after it
 
 
 def _locus_distance(model, args, tell):
     """The model's locus (the one ``rankloci locus`` shows) and a ComponentDistance over it."""
     from ..api.calls import certified_locus
     from ..near.nearest import ComponentDistance
-    from .commands import _deadline
 
     if tell:
         tell(f"{model.name}: computing the locus of its Jacobian (the locus rankloci locus "
              "shows)")
-    stop = _deadline(args.timeout, getattr(args, "started", None))
+    stop = command_deadline(args.timeout, getattr(args, "started", None))
     locus, tm = certified_locus(model, seed=args.seed, should_stop=stop, progress=tell)
     labels = [", ".join(f"{e} = 0" for e in c.equations) for c in locus.components]
     return ComponentDistance(locus, tm.angles), labels
@@ -234,7 +232,6 @@ def cmd_ik(args) -> int:
     from ..near.discontinuity import DEFAULT_MIXING_GAIN
     from ..near.path import Kinematics, joint_rates_along
     from ..tolerances import REGULAR_MIN_RATIO
-    from .commands import _limited
 
     if not 1 <= args.steps <= MAX_STEPS:
         raise UsageError(f"--steps must be between 1 and {MAX_STEPS}, got {args.steps}")
@@ -301,7 +298,7 @@ def cmd_ik(args) -> int:
                         np.array([r.component for r in near], dtype=int))
         return path, distance, labels
 
-    got = _limited(args, work, progress, "the path")
+    got = limited(args, work, progress, "the path")
     if got is None:
         return EXIT_FAILED
     path, distance, labels = got
@@ -392,7 +389,6 @@ def cmd_manipulability(args) -> int:
     import numpy as np
 
     from ..near.path import Kinematics
-    from .commands import _limited
 
     _check_out("--plot", args.plot, (".png", ".pdf", ".svg"))
     model = _robot(args)
@@ -414,7 +410,7 @@ def cmd_manipulability(args) -> int:
             cd, labels = _locus_distance(model, args, tell)
             return cd.nearest(q), labels
 
-        got = _limited(args, work, progress, "the locus computation")
+        got = limited(args, work, progress, "the locus computation")
         if got is None:
             return EXIT_FAILED
         near, labels = got

@@ -20,35 +20,17 @@ import tempfile
 import time
 from pathlib import Path
 
+from ..errors import UsageError, shortened
+
 __all__ = ["progress_printer", "clear_status", "detach_progress", "require_module",
-           "show_warning", "write_atomic", "output_target", "check_names", "new_file_mode", "shortened",
-           "STATUS_DELAY", "PROGRESS_LINE_MAX", "NAME_MAX", "TEMP_SUFFIX"]
+           "show_warning", "write_atomic", "output_target", "check_names", "new_file_mode",
+           "STATUS_DELAY", "NAME_MAX", "TEMP_SUFFIX"]
 
 #: Seconds after the first progress message before a terminal gets the status line: a run
 #: that ends sooner shows none.
 STATUS_DELAY = 1.0
 
-#: Characters of a progress message shown on stderr, and in the error line of a run that ran
-#: out of its limits: the equations of a component found on a long chain can run to
-#: megabytes of digits, which a line of progress does not need.
-PROGRESS_LINE_MAX = 300
-
 _SPINNER = "|/-\\"
-
-
-def shortened(message: str, limit: int = PROGRESS_LINE_MAX) -> str:
-    """``message`` cut to ``limit`` characters, saying how many were left out.
-
-    Examples
-    --------
-    >>> shortened("x" * 10, 4)
-    'xxxx ... (6 more characters)'
-    >>> shortened("short")
-    'short'
-    """
-    if len(message) <= limit:
-        return message
-    return f"{message[:limit]} ... ({len(message) - limit} more characters)"
 
 
 class ProgressHandler(logging.Handler):
@@ -150,8 +132,6 @@ def require_module(module: str, extra: str, what: str) -> None:
     import importlib.util
 
     from ..extras import install_command
-    from .parser import UsageError
-
     if importlib.util.find_spec(module) is None:
         raise UsageError(f"{what} needs {module}, which is not installed: "
                          f"{install_command(extra)}")
@@ -171,14 +151,12 @@ TEMP_SUFFIX = ".rankloci-tmp"
 
 def check_names(path, option: str) -> None:
     """A usage error when a name in ``path`` is longer than the file system takes."""
-    from .parser import UsageError
-
     if any(len(os.fsencode(part)) > NAME_MAX for part in Path(path).parts):
         raise UsageError(f"{option} {shortened(str(path), 80)!r}: a name in the path is longer "
                          f"than {NAME_MAX} bytes")
 
 
-def output_target(path, option: str) -> Path:
+def output_target(path, option: str, suffixes: tuple = ()) -> Path:
     """The file that writing ``path`` replaces, checked; a usage error when it may not be.
 
     A symbolic link is written through: its target is replaced and the link
@@ -192,11 +170,15 @@ def output_target(path, option: str) -> Path:
     path : str or os.PathLike
     option : str
         How the command line names the file in its error line (``"-o"``, ``"--tree"``).
+    suffixes : tuple of str
+        The endings the file may have (lower case, any case accepted); empty: any.
     """
-    from .parser import UsageError
-
     shown = f"{option} {shortened(str(path), 80)!r}"
     p = Path(path)
+    if suffixes and p.suffix.lower() not in suffixes:
+        choices = ", ".join(suffixes[:-1]) + f" or {suffixes[-1]}" if len(suffixes) > 1 \
+            else suffixes[0]
+        raise UsageError(f"{shown}: the file must end in {choices}")
     check_names(p, option)
     real = Path(os.path.realpath(p))
     try:
@@ -252,8 +234,6 @@ def write_atomic(path, data, option: str = "output") -> None:
         mode = stat.S_IMODE(os.stat(target).st_mode)
     except FileNotFoundError:
         mode = new_file_mode()
-    from .parser import UsageError
-
     tmp = None
     try:
         fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.",

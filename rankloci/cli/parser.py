@@ -1,8 +1,8 @@
 """The argument parser of the ``rankloci`` command line.
 
-Only argument definitions live here: what each subcommand accepts, the
-argument types that check a value before any work is done, and the help
-examples.  Which function runs a subcommand is decided in
+Only argument definitions live here: what each subcommand accepts and the
+help examples (the argument types that check a value before any work is done
+are in :mod:`rankloci.cli.arguments`).  Which function runs a subcommand is decided in
 :mod:`rankloci.cli.commands`.
 """
 
@@ -10,21 +10,11 @@ from __future__ import annotations
 
 import argparse
 
-from .limits import DEFAULT_MEMORY_MB, MAX_MEMORY_MB, MAX_TIMEOUT_S
+from ..errors import UsageError
+from ..process_limits import DEFAULT_MEMORY_MB
+from .arguments import ArgumentParser, frame_arg, memory_arg, seed_arg, task_arg, timeout_arg
 
-__all__ = ["UsageError", "ArgumentParser", "build_parser", "frame_arg", "task_arg", "seed_arg",
-           "OLD_OPTIONS"]
-
-
-class UsageError(Exception):
-    """The command line itself is wrong: an unknown option, a bad value, a missing file name."""
-
-
-class ArgumentParser(argparse.ArgumentParser):
-    """An argument parser whose errors are a :class:`UsageError`, not an exit."""
-
-    def error(self, message):
-        raise UsageError(message)
+__all__ = ["UsageError", "build_parser", "OLD_OPTIONS", "jobs_arg"]
 
 
 #: Options renamed to one spelling across the subcommands: old spelling -> new.  The old
@@ -53,91 +43,6 @@ def _numeric_flag(p, help_text):
     p.add_argument("--numeric-parameters", dest="numeric", action=_OldSpelling)
 
 
-def frame_arg(text: str):
-    """``base``, ``tool`` or a link number, as ``--frame`` and ``--point`` take it.
-
-    Examples
-    --------
-    >>> frame_arg("tool"), frame_arg("3")
-    ('tool', 3)
-    """
-    if text in ("base", "tool"):
-        return text
-    try:
-        return int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not 'base', 'tool' or a link number") from None
-
-
-def timeout_arg(text: str) -> float:
-    """Seconds of a time limit: a finite number 0 or above (0 = no limit).
-
-    Examples
-    --------
-    >>> timeout_arg("2.5")
-    2.5
-    >>> timeout_arg("nan")
-    Traceback (most recent call last):
-        ...
-    argparse.ArgumentTypeError: 'nan' is not a number of seconds 0 or above (0 = no limit)
-    """
-    import math
-
-    try:
-        value = float(text)
-    except ValueError:
-        value = float("nan")
-    if not math.isfinite(value) or value < 0:
-        raise argparse.ArgumentTypeError(
-            f"{text[:20]!r} is not a number of seconds 0 or above (0 = no limit)")
-    if value > MAX_TIMEOUT_S:
-        raise argparse.ArgumentTypeError(
-            f"{text[:20]!r} is more than {MAX_TIMEOUT_S} seconds (0 = no limit)")
-    return value
-
-
-def memory_arg(text: str) -> int:
-    """A memory limit in MiB: an integer 0 or above (0 = no limit).
-
-    Examples
-    --------
-    >>> memory_arg("4096")
-    4096
-    """
-    try:
-        value = int(text)
-    except ValueError:
-        value = -1
-    if value < 0:
-        raise argparse.ArgumentTypeError(
-            f"{text[:20]!r} is not a number of MiB 0 or above (0 = no limit)")
-    if value > MAX_MEMORY_MB:
-        raise argparse.ArgumentTypeError(
-            f"{text[:20]!r} is more than {MAX_MEMORY_MB} MiB (0 = no limit)")
-    return value
-
-
-def seed_arg(text: str) -> int:
-    """A seed of :func:`numpy.random.default_rng`: an integer 0 or above.
-
-    Examples
-    --------
-    >>> seed_arg("7")
-    7
-    >>> seed_arg("-1")
-    Traceback (most recent call last):
-        ...
-    argparse.ArgumentTypeError: '-1' is not an integer 0 or above
-    """
-    try:
-        seed = int(text)
-    except ValueError:
-        seed = -1
-    if seed < 0:
-        raise argparse.ArgumentTypeError(f"{text!r} is not an integer 0 or above")
-    return seed
-
-
 def jobs_arg(text: str) -> int:
     """A number of processes for one computation: an integer 1 or above.
 
@@ -164,30 +69,6 @@ def _jobs_option(p):
                    help="processes for the parts of the computation that are independent "
                         "(default: every core this process may use); the locus is the same "
                         "for any N")
-
-
-def task_arg(text: str):
-    """A task name, or a comma-separated list of rows of the 6-row Jacobian.
-
-    Examples
-    --------
-    >>> task_arg("planar"), task_arg("0,1,5")
-    ('planar', [0, 1, 5])
-    """
-    from ..model import TASKS, task_rows
-
-    if text in TASKS:
-        return text
-    try:
-        rows = [int(x) for x in text.split(",")]
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"{text!r} is not one of {', '.join(TASKS)} or a comma-separated row list like 0,1,5"
-        ) from None
-    try:
-        return list(task_rows(rows))
-    except ValueError as e:  # task_rows names the bad row
-        raise argparse.ArgumentTypeError(str(e)) from None
 
 
 EPILOG_JACOBIAN = """examples:

@@ -30,7 +30,8 @@ import time
 from pathlib import Path
 
 from .output import TEMP_SUFFIX, check_names, write_atomic
-from .parser import UsageError, memory_arg, timeout_arg
+from ..errors import UsageError
+from .arguments import memory_arg, timeout_arg
 
 __all__ = ["add_sweep_arguments", "cmd_sweep", "EPILOG_SWEEP"]
 

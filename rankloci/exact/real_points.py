@@ -333,7 +333,7 @@ def real_point_components(part, matrix, variables, angles, rng):
     """The components of the real locus that hold the real points of ``part``: one per set of
     points with the same rank drop that is a product of values per variable, else one per
     point; each in solved form, its ``real_points_of`` the complex component's equation."""
-    from ..locus import Component
+    from ..loci import Component
 
     angles = set(angles)
     drops: dict = {}

@@ -27,14 +27,10 @@ import numpy as np
 import sympy as sp
 
 from ..algebra.ring import square_root_primes
+from ..tolerances import (SINGULAR_MAX_ANGLES as MAX_ANGLES, SINGULAR_MAX_TERMS as MAX_TERMS,
+                          SINGULAR_ON_SET_RTOL as ON_SET_RTOL, SINGULAR_TIMEOUT_S as TIMEOUT_S)
 
 __all__ = ["SingularResult", "singular_cross_check", "singular_available"]
-
-MAX_TERMS = 200            # total terms of the minors sent to Singular
-MAX_ANGLES = 4             # angles (two ring variables each); primary decomposition grows fast with more
-TIMEOUT_S = 30.0
-#: residual (relative to the coefficient size) below which an equation holds at a point
-ON_SET_RTOL = 1e-7
 
 
 @dataclass(frozen=True)
@@ -170,7 +166,7 @@ def _compare(primes, gens, cs, tm, locus, rng):
         return bool(np.all(vals <= ON_SET_RTOL * np.array(scales[k])))
 
     findings = []
-    comps = [c for c in locus.components if c.exists_for_model]
+    comps = list(locus.components)
     for c in comps:
         q = _component_point(c, tm, rng)
         if q is None:

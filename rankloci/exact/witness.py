@@ -69,180 +69,24 @@ import dataclasses
 import itertools
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import flint
 import numpy as np
 import sympy as sp
 
+from ..errors import RanklociError
+from .certificate import CERTIFICATE_KIND, Certificate
+from ..tolerances import (MAX_CODIMENSION, MAX_ELIMINATION_DEGREE, MAX_ELIMINATION_TERMS,
+                          MAX_FIXED_DEGREE, MAX_HEIGHT, MAX_RELATION_HEIGHT, PRIME_BITS,
+                          WITNESS_RETRIES as RETRIES)
+
 __all__ = ["Certificate", "NotCertifiable", "certify_components", "MAX_CODIMENSION",
            "CERTIFICATE_KIND"]
 
-CERTIFICATE_KIND = "witness points modulo a prime"
 
-#: The verdicts of a certificate.
-VERDICTS = ("passed", "failed", "undecided")
-
-#: Codimensions whose witness points are computed (affine subspaces of that dimension): one
-#: variable is eliminated per codimension above 1, and each elimination squares the degrees.
-MAX_CODIMENSION = 4
-#: The largest degree an elimination may reach (the square of the degree of the polynomials it
-#: eliminates from); beyond it the codimension is left undecided.  A resultant of two
-#: polynomials of degree 60 in few variables takes flint about a second.
-MAX_ELIMINATION_DEGREE = 3600
-#: ... and the most terms it may have (a resultant in two or more remaining variables): beyond,
-#: one resultant takes minutes.
-MAX_ELIMINATION_TERMS = 20000
-#: Primes are drawn from [2**PRIME_BITS, 2**(PRIME_BITS + 1)): word-sized for flint's nmod
-#: arithmetic, and large enough that the Schwartz-Zippel bound of a wrong verdict (degrees of a
-#: few thousand) is below 1e-12.
-PRIME_BITS = 61
-#: Fresh random choices tried when one is degenerate (a projection that does not separate the
-#: witness points, a denominator divisible by the prime): such a choice has a probability
-#: below 1e-12, so two retries are plenty.
-RETRIES = 3
-
-
-class NotCertifiable(Exception):
+class NotCertifiable(RanklociError):
     """The certificate does not apply to this matrix or these equations (with the reason)."""
-
-
-@dataclass(frozen=True)
-class Certificate:
-    """The outcome of :func:`certify_components`.
-
-    Attributes
-    ----------
-    verdict : {"passed", "failed", "undecided"}
-        ``"passed"``: the reported components are the whole locus (complete and sound), with
-        the stated error bound.  ``"failed"``: a witness point disproves it (``findings``).
-        ``"undecided"``: the certificate could not be computed (``findings`` says why).
-    kind : str
-        :data:`CERTIFICATE_KIND`.
-    prime : int or None
-        The prime P of the finite field.
-    seed : int
-        Seed of the random choices (chart, subspaces, compressions): the same seed and
-        inputs give the same certificate.
-    codimensions : tuple of int
-        The codimensions that can occur (1 .. m - n + 1) and were checked.
-    witness_points : dict
-        Codimension -> number of witness points of the locus (over the algebraic closure).
-    findings : tuple of str
-        What disproves the locus, or why no verdict was reached.
-    error_bound : float
-        Upper bound of the probability that a ``"passed"`` verdict is wrong.
-    seconds : float
-    redundant : tuple of int
-        Components (1-based) whose dimension is below the determinantal bound of their rank
-        drop: they lie inside larger ones, or are not singular; the locus without them is what
-        a passing certificate is about.
-    complex_components : tuple of tuple of sympy.Expr
-        The equations of components of the complex locus that have no real point (proved:
-        they fix a variable at values none of which is real, or are a sum of squares without
-        a common real zero); they are no part of a robot's locus, and the certificate counts
-        their witness points as covered.
-    real_parts : tuple of dict
-        Components of the complex locus whose real points are fewer or of lower dimension
-        (reported components with ``real_points_of``): per complex component its equation,
-        the polynomials whose squares it is a weighted sum of, and its real points, which the
-        certificate proved lie on the reported components (see
-        :mod:`rankloci.exact.real_points`).
-    """
-
-    verdict: str
-    kind: str = CERTIFICATE_KIND
-    prime: int | None = None
-    seed: int = 0
-    codimensions: tuple = ()
-    witness_points: dict = field(default_factory=dict)
-    findings: tuple = ()
-    error_bound: float = 0.0
-    seconds: float = 0.0
-    redundant: tuple = ()
-    discovered: tuple = field(default=(), compare=False, repr=False)
-    discovered_complex: tuple = field(default=(), compare=False, repr=False)
-    slices: tuple = field(default=(), compare=False, repr=False)
-    discovered_merged: tuple = field(default=(), compare=False, repr=False)
-    uncovered: int = field(default=0, compare=False)
-    complex_components: tuple = ()
-    real_parts: tuple = ()
-
-    @property
-    def passed(self) -> bool:
-        return self.verdict == "passed"
-
-    @classmethod
-    def from_dict(cls, data, names=None) -> "Certificate":
-        """The certificate as :meth:`to_dict` wrote it (ValueError naming a bad field);
-        ``names`` maps the variables' names to their symbols (see
-        :func:`~rankloci.expr.parse_expression`)."""
-        if not isinstance(data, dict):
-            raise ValueError("must be an object")
-        verdict = data.get("verdict")
-        if verdict not in VERDICTS:
-            raise ValueError(f"verdict must be one of {VERDICTS}")
-        prime = data.get("prime")
-        if prime is not None and (not isinstance(prime, int) or isinstance(prime, bool)
-                                  or not 0 < prime < 2 ** 64):
-            raise ValueError("prime must be a positive integer below 2**64 or null")
-        ints = [data.get("seed", 0)] + list(data.get("codimensions", []))
-        counts = data.get("witness_points", {})
-        if not isinstance(counts, dict) or not all(
-                isinstance(k, str) and k.isdigit() and len(k) < 6 for k in counts):
-            raise ValueError("witness_points must map codimensions to counts")
-        ints += list(counts.values())
-        if not all(isinstance(v, int) and not isinstance(v, bool) and 0 <= v < 2 ** 63
-                   for v in ints):
-            raise ValueError("seed, codimensions and witness point counts must be "
-                             "non-negative integers")
-        redundant = data.get("redundant", [])
-        if not isinstance(redundant, list) or not all(
-                isinstance(v, int) and not isinstance(v, bool) and 0 < v < 10 ** 6
-                for v in redundant):
-            raise ValueError("redundant must be a list of component numbers")
-        findings = data.get("findings", [])
-        if not isinstance(findings, list) or not all(isinstance(f, str) for f in findings):
-            raise ValueError("findings must be a list of strings")
-        numbers = [data.get("error_bound", 0.0), data.get("seconds", 0.0)]
-        if not all(isinstance(v, (int, float)) and not isinstance(v, bool) and 0 <= v < 1e12
-                   for v in numbers):
-            raise ValueError("error_bound and seconds must be non-negative numbers")
-        complex_components = data.get("complex_components", [])
-        if not isinstance(complex_components, list) or not all(
-                isinstance(eqs, list) and all(isinstance(e, str) for e in eqs)
-                for eqs in complex_components):
-            raise ValueError("complex_components must be a list of lists of equations")
-        from ..errors import ExpressionError
-        from ..expr import parse_expression
-
-        try:
-            complex_components = tuple(tuple(parse_expression(e, names) for e in eqs)
-                                       for eqs in complex_components[:50])
-        except ExpressionError as exc:
-            raise ValueError(f"complex_components: {exc}") from None
-        real_parts = data.get("real_parts", [])
-        if not isinstance(real_parts, list) or not all(
-                isinstance(r, dict) and all(isinstance(k, str) for k in r) for r in real_parts):
-            raise ValueError("real_parts must be a list of objects")
-        return cls(verdict, kind=str(data.get("kind", CERTIFICATE_KIND))[:80], prime=prime,
-                   seed=data.get("seed", 0), codimensions=tuple(data.get("codimensions", [])),
-                   witness_points={int(k): v for k, v in counts.items()},
-                   findings=tuple(f[:2000] for f in findings[:200]),
-                   error_bound=float(numbers[0]), seconds=float(numbers[1]),
-                   redundant=tuple(redundant), complex_components=complex_components,
-                   real_parts=tuple(real_parts[:50]))
-
-    def to_dict(self) -> dict:
-        return {"kind": self.kind, "verdict": self.verdict, "prime": self.prime,
-                "seed": self.seed, "codimensions": list(self.codimensions),
-                "witness_points": {str(k): v for k, v in self.witness_points.items()},
-                "error_bound": self.error_bound, "findings": list(self.findings),
-                "redundant": list(self.redundant),
-                "complex_components": [[sp.sstr(e) for e in eqs]
-                                       for eqs in self.complex_components],
-                **({"real_parts": list(self.real_parts)} if self.real_parts else {}),
-                "seconds": round(self.seconds, 4)}
 
 
 # --- sympy expressions -> half-angle forms over Q ------------------------------------------
@@ -560,7 +404,7 @@ def _field(f, P):
     return flint.fq_default_ctx(modulus=flint.fmpz_mod_poly_ctx(P)([int(c) for c in f.coeffs()]))
 
 
-class _Degenerate(Exception):
+class _Degenerate(RanklociError):
     """A random choice that does not separate points; retried with fresh choices."""
 
 
@@ -571,7 +415,7 @@ def _combinations(polys, count, P, rng):
     return out
 
 
-class _TooLarge(Exception):
+class _TooLarge(RanklociError):
     """The elimination would exceed :data:`MAX_ELIMINATION_DEGREE`."""
 
 
@@ -776,7 +620,7 @@ def certify_components(matrix, variables, angles, components, *, seed: int = 0,
         The matrix, every parameter replaced by its (exact) value.
     variables, angles : sequence of sympy.Symbol
         The matrix's variables, and those that enter through sin and cos.
-    components : sequence of rankloci.locus.Component
+    components : sequence of rankloci.loci.Component
         The reported components, their equations with the same parameter values.
     seed : int
         Seed of the random choices.
@@ -798,7 +642,7 @@ def certify_components(matrix, variables, angles, components, *, seed: int = 0,
     Examples
     --------
     >>> q1, q2 = sp.symbols("q1 q2", real=True)
-    >>> from rankloci.locus import Component
+    >>> from rankloci.loci import Component
     >>> J = sp.Matrix([[-sp.sin(q1) - sp.sin(q1 + q2), -sp.sin(q1 + q2)],
     ...                [sp.cos(q1) + sp.cos(q1 + q2), sp.cos(q1 + q2)]])
     >>> certify_components(J, (q1, q2), (q1, q2), [Component((sp.sin(q2),), dimension=1)]).verdict
@@ -912,7 +756,7 @@ def _real_part_claims(components, variables, angles, N):
     A claim holds when the complex component's equation is proved a weighted sum of squares
     (:func:`rankloci.exact.real_points.real_part_of`) and every common real zero of the
     squares lies on a reported component that names it, with no exclusion."""
-    from ..locus import Component
+    from ..loci import Component
     from .real_points import real_part_of
 
     groups: dict = {}
@@ -1215,18 +1059,6 @@ def _component_points(eqs, exc, plane, rng, k, findings):
     return pts
 
 
-#: A variable is taken as fixed on the missing components when the values it takes at their
-#: witness points are the roots of one polynomial of at most this degree whose coefficients
-#: are rationals of small height (MAX_HEIGHT): random values (a free variable) give such a
-#: polynomial with probability below 1e-12.
-MAX_FIXED_DEGREE = 6
-MAX_HEIGHT = 2 ** 24
-#: The height of an integer relation of degree 2 found by lattice reduction for a value in
-#: GF(P) alone (its conjugate not among the witness points): random values have shortest
-#: relations near P**(1/3), about 2**20.
-MAX_RELATION_HEIGHT = 2 ** 14
-
-
 def _rational(a: int, P: int):
     """The rational r/s = a mod P with |r|, s <= MAX_HEIGHT, or None (rational reconstruction)."""
     r0, r1, s0, s1 = P, a % P, 0, 1
@@ -1376,7 +1208,7 @@ def _discover(missing, forms, rows, n, N, P, rng):
     equations cut out)."""
     import itertools
 
-    from ..locus import Component
+    from ..loci import Component
 
     na = len(forms.angles)
     groups: dict = {}
@@ -1486,7 +1318,7 @@ def _trig_fixed(missing, forms, N, P):
     """Components through the missing witness points of one codimension c on which the sine
     or the cosine of c angles is fixed (the same number of GF(P) at every point), at a value
     of Q(sqrt(d)) found by :func:`_surd_relation`.  Returns (with real points, without)."""
-    from ..locus import Component
+    from ..loci import Component
 
     na = len(forms.angles)
     by_codim: dict = {}

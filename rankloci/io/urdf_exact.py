@@ -35,15 +35,14 @@ import sympy as sp
 
 from ..expr import exact_number
 from ..model import trans
-from ..tolerances import URDF_ANGLE_SNAP_ATOL, URDF_LENGTH_SNAP_ATOL, URDF_ROTATION_ATOL
+from ..tolerances import (MAX_TRANSFORM_DIGITS, URDF_ANGLE_SNAP_ATOL,
+                          URDF_DENOMINATOR_BLOCK as _DENOMINATOR_BLOCK,
+                          URDF_DENOMINATOR_MAX as _DENOMINATOR_MAX, URDF_LENGTH_SNAP_ATOL,
+                          URDF_ROTATION_ATOL)
 
 __all__ = ["exact_origin", "exact_axis", "exact_motion", "expanded_product", "bounded", "Snaps",
-           "simplest_rational", "read_angle", "read_axis"]
+           "simplest_rational", "read_angle", "read_axis", "cos_sin"]
 
-#: Digits a rational entry of a composed transform may have before its rotation is replaced by
-#: the nearest short exact rotation (:func:`bounded`).  One rpy rotation of a float angle has
-#: entries of about 34 digits; a chain of them would multiply the digits without bound.
-MAX_TRANSFORM_DIGITS = 40
 
 # Exact values a unit-axis component may snap to (besides their negatives).
 _NICE_COMPONENTS = (sp.Integer(0), sp.Rational(1, 2), sp.sqrt(2) / 2, sp.sqrt(3) / 2,
@@ -129,12 +128,6 @@ def _short(x: float, tol: float) -> sp.Rational:
     return sp.Rational(f.numerator, f.denominator)
 
 
-#: Denominators searched at once by :func:`_common_denominator` (one numpy block), and the
-#: largest searched (about a second) before each number gets its own short rational.
-_DENOMINATOR_BLOCK = 1 << 20
-_DENOMINATOR_MAX = 1 << 26
-
-
 def _common_denominator(xs, tol: float) -> list[sp.Rational]:
     """Rationals ``A_i / q`` within ``tol`` of each ``xs[i]``, with the smallest such ``q``.
 
@@ -178,7 +171,7 @@ def _snap_angle(t: float) -> sp.Expr | None:
     return None
 
 
-def _cos_sin(t: float, snaps: Snaps | None = None) -> tuple[sp.Expr, sp.Expr]:
+def cos_sin(t: float, snaps: Snaps | None = None) -> tuple[sp.Expr, sp.Expr]:
     """Exact (cos, sin) of an angle read as a float; see the module docstring."""
     t = math.remainder(t, 2 * math.pi)  # in [-pi, pi]
     snapped = _snap_angle(t)
@@ -206,13 +199,13 @@ def read_angle(t: float) -> float:
     snapped = _snap_angle(t)
     if snapped is not None:
         return float(snapped)
-    c, s = _cos_sin(t)
+    c, s = cos_sin(t)
     return math.atan2(float(s), float(c))
 
 
 def _rotation(axis: str, t: float, snaps: Snaps | None = None) -> sp.Matrix:
     """Exact 4x4 rotation by the float angle ``t`` about the x, y or z axis."""
-    c, s = _cos_sin(t, snaps)
+    c, s = cos_sin(t, snaps)
     m = sp.eye(4)
     i, j = {"x": (1, 2), "y": (2, 0), "z": (0, 1)}[axis]
     m[i, i], m[i, j], m[j, i], m[j, j] = c, -s, s, c
@@ -366,7 +359,7 @@ def exact_motion(kind: str, axis, value, snaps: Snaps | None = None) -> sp.Matri
     if kind == "prismatic":
         m[:3, 3] = k * value
         return m
-    c, s = _cos_sin(float(value), snaps)
+    c, s = cos_sin(float(value), snaps)
     K = sp.Matrix([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
     m[:3, :3] = (c * sp.eye(3) + s * K + (1 - c) * k * k.T).applyfunc(sp.expand)
     return m

@@ -17,8 +17,8 @@ import networkx as nx
 import numpy as np
 
 from ..errors import LocusError
-from ..jacobian import lift_directions, pivot_constant_columns
-from ..locus import Locus
+from ..jacobians import lift_directions, pivot_constant_columns
+from ..loci import Locus
 
 __all__ = ["compute_locus", "method_for", "METHODS"]
 
@@ -56,7 +56,7 @@ def method_for(shape, requested: str | None = None, *, strict: bool = True) -> s
 
 def compute_locus(tm, method: str = "svm", *, rng=None, progress=None,
                   should_stop=None, clock=None, hints=(), trees=None) -> Locus:
-    """Rank-deficiency locus of a :class:`~rankloci.jacobian.TaskMatrix`.
+    """Rank-deficiency locus of a :class:`~rankloci.jacobians.TaskMatrix`.
 
     Parameters
     ----------
@@ -87,7 +87,7 @@ def compute_locus(tm, method: str = "svm", *, rng=None, progress=None,
     Examples
     --------
     >>> from rankloci.io import load_model
-    >>> from rankloci.jacobian import task_matrix
+    >>> from rankloci.jacobians import task_matrix
     >>> locus = compute_locus(task_matrix(load_model("planar2r"), numeric=True))
     >>> [str(c.equations[0]) for c in locus.components]
     ['sin(q2)']
@@ -125,9 +125,7 @@ def compute_locus(tm, method: str = "svm", *, rng=None, progress=None,
         # the leaves repaired by earlier hints stay repaired (the hints come again, and a
         # split leaf's pieces or a kept exclusion no longer admit them); the notes of the
         # earlier finalisation are written again
-        del ctx.notes[n_notes:]
-        ctx.progress, ctx.should_stop = progress or (lambda msg: None), should_stop or (lambda: False)
-        ctx.reporting = progress is not None
+        ctx.resume(progress=progress, should_stop=should_stop, notes_kept=n_notes)
         ctx.progress("taking up the branch tree grown before, with the hints")
     else:
         ctx = Context(reduced, method=method, rng=rng, progress=progress, should_stop=should_stop)
@@ -138,14 +136,13 @@ def compute_locus(tm, method: str = "svm", *, rng=None, progress=None,
         if trees is not None:
             trees[key] = (tm, ctx, degenerate, len(ctx.notes), (clock() - t0) if clock else 0.0)
     if hints:
-        ctx.repaired += repair_leaves(ctx, hints)
-        ctx.notes.append(f"{ctx.repaired} of the leaves were split or kept an exclusion at "
+        repaired = ctx.count_repaired(repair_leaves(ctx, hints))
+        ctx.note(f"{repaired} of the leaves were split or kept an exclusion at "
                          f"{len(hints)} configuration{'' if len(hints) == 1 else 's'} where a "
                          f"check of the first computation found a component regular")
     components = [lift_directions(c, [r for r, _ in pivots], shape[0]) for c in finalize(ctx)]
     return Locus(model=tm.name, variables=tm.variables, parameters=dict(tm.parameters),
                  shape=shape, method=method,
-                 components=tuple(c for c in components if c.exists_for_model),
-                 special=tuple(c for c in components if not c.exists_for_model),
+                 components=tuple(components),
                  degenerate=degenerate, tree=ctx.tree,
-                 seconds=(clock() - t0) if clock else 0.0, notes=tuple(notes + ctx.notes))
+                 seconds=(clock() - t0) if clock else 0.0, notes=tuple(notes) + ctx.notes)

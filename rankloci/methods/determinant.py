@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ..algebra import laplace_det
 from ..errors import LocusError
-from ..locus import Outcome
+from ..loci import Outcome
 from ..tree.branch import Branch
 from ..tree.context import Context
 from ..tree.cover import children

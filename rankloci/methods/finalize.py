@@ -1,6 +1,6 @@
-"""From the leaves of a branch tree to the components of a :class:`~rankloci.locus.Locus`.
+"""From the leaves of a branch tree to the components of a :class:`~rankloci.loci.Locus`.
 
-Each component leaf becomes a :class:`~rankloci.locus.Component`: its
+Each component leaf becomes a :class:`~rankloci.loci.Component`: its
 equations in readable form (:mod:`.readable`), its dimension (the rank of
 the equations' gradient at a sample point), its rank drop and lost
 directions there, and the exclusions it needs.  Then leaves q = 0 and q = pi
@@ -20,12 +20,12 @@ import numpy as np
 import sympy as sp
 
 from ..algebra import TermLimit, transpose
-from ..locus import Component, Outcome
+from ..loci import Component, Outcome
 from ..numeric.equations import dimension_from_gradient, normalised
-from ..numeric.gauss_newton import gauss_newton_rows
-from ..tolerances import (CONTAINED_EXCLUSION_RTOL, CONTAINED_RTOL,
-                          DIMENSION_STEP, NEAR_ADMITTED_EXCLUSION_RTOL, NEAR_ADMITTED_RADIUS,
-                          NEAR_ADMITTED_STEP)
+from ..numeric.closure import near_admitted
+from ..tolerances import (CONTAINED_EXCLUSION_RTOL, CONTAINED_RTOL, DIMENSION_STEP,
+                          MAX_DIRECTION_COFACTOR_TERMS, MAX_DIRECTION_MATRIX_TERMS,
+                          MAX_DIRECTION_TERMS, NEAR_ADMITTED_EXCLUSION_RTOL)
 from ..tree import prune
 from ..tree.branch import Branch, apply_substitution
 from ..tree.context import Context
@@ -83,7 +83,7 @@ def finalize(ctx: Context) -> list[Component]:
         raw.append((eqs, branch, pts, node))
     if ctx.sampler.fell_back:
         k = len(ctx.sampler.fell_back)
-        ctx.notes.append(f"{k} {'branch has' if k == 1 else 'branches have'} real points for the "
+        ctx.note(f"{k} {'branch has' if k == 1 else 'branches have'} real points for the "
                          "model's parameter values but none were found for random nearby values: "
                          "the components found there may exist only in a range of parameters")
     cands = [_component(ctx, eqs, branch, pts) for eqs, branch, pts, _ in raw]
@@ -232,37 +232,19 @@ def _with_exclusions(ctx: Context, cand: _Candidate) -> _Candidate:
     return cand.replace(excluding=tuple(keep)) if keep else cand
 
 
-MAX_DIRECTION_TERMS = 400
-#: The cofactors a symbolic direction is built from are abandoned beyond this many terms.  Their
-#: common factor divides out (:func:`~rankloci.algebra.primitive_vector`; PUMA 560's shoulder:
-#: 4312 terms -> 169), so this is far above MAX_DIRECTION_TERMS: on the built-in models the
-#: largest is 58208 (SSRMS, 1366 after the division); URDF chains with rotations that do not
-#: snap reach 200000-280000 terms (centauro's arm, 2-4 s each) and never come under
-#: MAX_DIRECTION_TERMS.
-MAX_DIRECTION_COFACTOR_TERMS = 60_000
-#: A direction is abandoned, before any cofactor, where the whole matrix with the branch's
-#: substitutions applied holds more terms than this.  The matrices whose directions came out
-#: small enough to show held at most 7740 terms (9R snake; 1192 on talos' arm, 990 on
-#: centauro's, 344 on the built-in models); on the snake, substituting one leaf's matrix
-#: (1173201 terms) and then its cofactors took 35 s of the locus's 100 s, for a direction
-#: abandoned anyway.
-MAX_DIRECTION_MATRIX_TERMS = 50_000
-
-
 def _with_direction(ctx: Context, cand: _Candidate) -> Component:
     """The component, with its lost direction as expressions where they are small.
 
-    Kept per leaf in ``ctx.directions``: a computation resumed for the self-check's hints
+    Kept per leaf by ``ctx.symbolic_direction``: a computation resumed for the self-check's hints
     (:func:`~rankloci.methods.compute_locus`, ``trees``) finalises the same leaves again, and
     on a 9R snake the directions took half of each finalisation.
     """
     if cand.branch is None:
         return cand.comp
     key = (cand.branch.key, cand.comp.rank_drop)
-    if key not in ctx.directions:
-        ctx.directions[key] = _symbolic_direction(ctx, cand.branch, list(cand.points),
-                                                  cand.comp.rank_drop)
-    return dataclasses.replace(cand.comp, direction=ctx.directions[key])
+    direction = ctx.symbolic_direction(
+        key, lambda: _symbolic_direction(ctx, cand.branch, list(cand.points), cand.comp.rank_drop))
+    return dataclasses.replace(cand.comp, direction=direction)
 
 
 def _symbolic_direction(ctx, branch, pts, drop):
@@ -375,29 +357,22 @@ def _admitted(funcs, x, nvars: int, rng, *, solve: bool = True) -> bool:
     return True
 
 
-def _near_admitted(f_rows, g, gscale, x, nvars, rng, tries: int = 6) -> bool:
+def _near_admitted(f_rows, g, gscale, x, nvars, rng) -> bool:
     """Are there points of {f = 0} with g != 0 within NEAR_ADMITTED_RADIUS of ``x``?
 
     ``f_rows`` maps rows of configurations (variables, then parameters) to rows of
-    equation values.
+    equation values; the variables move, the parameters stay at their values in ``x``.
     """
     def rows(Y):
         return f_rows(np.concatenate([Y, np.broadcast_to(x[nvars:], (len(Y), len(x) - nvars))],
                                      axis=1))
 
-    # every start at once: one evaluation of the equations per Gauss-Newton step
-    starts = x[:nvars] + NEAR_ADMITTED_STEP * rng.standard_normal((tries, nvars))
-    Y = gauss_newton_rows(rows, starts)
-    Y = Y[np.all(np.isfinite(Y), axis=1)]
-    if not len(Y):
-        return False
-    near = (np.max(np.abs(rows(Y)), axis=1) <= CONTAINED_RTOL) & \
-        (np.max(np.abs(Y - x[:nvars]), axis=1) <= NEAR_ADMITTED_RADIUS)
-    for y in Y[near]:
+    def admits(y):
         vals = np.abs(np.array(g(*np.concatenate([y, x[nvars:]])), dtype=float))
-        if np.all(vals > NEAR_ADMITTED_EXCLUSION_RTOL * gscale):
-            return True
-    return False
+        return bool(np.all(vals > NEAR_ADMITTED_EXCLUSION_RTOL * gscale))
+
+    return near_admitted(rows, lambda Y: np.max(np.abs(rows(Y)), axis=1) <= CONTAINED_RTOL,
+                         admits, x[:nvars], rng)
 
 
 def _coefficient_size(e):

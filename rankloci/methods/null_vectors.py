@@ -15,7 +15,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from ..algebra import TermLimit, laplace_det, primitive_vector
-from .blocks import choose_block
+from ..tree.blocks import choose_block
 
 if TYPE_CHECKING:
     from ..tree.context import Context

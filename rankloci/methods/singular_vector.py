@@ -23,19 +23,16 @@ from __future__ import annotations
 
 from ..algebra import transpose
 from ..errors import LocusError
-from ..locus import Outcome
+from ..loci import Outcome
 from ..tree.branch import Branch
 from ..tree.context import Context
 from ..tree import prune
 from ..tree.cover import children, distinct
-from .blocks import choose_columns
+from ..tree.blocks import choose_columns
 from .null_vectors import left_null_vectors
+from ..tolerances import MINOR_CANDIDATES
 
 __all__ = ["singular_vector_tree"]
-
-#: Regular blocks whose determinants are compared on a branch where the null vectors
-#: degenerate (the smallest wins); each costs one determinant of the substituted matrix.
-MINOR_CANDIDATES = 3
 
 
 def singular_vector_tree(ctx: Context) -> bool:

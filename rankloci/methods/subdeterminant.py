@@ -13,7 +13,7 @@ from __future__ import annotations
 import itertools
 
 from ..algebra import common_factor, laplace_det, transpose
-from ..locus import Outcome
+from ..loci import Outcome
 from ..tree.branch import Branch
 from ..tree.context import Context
 from ..tree.cover import children

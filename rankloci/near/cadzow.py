@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..tolerances import INF_NORM_RTOL, INF_NORM_ZERO_RTOL
-from .min_inf_norm import InfNormSolution, _checked, _on_range, _result
+from .inf_norm import InfNormSolution, checked_system, on_range, solution
 
 __all__ = ["cadzow"]
 
@@ -64,8 +64,8 @@ def cadzow(A, y, *, max_iter: int | None = None) -> InfNormSolution:
     >>> np.round(s.x, 4), s.converged
     (array([-0.1162, -0.5404,  0.5404]), True)
     """
-    A, y = _checked(A, y)
-    return _on_range(A, y, "cadzow", lambda A, y: _cadzow(A, y, max_iter))
+    A, y = checked_system(A, y)
+    return on_range(A, y, "cadzow", lambda A, y: _cadzow(A, y, max_iter))
 
 
 def _cadzow(A, y, max_iter):
@@ -97,17 +97,17 @@ def _cadzow(A, y, max_iter):
         history.append(dict(free=tuple(free), bound=bound, x1_norm=x1n, zeros=zeros))
         gap = float(np.linalg.norm(A @ x - y))
         if gap > INF_NORM_RTOL * (np.linalg.norm(y) + np.linalg.norm(A, 2) * np.linalg.norm(x)):
-            return _result(x, bound, False, "cadzow", it, sat, free, history,
+            return solution(x, bound, False, "cadzow", it, sat, free, history,
                            f"C-step 5: A_1 x_1 = y - A_2 x_2 has no solution (residual {gap:.1e}); "
                            f"A_1 = columns {tuple(free)} has rank < m - 1, the Haar condition "
                            "does not hold")
         if x1n <= (1 + INF_NORM_RTOL) * bound:                         # C-step 6(a)
-            return _result(x, bound, True, "cadzow", it, sat, free, history)
+            return solution(x, bound, True, "cadzow", it, sat, free, history)
         state = (tuple(free), round(bound, 12))
         if state in seen:
             why = (f"; A_2'u has zero entries (columns {', '.join(map(str, zeros))}): "
                    "the Haar condition does not hold" if any(h["zeros"] for h in history) else "")
-            return _result(x, bound, False, "cadzow", it, sat, free, history,
+            return solution(x, bound, False, "cadzow", it, sat, free, history,
                            f"the column exchange returned to the basis {tuple(free)} "
                            f"(cycling){why}")
         seen.add(state)
@@ -122,7 +122,7 @@ def _cadzow(A, y, max_iter):
         inv_eps = np.where(np.isnan(inv_eps), -np.inf, inv_eps)
         q = int(np.argmax(inv_eps))
         if inv_eps[q] == 0:
-            return _result(x, bound, False, "cadzow", it, sat, free, history,
+            return solution(x, bound, False, "cadzow", it, sat, free, history,
                            "C-step 9: the largest ratio 1/eps is 0")
         eps = 1.0 / inv_eps[q]
         new_free = list(free)
@@ -131,9 +131,9 @@ def _cadzow(A, y, max_iter):
         v = u + eps * gamma                                            # C-step 11
         norm1 = np.abs(A[:, new_sat].T @ v).sum()
         if not np.isfinite(norm1) or norm1 == 0:
-            return _result(x, bound, False, "cadzow", it, sat, free, history,
+            return solution(x, bound, False, "cadzow", it, sat, free, history,
                            "C-step 11 divides by zero: ||A_2'(u + eps gamma)||_1 = 0")
         u = np.sign(eps) * v / norm1
         free = sorted(new_free)
-    return _result(x, bound, False, "cadzow", max_iter, sat, free, history,
+    return solution(x, bound, False, "cadzow", max_iter, sat, free, history,
                    f"no certified optimum after {max_iter} column exchanges")

@@ -2,7 +2,7 @@
 
 They start from what the public functions return: the path of
 :func:`rankloci.joint_rates`, the result of :func:`rankloci.manipulability`
-(or a Jacobian as an array), and a :class:`~rankloci.locus.Locus` for the
+(or a Jacobian as an array), and a :class:`~rankloci.loci.Locus` for the
 distance to its components.  Every function draws into ``ax`` when given (a
 3-D axes for a 3-D polytope) and otherwise into a new
 :class:`matplotlib.figure.Figure`, and returns the Axes it drew into
@@ -77,7 +77,7 @@ def plot_indices(path, ax=None):
 
 
 def _is_locus(obj) -> bool:
-    from ..locus import Locus
+    from ..loci import Locus
 
     return isinstance(obj, Locus)
 

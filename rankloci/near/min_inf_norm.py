@@ -28,89 +28,18 @@ the result says so (``consistent`` False, x NaN).
 
 from __future__ import annotations
 
-import dataclasses
 import itertools
-from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..tolerances import INF_NORM_RANGE_RTOL, INF_NORM_RTOL, INF_NORM_ZERO_RTOL, RANK_RTOL
+from ..tolerances import INF_NORM_RTOL, INF_NORM_ZERO_RTOL, MAX_SIGN_CHOICES, RANK_RTOL
+from .inf_norm import InfNormSolution, checked_system, on_range, solution
 
 __all__ = ["METHODS", "InfNormSolution", "min_inf_norm", "ha_lee", "linear_program",
            "haar_condition", "sign_choices", "MAX_SIGN_CHOICES"]
 
 #: The methods of :func:`min_inf_norm`.
 METHODS = ("ha_lee", "cadzow", "lp")
-
-#: Where A_2'u has k zero entries (a degenerate dual solution), Ha and Lee choose
-#: sgn(0) at random; here the 2**k choices are tried in a fixed order, for k up to
-#: this (beyond it only the first, the signs of x2).
-MAX_SIGN_CHOICES = 4
-
-
-@dataclass(frozen=True)
-class InfNormSolution:
-    """A solution x of A x = y of (or on the way to) least infinity norm.
-
-    Attributes
-    ----------
-    x : numpy.ndarray
-        The solution (NaN when none was formed).
-    norm : float
-        ``max |x_i|``.
-    bound : float
-        y'u for the last dual-feasible u (||A'u||_1 = 1): no solution has a
-        smaller infinity norm (weak duality).  For ``"lp"``, the LP optimum.
-    converged : bool
-        Whether x is certified optimal: ``norm <= (1 + INF_NORM_RTOL) bound``.
-    method : str
-    iterations : int
-        Column exchanges (HiGHS's simplex iterations for ``"lp"``).
-    saturated : tuple of int
-        Indices of the columns of A_2: the components of x at +-norm.
-    free : tuple of int
-        Indices of the columns of A_1 (m - 1 of them).
-    reason : str
-        Why the method stopped without a certified optimum ("" when converged).
-    history : tuple of dict
-        One entry per iteration: ``free``, ``bound`` (y'u), ``x1_norm``
-        (max |x_i| over the free columns) and ``zeros`` (columns of A_2 with
-        A_2'u = 0), to show how an algorithm proceeds or fails.
-    rank : int or None
-        The numerical rank of A (RANK_RTOL).  Below m, the method solved the
-        system on the range of A (see the module's description): ``free`` then
-        has r - 1 columns, and the history is that of the reduced system (its
-        bounds are bounds for A x = y too).
-    consistent : bool
-        False when A is rank deficient and y is not in its range: no x solves
-        A x = y (``converged`` False, x NaN, ``reason`` gives the part of y
-        outside the range).
-    """
-
-    x: np.ndarray
-    norm: float
-    bound: float
-    converged: bool
-    method: str
-    iterations: int = 0
-    saturated: tuple = ()
-    free: tuple = ()
-    reason: str = ""
-    history: tuple = field(default=(), repr=False)
-    rank: int | None = None
-    consistent: bool = True
-
-
-def _checked(A, y):
-    A = np.array(A, dtype=float, copy=True)
-    y = np.array(y, dtype=float, copy=True).reshape(-1)
-    if A.ndim != 2 or A.shape[0] == 0 or A.shape[1] < A.shape[0]:
-        raise ValueError(f"A must be an m x n matrix with 1 <= m <= n, got shape {A.shape}")
-    if y.shape != (A.shape[0],):
-        raise ValueError(f"y must have {A.shape[0]} entries (the rows of A), got {y.shape[0]}")
-    if not (np.all(np.isfinite(A)) and np.all(np.isfinite(y))):
-        raise ValueError("A and y must be finite")
-    return A, y
 
 
 def haar_condition(A) -> bool:
@@ -131,32 +60,6 @@ def haar_condition(A) -> bool:
         if s[-1] <= RANK_RTOL * scale:
             return False
     return True
-
-
-def _on_range(A, y, method, solve):
-    """``solve(A, y)`` on a system of full row rank: A itself, or A reduced to its range.
-
-    ``A`` and ``y`` are checked (:func:`_checked`).  y = 0 gives x = 0 at once.  A of rank
-    r < m: when y is in the range of A (INF_NORM_RANGE_RTOL), ``solve`` gets the r x n
-    system S_r V_r' x = U_r' y of the SVD A = U S V', with the same solutions; when it is
-    not, the result says so.  Every result carries the rank.
-    """
-    m, n = A.shape
-    s = np.linalg.svd(A, compute_uv=False)
-    r = int(np.sum(s > RANK_RTOL * s[0])) if s[0] > 0 else 0
-    if not np.any(y):
-        return InfNormSolution(np.zeros(n), 0.0, 0.0, True, method, rank=r)
-    if r == m:
-        return dataclasses.replace(solve(A, y), rank=m)
-    U, s, Vt = np.linalg.svd(A, full_matrices=False)
-    outside = float(np.linalg.norm(U[:, r:].T @ y)) / float(np.linalg.norm(y))
-    if outside > INF_NORM_RANGE_RTOL:
-        return InfNormSolution(np.full(n, np.nan), np.nan, np.nan, False, method,
-                               reason=f"y is not in the range of A (rank {r} < {m}): its part "
-                                      f"outside the range is {outside:.1e} of |y|, so no x "
-                                      f"solves A x = y",
-                               rank=r, consistent=False)
-    return dataclasses.replace(solve(s[:r, None] * Vt[:r], U[:, :r].T @ y), rank=r)
 
 
 def _dual_vector(A1, y, m):
@@ -242,8 +145,8 @@ def ha_lee(A, y, *, max_iter: int | None = None) -> InfNormSolution:
     >>> ha_lee([[1, 2, 3], [2, 4, 6]], [1, 0]).consistent
     False
     """
-    A, y = _checked(A, y)
-    return _on_range(A, y, "ha_lee", lambda A, y: _ha_lee(A, y, max_iter))
+    A, y = checked_system(A, y)
+    return on_range(A, y, "ha_lee", lambda A, y: _ha_lee(A, y, max_iter))
 
 
 def _ha_lee(A, y, max_iter):
@@ -282,18 +185,18 @@ def _ha_lee(A, y, max_iter):
         zeros = [sat[i] for i in np.flatnonzero(np.abs(g) <= INF_NORM_ZERO_RTOL)]
         if best is None:
             history.append(dict(free=tuple(free), bound=bound, x1_norm=np.inf, zeros=zeros))
-            return _result(np.full(n, np.nan), bound, False, "ha_lee", it, sat, free, history,
+            return solution(np.full(n, np.nan), bound, False, "ha_lee", it, sat, free, history,
                            "the saturated components give a singular system for every sign choice")
         x, x1n, S = best
         history.append(dict(free=tuple(free), bound=bound, x1_norm=x1n, zeros=zeros))
         if x1n <= (1 + INF_NORM_RTOL) * bound:
-            return _result(x, bound, True, "ha_lee", it, sat, free, history)
+            return solution(x, bound, True, "ha_lee", it, sat, free, history)
         if tuple(free) in seen:
-            return _result(x, bound, False, "ha_lee", it, sat, free, history,
+            return solution(x, bound, False, "ha_lee", it, sat, free, history,
                            f"the column exchange returned to the basis {tuple(free)} (cycling)")
         seen.add(tuple(free))
         free = _exchange(A, u, x, free, sat, S)
-    return _result(x, bound, False, "ha_lee", max_iter, sat, free, history,
+    return solution(x, bound, False, "ha_lee", max_iter, sat, free, history,
                    f"no certified optimum after {max_iter} column exchanges")
 
 
@@ -338,13 +241,6 @@ def _independent(A, cols, scale) -> bool:
     return bool(s[-1] > RANK_RTOL * scale)
 
 
-def _result(x, bound, converged, method, it, sat, free, history, reason=""):
-    return InfNormSolution(x=x, norm=float(np.max(np.abs(x))), bound=float(bound),
-                           converged=converged, method=method, iterations=it,
-                           saturated=tuple(int(j) for j in sat), free=tuple(int(j) for j in free),
-                           reason=reason, history=tuple(history))
-
-
 def linear_program(A, y) -> InfNormSolution:
     """The minimum infinity-norm solution as a linear program (scipy HiGHS).
 
@@ -357,8 +253,8 @@ def linear_program(A, y) -> InfNormSolution:
     >>> round(s.norm, 6), s.converged
     (1.0, True)
     """
-    A, y = _checked(A, y)
-    return _on_range(A, y, "lp", _linear_program)
+    A, y = checked_system(A, y)
+    return on_range(A, y, "lp", _linear_program)
 
 
 def _linear_program(A, y):

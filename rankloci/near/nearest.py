@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..tolerances import DIMENSION_RTOL, DIMENSION_STEP, ON_COMPONENT_RESIDUAL
+from ..tolerances import DIMENSION_RTOL, DIMENSION_STEP, MAX_PROJECTION_STEP, ON_COMPONENT_RESIDUAL
 
 __all__ = ["Nearest", "ComponentDistance", "MAX_PROJECTION_STEP"]
 
@@ -48,12 +48,6 @@ class Nearest:
     distance: float
     point: np.ndarray
     distances: tuple
-
-
-#: Longest step (joint-space norm, radians) of the projection onto a component.  A full
-#: Gauss-Newton step from far away can jump past the nearest zero of a trigonometric
-#: equation to another; short steps follow the descent of the residual to the nearest.
-MAX_PROJECTION_STEP = 0.1
 
 
 def _short_steps(eqs, p, max_iter: int = 200):

@@ -1,6 +1,6 @@
 """Numeric cross-check of a rank-deficiency locus against the SVD of J(q).
 
-:func:`cross_check` tests a :class:`~rankloci.locus.Locus` three ways, with
+:func:`cross_check` tests a :class:`~rankloci.loci.Locus` three ways, with
 J evaluated in double precision (the model's own frame, parameters
 substituted):
 
@@ -251,7 +251,7 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
     Examples
     --------
     >>> from rankloci.io import load_model
-    >>> from rankloci.jacobian import task_matrix
+    >>> from rankloci.jacobians import task_matrix
     >>> from rankloci.methods import compute_locus
     >>> tm = task_matrix(load_model("planar2r"), numeric=True)
     >>> report = cross_check(compute_locus(tm), tm.matrix, tm.variables, angles=tm.angles,
@@ -284,9 +284,6 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
     for i, comp in enumerate(locus.components, start=1):
         tell(f"check: component {i} of {len(locus.components)}")
         eq_text = tuple(sp.sstr(e) for e in comp.equations)
-        if not comp.exists_for_model:
-            skipped.append(eq_text)
-            continue
         ex_text = tuple(sp.sstr(e) for e in comp.excluding)
         eqs = Equations([prepared(e) for e in comp.equations], nm.variables, {},
                          [prepared(e) for e in comp.excluding])
@@ -406,9 +403,9 @@ def render_check_text(report: CheckReport) -> str:
 
 
 def parse_locus(data, model):
-    """A :class:`~rankloci.locus.Locus` from its ``rankloci.locus/1`` or ``/2`` dict, in `model`'s symbols.
+    """A :class:`~rankloci.loci.Locus` from its ``rankloci.locus/1`` or ``/2`` dict, in `model`'s symbols.
 
-    The same as :meth:`Locus.from_dict(data, model) <rankloci.locus.Locus.from_dict>`.
+    The same as :meth:`Locus.from_dict(data, model) <rankloci.loci.Locus.from_dict>`.
 
     Raises
     ------
@@ -416,6 +413,6 @@ def parse_locus(data, model):
         If the schema key is wrong, the variables are not the model's, or an
         equation does not parse over the model's variable and parameter names.
     """
-    from ..locus import Locus
+    from ..loci import Locus
 
     return Locus.from_dict(data, model)

@@ -14,7 +14,9 @@ import numpy as np
 import sympy as sp
 
 from ..expr import as_expression
-from ..tolerances import DIMENSION_RTOL, EXCLUSION_RTOL, ON_COMPONENT_RESIDUAL
+from ..tolerances import (COMPLEX_STEP, DIMENSION_RTOL, EQUATIONS_MAX_TRIES as MAX_TRIES,
+                          EXCLUSION_RTOL, LEAST_SQUARES_TOL, ON_COMPONENT_RESIDUAL, SETTLED_ULPS,
+                          STALL_ITERATIONS)
 from .functions import numpy_function
 
 __all__ = ["NumericMatrix", "Equations", "normalised", "dimension_from_gradient",
@@ -23,15 +25,6 @@ __all__ = ["NumericMatrix", "Equations", "normalised", "dimension_from_gradient"
            "STALL_ITERATIONS", "REFINE_DIGITS", "REFINE_STEPS", "COMPLEX_STEP",
            "ANALYTIC_FUNCTIONS"]
 
-#: Random starts per requested point (root finding, off-locus draws).
-MAX_TRIES = 40
-
-#: Iterations without halving its cost after which a root-finding start above the
-#: acceptance threshold is given up (see :func:`points_on`).  Starts that reach the
-#: component halved their cost at least every 48 iterations (160 starts: xarm7, panda,
-#: centauro's arm, puma560, pa10, mobile10); the others sat at a positive minimum of the
-#: cost (residual ~7e-4) until max_nfev, 1400 evaluations.
-STALL_ITERATIONS = 200
 
 #: Decimal digits and Newton steps of :meth:`Equations.refined`.  Near a point where the
 #: component's equations have a multiple root, double-precision least squares stops at a scaled
@@ -41,19 +34,6 @@ STALL_ITERATIONS = 200
 #: step), so 200 steps bring a start 0.03 rad away from a root of multiplicity up to 8 within
 #: 1e-10 of it; 50 digits keep the residual of such a point (its k-th power) far above rounding.
 REFINE_DIGITS, REFINE_STEPS = 50, 200
-#: The refinement stops once a step moves the double-precision point by at most this many units
-#: in the last place of each coordinate, or of 1 for a coordinate below 1 in size (a joint value
-#: is no finer than that).  A converged point keeps moving by the rounding of the working
-#: precision, which changes the double value of a coordinate at 0: on romeo_laas_small's gripper
-#: chain one point (q6 = 0) took all 200 steps (35 s), moving by 1e-48 after the third, while
-#: the others stopped after 3 to 5.
-SETTLED_ULPS = 4
-
-#: Step of the complex-step derivative Im f(x + i h) / h.  Its error is h^2 |f'''| / 6 relative
-#: to f' and nothing cancels, so any h far below sqrt(machine epsilon) gives f' to rounding;
-#: 1e-30 keeps h^2 below every double's precision while h * f' stays far above the smallest
-#: positive double.
-COMPLEX_STEP = 1e-30
 
 
 #: Functions whose numpy versions are analytic where J is finite, so that the complex step
@@ -506,7 +486,8 @@ def points_on(eqs: Equations, nm: NumericMatrix, rng, n: int) -> list:
     if eqs.empty:
         return list(nm.random_q(rng, n))
     out = []
-    opts = dict(method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15)
+    opts = dict(method="trf", xtol=LEAST_SQUARES_TOL, ftol=LEAST_SQUARES_TOL,
+                gtol=LEAST_SQUARES_TOL)
     on_rows = _batched(lambda X: eqs.batch(X).T)
     for q0 in nm.random_q(rng, MAX_TRIES * n):
         q = least_squares(eqs, q0, max_nfev=200 * len(q0), callback=_stall_guard(),

@@ -3,21 +3,21 @@
 from __future__ import annotations
 
 import numpy as np
+from ..tolerances import (GN_DIFFERENCE_STEP, GN_MAX_ITER, GN_MIN_STEP, GN_RESIDUAL_FLOOR,
+                          GN_STALL_STEPS, LINE_LEVELS)
 
 __all__ = ["gauss_newton", "gauss_newton_rows"]
 
-#: Step lengths of the line search tried per residual call: 1, 1/2, 1/4, 1/8 of the step.
-LINE_LEVELS = 4
 _HALVINGS = 0.5 ** np.arange(LINE_LEVELS)
 
 
-def gauss_newton(residual, x0, *, max_iter: int = 60, h: float = 1e-7):
+def gauss_newton(residual, x0, *, max_iter: int = GN_MAX_ITER, h: float = GN_DIFFERENCE_STEP):
     """:func:`gauss_newton_rows` from one start; returns the final point or None."""
     x = gauss_newton_rows(residual, np.asarray(x0, dtype=float)[None, :], max_iter=max_iter, h=h)[0]
     return x if np.all(np.isfinite(x)) else None
 
 
-def gauss_newton_rows(residual, X0, *, max_iter: int = 60, h: float = 1e-7):
+def gauss_newton_rows(residual, X0, *, max_iter: int = GN_MAX_ITER, h: float = GN_DIFFERENCE_STEP):
     """Minimum-norm Gauss-Newton from several starts at once (the rows of ``X0``).
 
     ``residual`` maps rows of unknowns (shape (B, n)) to rows of residuals,
@@ -25,9 +25,9 @@ def gauss_newton_rows(residual, X0, *, max_iter: int = 60, h: float = 1e-7):
     Jacobians, is evaluated in one call.  Each step solves J dx = -r in the
     least-squares, minimum-norm sense, with step halving while the residual
     grows (LINE_LEVELS halvings evaluated per call).  A start stops when its
-    residual is below 1e-14, when a step cannot reduce it, or when it has not
-    halved in 8 steps (no convergence in sight).  Returns the final rows (NaN
-    where not finite).
+    residual is below GN_RESIDUAL_FLOOR, when a step cannot reduce it, or when
+    it has not halved in GN_STALL_STEPS steps (no convergence in sight).  Returns
+    the final rows (NaN where not finite).
     """
     X = np.array(X0, dtype=float)
     S, n = X.shape
@@ -40,9 +40,9 @@ def gauss_newton_rows(residual, X0, *, max_iter: int = 60, h: float = 1e-7):
     shifts = np.vstack([np.zeros(n), h * np.eye(n)])
     history = [norm.copy()]
     for it in range(max_iter):
-        active &= norm >= 1e-14
-        if it >= 8:
-            active &= norm <= 0.5 * history[it - 8]
+        active &= norm >= GN_RESIDUAL_FLOOR
+        if it >= GN_STALL_STEPS:
+            active &= norm <= 0.5 * history[it - GN_STALL_STEPS]
         if not active.any():
             break
         idx = np.flatnonzero(active)
@@ -67,8 +67,8 @@ def gauss_newton_rows(residual, X0, *, max_iter: int = 60, h: float = 1e-7):
             Xn = X[idx[k], None, :] + scales[:, :, None] * dX[k, None, :]
             Rn = residual(Xn.reshape(-1, n)).reshape(len(k), LINE_LEVELS, -1)
             nn = np.linalg.norm(Rn, axis=2)
-            # steps of 1e-4 and below are not tried (the row is stuck)
-            better = np.isfinite(nn) & (nn < norm[idx[k], None]) & (scales > 1e-4)
+            # steps of GN_MIN_STEP and below are not tried (the row is stuck)
+            better = np.isfinite(nn) & (nn < norm[idx[k], None]) & (scales > GN_MIN_STEP)
             # the first (longest) improving step of each row, as sequential halving takes it
             first = np.argmax(better, axis=1)
             won = better[np.arange(len(k)), first]
@@ -79,7 +79,7 @@ def gauss_newton_rows(residual, X0, *, max_iter: int = 60, h: float = 1e-7):
             pending[kw] = False
             lost = k[~won]
             step[lost] *= _HALVINGS[-1] / 2
-            stuck = lost[step[lost] <= 1e-4]
+            stuck = lost[step[lost] <= GN_MIN_STEP]
             pending[stuck] = False
             active[idx[stuck]] = False
         history.append(norm.copy())

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..tolerances import RANK_RTOL
+from ..tolerances import GRAM_SCREEN, RANK_RTOL
 
 __all__ = ["sigma_ratio", "numeric_rank_drop", "rank_deficient", "GRAM_SCREEN"]
 
@@ -41,13 +41,6 @@ def numeric_rank_drop(J, rtol: float = RANK_RTOL) -> np.ndarray:
     """
     s = np.linalg.svd(np.asarray(J, dtype=float), compute_uv=False)
     return np.sum(s <= rtol * s[..., :1], axis=-1)
-
-
-#: Screening threshold on (sigma_min/sigma_max)**2 from the Gram matrix.  Its
-#: eigenvalues carry an absolute error of a few eps * sigma_max**2, i.e. the
-#: squared ratio is known to ~1e-15; above 1e-10 (ratio above 1e-5, three
-#: orders over RANK_RTOL) the matrix is certainly of full rank.
-GRAM_SCREEN = 1e-10
 
 
 def rank_deficient(J, rtol: float = RANK_RTOL) -> np.ndarray:

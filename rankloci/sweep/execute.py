@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import functools
 
+from ..errors import RanklociError
 from .cases import expected_cost
 from .task import run_case
 
@@ -78,7 +79,7 @@ DASK_CONFIG = {
 }
 
 
-class SetupError(Exception):
+class SetupError(RanklociError):
     """The cluster cannot run the sweep (no worker, a worker without rankloci, ...)."""
 
 
@@ -135,7 +136,7 @@ def worker_info() -> dict:
     import os
     import socket
 
-    from .. import __version__
+    from ..version import __version__
 
     return {"version": __version__, "digest": package_digest(), "host": socket.gethostname(),
             "pid": os.getpid(),
@@ -286,7 +287,7 @@ class DaskExecutor:
         :func:`package_digest`), as a non-daemon process; when workers declare the
         ``MEMORY`` resource, one must offer ``memory`` MiB (a case's limit).
         """
-        from .. import __version__
+        from ..version import __version__
 
         try:
             self.client.wait_for_workers(1, timeout=self.connect_timeout)

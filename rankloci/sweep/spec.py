@@ -343,7 +343,7 @@ def parse_spec(text: str, *, base: Path | str = ".", file: str = "") -> SweepSpe
     >>> spec.entries[0].name, spec.timeout, spec.entries[0].grid.parameters[0][1]
     ('planar3r', 30.0, (('0.5', 1/2), ('1', 1), ('1.5', 3/2)))
     """
-    from ..cli.limits import MAX_MEMORY_MB, MAX_TIMEOUT_S
+    from ..process_limits import MAX_MEMORY_MB, MAX_TIMEOUT_S
 
     base = Path(base)
     if len(text) > MAX_SPEC_BYTES:

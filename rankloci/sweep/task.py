@@ -4,7 +4,7 @@
 (:func:`rankloci.api.calls.model_locus` with ``--frame auto``, the self-check
 unless the spec turns it off) in a forked
 child under the time and memory limits of
-:func:`rankloci.cli.limits.run_limited`, so a case that runs out of either
+:func:`rankloci.process_limits.run_limited`, so a case that runs out of either
 ends as a record saying so, and the worker goes on with the next case.
 It returns the case's record: a JSON-ready dict with the locus (or None) and
 the row of the summary.  It raises nothing for a failed case: running out of
@@ -64,7 +64,7 @@ def _work(case, text, timeout):
         from ..api.calls import model_locus
         from ..augmented import parse_augment
         from ..errors import LocusError
-        from ..jacobian import task_matrix
+        from ..jacobians import task_matrix
         from ..methods import method_for
 
         model = _model(case, text)
@@ -99,7 +99,7 @@ def _preload() -> None:
     afresh in every child (about a second per case); loaded once in the worker, the
     children share them.
     """
-    from .. import augmented, jacobian, methods, verify  # noqa: F401
+    from .. import augmented, jacobians, methods, verify  # noqa: F401
     from ..api import calls  # noqa: F401
     from ..io import toml_model, urdf  # noqa: F401
     from ..numeric import crosscheck  # noqa: F401
@@ -143,7 +143,7 @@ def run_case(case, text: str | None, *, timeout: float, memory: int) -> dict:
         Seconds for the whole case (0: none); the child is killed one second after.
     memory : int
         Limit of the child's own memory in MiB (0: none): the pages it does not share
-        with the worker that forked it (:func:`rankloci.cli.limits.own_memory_mib`), the
+        with the worker that forked it (:func:`rankloci.process_limits.own_memory_mib`), the
         same whatever process runs the case.
 
     Returns
@@ -154,7 +154,7 @@ def run_case(case, text: str | None, *, timeout: float, memory: int) -> dict:
         seconds the case took and the largest own memory read while it ran
         (``peak_mib``, MiB; None without a memory limit).
     """
-    from ..cli.limits import ChildFailed, LimitExceeded, run_limited
+    from ..process_limits import ChildFailed, LimitExceeded, run_limited
     from ..errors import LocusTimeout, RanklociError
 
     if case.problem:

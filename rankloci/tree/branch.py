@@ -21,17 +21,9 @@ import functools
 from dataclasses import dataclass
 
 from ..algebra import PolyRing, TermLimit
+from ..tolerances import PAIR_MAX_TERMS
 
 __all__ = ["Branch", "Substitution", "SubstitutedMatrices", "solve_condition", "apply_substitution"]
-
-#: A condition a*C + b*S whose a and b have more terms than this together stays an implicit
-#: equation instead of becoming the substitution (C, S) ~ (b, -a).  Substituting multiplies an
-#: entry of degree d in the pair by about (terms of a and b)**d: on panda's finger chain a
-#: 39 + 51 term pair gave entries of about 1100 terms and one 5 x 5 minor of 443072 terms (23 s
-#: of the chain's 94 s); with that condition implicit the chain takes 49 s.  alex's arms (pairs
-#: of 110 and 201 terms) went from over 300 s to 45-53 s.  The pairs on tiago's, PR2's and
-#: human's 8-9 joint chains have at most 30 terms.
-PAIR_MAX_TERMS = 60
 
 
 @dataclass(frozen=True)

@@ -33,47 +33,12 @@ import flint
 import numpy as np
 
 from ..algebra import PolyRing
-from ..tolerances import EXCLUSION_CERTIFY_RTOL, EXCLUSION_RTOL, ROOT_XTOL
+from ..tolerances import (BOX_RTOL, EXCLUSION_CERTIFY_RTOL, EXCLUSION_RTOL, FLOAT_NEWTON_SETTLED,
+                          FLOAT_NEWTON_STEPS, FLOAT_SINGULAR_COND, NEWTON_SETTLED, NEWTON_STEPS,
+                          PIVOT_CHOICES, PIVOT_RTOL, PRECISION_BITS, ROOT_XTOL)
 from .branch import Branch
 
 __all__ = ["certified_point", "admitted_near", "at_dyadic"]
-
-#: Working precision of the ball arithmetic: coefficients of several hundred digits are exact
-#: balls, and 256 bits leave ~70 digits after cancellations of one part in 1e6 and more.
-PRECISION_BITS = 256
-#: Newton steps in doubles from a start 1e-3 off the equations (admitted_near), to within
-#: rounding of the zero.
-FLOAT_NEWTON_STEPS = 8
-#: ... and stops earlier once every equation is below this relative to the size of its terms:
-#: rounding in doubles (a few terms' worth of 1.1e-16), far within ROOT_XTOL, and the
-#: refinement in PRECISION_BITS takes over from there.
-FLOAT_NEWTON_SETTLED = 1e-15
-#: Then at most this many refinement steps in ``PRECISION_BITS``-bit arithmetic: the residual F
-#: exact at the point, its Jacobian in doubles (mixed-precision refinement).  Each step gains
-#: about 53 - log2(cond) bits, so from the double zero two or three steps reach NEWTON_SETTLED;
-#: the rest is margin for ill-conditioned pivots.
-NEWTON_STEPS = 6
-#: The refinement stops once a step is below this relative to max(1, |pivot|): the Krawczyk
-#: box (BOX_RTOL) is then 2**20 times the distance left to the zero.
-NEWTON_SETTLED = 2.0 ** -120
-#: Radius of the Krawczyk box, relative to max(1, |pivot|): far above the Newton residual
-#: (NEWTON_SETTLED), far below any distance at which two zeros of a regular system could be told
-#: apart in double precision.
-BOX_RTOL = 2.0 ** -100
-#: Krawczyk's test is not attempted when the double Jacobian at the zero found in doubles, or at
-#: the refined zero, has a condition number (max-row-sum norms) above this: a zero on a piece of
-#: the system of excess dimension, whose Jacobian is singular there.  The double condition number
-#: saturates near 1e16 on a singular Jacobian; the test needs the double inverse to be a good
-#: one, and J to vary little over the box.  Measured with the test run in ball arithmetic up to
-#: 1e30: every passed test had a condition number below 1e12 (49 on panda's finger chain, 1295 on
-#: tiago's arm), while 370 of panda's 442 failed ones were above 1e27 (most 1e72 to 1e84).
-#: Skipping the test decides nothing: the point stays unproved, as a failed test leaves it.
-FLOAT_SINGULAR_COND = 1e14
-#: Pivot columns whose smallest singular value is below this times the largest are no chart
-#: of the branch at the point (a point where components meet); the point stays undecided.
-PIVOT_RTOL = 1e-12
-#: Choices of pivots tried from one start by :func:`admitted_near`.
-PIVOT_CHOICES = 6
 
 
 def certified_point(ring: PolyRing, branch: Branch, g: np.ndarray, movable,

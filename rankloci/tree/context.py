@@ -10,6 +10,8 @@ in :mod:`.prune`.
 
 from __future__ import annotations
 
+import types
+
 import networkx as nx
 import numpy as np
 import sympy as sp
@@ -17,7 +19,7 @@ import sympy as sp
 from ..algebra import PolyMemo, PolyRing, circle_free_det, irreducible_factors
 from ..algebra.ring import square_root_primes
 from ..errors import LocusError, LocusTimeout
-from ..locus import Outcome
+from ..loci import Outcome, dimension_bound
 from . import cover, prune, reducible
 from .branch import Branch, SubstitutedMatrices
 from .modular import ModularProbe
@@ -90,19 +92,86 @@ class Context:
         self._labels = PolyMemo(MEMO_MAX_TERMS)
         self.tree = nx.DiGraph()
         self.leaves: list[tuple[Branch, int]] = []
+        # The state below changes only through the methods of this class (note,
+        # set_exclusions, add_exclusions, count_repaired, symbolic_direction, resume); the
+        # other modules read it.
         #: branch key -> polynomials a component of that leaf is reported without (see
         #: .reducible: its equations also hold, with J regular, where a substitution degenerates)
-        self.exceptional_exclusions: dict = {}
-        self.notes: list[str] = []
+        self._exclusions: dict = {}
+        self._notes: list[str] = []
         #: leaves changed by hints (see .reducible.repair_leaves), over every round of them
-        self.repaired = 0
+        self._repaired = 0
         #: (leaf key, rank drop) -> the symbolic lost directions of its component (finalize)
-        self.directions: dict = {}
+        self._directions: dict = {}
+        self._listen(progress, should_stop)
+
+    def _listen(self, progress, should_stop):
         self.progress = progress or (lambda msg: None)
         #: whether messages are read: a message that prints a leaf's conditions costs as much
         #: as the rest of the leaf's bookkeeping where they have thousands of terms
         self.reporting = progress is not None
         self.should_stop = should_stop or (lambda: False)
+
+    # --- the state other modules change through these methods ----------------------------
+
+    @property
+    def notes(self) -> tuple:
+        """What the computation has to say about its result, in order."""
+        return tuple(self._notes)
+
+    def note(self, text: str) -> None:
+        """Add a note."""
+        self._notes.append(text)
+
+    @property
+    def exceptional_exclusions(self) -> types.MappingProxyType:
+        """Branch key -> the polynomials a component of that leaf is reported without."""
+        return types.MappingProxyType(self._exclusions)
+
+    def set_exclusions(self, branch: Branch, polys) -> None:
+        """The exclusions of ``branch``'s component are ``polys`` (those kept before go)."""
+        self._exclusions[branch.key] = list(polys)
+
+    def add_exclusions(self, branch: Branch, polys) -> list:
+        """Add to the exclusions of ``branch``'s component those of ``polys`` not among them;
+        returns those added."""
+        kept = self._exclusions.setdefault(branch.key, [])
+        new = [f for f in polys if not any(f == k for k in kept)]
+        kept.extend(new)
+        return new
+
+    @property
+    def repaired(self) -> int:
+        """Leaves changed by hints, over every round of them."""
+        return self._repaired
+
+    def count_repaired(self, n: int) -> int:
+        """Count ``n`` more leaves changed by hints; returns the total."""
+        self._repaired += n
+        return self._repaired
+
+    def symbolic_direction(self, key, make):
+        """The lost directions kept under ``key`` (leaf key, rank drop), made by ``make()`` the
+        first time: a computation resumed with hints finalises the same leaves again."""
+        if key not in self._directions:
+            self._directions[key] = make()
+        return self._directions[key]
+
+    def replace_leaf(self, branch: Branch, node: int, split) -> bool:
+        """Take the leaf ``(branch, node)`` out and call ``split()``, which records its pieces;
+        when that returns False the leaf goes back in its place.  Returns what it returned."""
+        at = next(i for i, (b, n) in enumerate(self.leaves) if b is branch and n == node)
+        del self.leaves[at]
+        if split():
+            return True
+        self.leaves.insert(at, (branch, node))
+        return False
+
+    def resume(self, *, progress=None, should_stop=None, notes_kept: int) -> None:
+        """Take the computation up again with new listeners, keeping its first ``notes_kept``
+        notes (those of a later finalisation are written again)."""
+        del self._notes[notes_kept:]
+        self._listen(progress, should_stop)
 
     @property
     def full_rank(self) -> int:
@@ -218,7 +287,6 @@ class Context:
         :func:`rankloci.verify.dimension_bound` for rank drop 1, which bounds every
         component whatever its rank drop.
         """
-        from ..verify import dimension_bound
 
         joints = self.ring.n_angles + len(self.ring.others)
         return dimension_bound((len(self.M), len(self.M[0])), joints, 1)
@@ -385,15 +453,15 @@ class Context:
         text = sp.sstr(self.ring.to_sympy(f))
         vals = self.model_point()
         if any(n.startswith((f"the model's parameter values satisfy {text} = 0",
-                             f"for parameters with {text} = 0")) for n in self.notes):
+                             f"for parameters with {text} = 0")) for n in self._notes):
             return
         if self.probe.vanishes(f, [vals]):
             note = (f"the model's parameter values satisfy {text} = 0, a special case of the "
                     f"symbolic analysis ({where}); rerun with --numeric")
         else:
             note = f"for parameters with {text} = 0 the analysis differs ({where}); not pursued"
-        if note not in self.notes:
-            self.notes.append(note)
+        if note not in self._notes:
+            self._notes.append(note)
 
 
 def _generic_value(value: float, rng) -> float:

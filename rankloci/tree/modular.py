@@ -32,22 +32,10 @@ import numpy as np
 
 from ..algebra import PolyRing
 from .branch import Branch
+from ..tolerances import (MODULAR_MAX_IMPLICIT as MAX_IMPLICIT, MODULAR_MISSES as MISSES,
+                          MODULAR_POINTS as POINTS, MODULAR_PRIMES as PRIMES, PRIME_BITS)
 
 __all__ = ["ModularProbe", "block_rank", "evaluate", "prime_with_roots"]
-
-#: Random points per branch; the rank is the largest over them (a rank mod P can only drop,
-#: and a branch cut by several equations can consist of pieces of different rank).
-POINTS = 3
-#: Branches with more implicit equations are left to the numeric probes.
-MAX_IMPLICIT = 3
-#: Failed attempts at one prime before the next, and primes tried before a branch is left to
-#: the numeric probes: a random univariate polynomial mod P has a root with probability ~0.63,
-#: a quadratic with a non-square discriminant has roots for half of the primes.
-MISSES = 4
-PRIMES = 8
-#: Primes are drawn from [2**61, 2**62): word-sized for GF(P) matrices, and large enough that
-#: an unlucky point (Schwartz-Zippel) has probability below 1e-15.
-PRIME_BITS = 61
 
 
 def prime_with_roots(rng, surds, bits: int, tries: int = 200):

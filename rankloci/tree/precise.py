@@ -36,6 +36,7 @@ from ..algebra import PolyRing
 from ..numeric.equations import minimum_norm_step
 from .branch import Branch
 from .certify import at_dyadic
+from ..tolerances import PRECISE_MAX_TERMS, PRECISE_STEPS
 
 __all__ = ["PreciseProbe"]
 
@@ -223,14 +224,6 @@ class PreciseProbe:
 
         r = self.ratio(branch, g)
         return None if r is None else r <= PRECISE_SINGULAR_RTOL
-
-
-#: Terms of a branch's conditions above which its points are not refined: each Gauss-Newton
-#: step evaluates the conditions and their gradients exactly, and leaves of 8- and 9-joint
-#: chains have conditions of thousands of terms.
-PRECISE_MAX_TERMS = 2000
-#: Gauss-Newton steps before a refinement that has not converged is given up.
-PRECISE_STEPS = 30
 
 
 def _det(B):

@@ -20,8 +20,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..algebra import transpose
-from ..locus import Outcome
+from ..loci import Outcome
 from .probe import numeric_rank, scaled_ratio
+from ..tolerances import (BISECT_LEVELS, LEAF_POINTS, MINOR_CANDIDATES, SCAN_GRID,
+                          SPECIAL_PARTIAL_ROWS, SPECIAL_POINTS, SPECIAL_SOLVES, SPECIAL_SOLVE_ROWS,
+                          SPECIAL_STARTS)
 
 if TYPE_CHECKING:
     from .branch import Branch
@@ -29,28 +32,6 @@ if TYPE_CHECKING:
 
 __all__ = ["LEAF_POINTS", "ranked_points", "refine_leaves", "repair_leaves", "special_points",
            "special_solved_points", "split_on_minor"]
-
-#: Points sampled on a leaf before it is recorded.  The sampler's first three points decide
-#: the rank of a branch; a regular piece of a reducible leaf attracted 1 to 3 of 5 random solves
-#: on PR2's arm chains, so twelve miss it with probability below 0.8**12 = 7e-2 each, and the
-#: leaves found on those chains are all caught (PR2's finger chain in tests/io/test_corpus.py;
-#: tests/tree/test_reducible.py has a matrix of its own).
-LEAF_POINTS = 12
-#: Starts with angles at multiples of pi/2 screened for exact points of a leaf (one batch
-#: evaluation): a piece that fixes k angles at one of two values each is hit by about
-#: SPECIAL_STARTS / 4**k of them, 8 for k = 4.
-SPECIAL_STARTS = 2048
-#: Of those exact points, at most this many have their rank tested.
-SPECIAL_POINTS = 64
-#: Regular blocks whose determinants are compared; the one with fewest terms splits the branch.
-MINOR_CANDIDATES = 3
-#: Groups of special starts at which some of a leaf's equations vanish exactly, and not all,
-#: solved for the rest with their angles at multiples of pi/2 held (see special_solved_points),
-#: and starts solved per group.
-SPECIAL_SOLVES = 8
-SPECIAL_SOLVE_ROWS = 2
-#: Of the special starts at which some equations vanish, those whose held angles are sought.
-SPECIAL_PARTIAL_ROWS = 64
 
 
 def ranked_points(ctx: "Context", branch: "Branch") -> tuple[list, list, bool]:
@@ -88,7 +69,7 @@ def ranked_points(ctx: "Context", branch: "Branch") -> tuple[list, list, bool]:
     degenerate = _degenerate_pairs(ctx, branch, pts)
     excl = _exceptional_exclusions(ctx, branch, pts, degenerate)
     if excl:
-        ctx.exceptional_exclusions[branch.key] = excl
+        ctx.set_exclusions(branch, excl)
     # the sampled points (not the exact special ones) that double precision does not show
     # regular are decided in extended precision, where the branch is small enough
     precise = ctx.precise.affordable(branch)
@@ -236,12 +217,6 @@ def _scan(ctx, branch, angles, others, params) -> list:
                 continue
         out.append(G[0])
     return out
-
-
-#: Values of one unknown at which an equation is evaluated in search of sign changes.
-SCAN_GRID = 256
-#: Bisection steps of a line solve decided by one evaluation (of 2**BISECT_LEVELS - 1 points).
-BISECT_LEVELS = 3
 
 
 def _solve_on_line(sampler, branch, angles, others, params, ev, x, k, is_angle, rng):
@@ -420,22 +395,18 @@ def _keep_exceptional_exclusions(ctx: "Context", branch: "Branch") -> None:
     # _exceptional_exclusions looks only at the points where the matrix is regular
     found = _exceptional_exclusions(ctx, branch, pts, _degenerate_pairs(ctx, branch, pts))
     own = ctx.sampler.points(branch)
-    kept = ctx.exceptional_exclusions.setdefault(branch.key, [])
+    fresh = []
     for f in found:
-        if ctx.probe.vanishing([f], own).any() or any(f == k for k in kept):
-            continue
-        kept.append(f)
+        if not ctx.probe.vanishing([f], own).any() and not any(f == k for k in fresh):
+            fresh.append(f)
+    ctx.add_exclusions(branch, fresh)
 
 
 def _split_leaf(ctx: "Context", branch: "Branch", node: int, regular) -> bool:
     """Replace the recorded leaf ``branch`` by its pieces (:func:`split_on_minor` at the
     ``regular`` points); it stays, in its place, when the minor vanishes on it."""
-    at = next(i for i, (b, n) in enumerate(ctx.leaves) if b is branch and n == node)
-    del ctx.leaves[at]
-    if split_on_minor(ctx, branch, node, regular, ctx.tree.nodes[node]["outcome"]):
-        return True
-    ctx.leaves.insert(at, (branch, node))
-    return False
+    return ctx.replace_leaf(branch, node, lambda: split_on_minor(
+        ctx, branch, node, regular, ctx.tree.nodes[node]["outcome"]))
 
 
 def repair_leaves(ctx: "Context", hints) -> int:
@@ -475,10 +446,7 @@ def repair_leaves(ctx: "Context", hints) -> int:
             if not vanishing and degenerate.any():
                 vanishing = _exceptional_exclusions(ctx, branch, [g], degenerate)
             if vanishing:
-                kept = ctx.exceptional_exclusions.setdefault(branch.key, [])
-                new = [f for f in vanishing if not any(f == k for k in kept)]
-                kept.extend(new)
-                changed += bool(new)
+                changed += bool(ctx.add_exclusions(branch, vanishing))
                 continue
             if not degenerate.any():
                 changed += _split_leaf(ctx, branch, node, [g])
@@ -633,7 +601,7 @@ def _minor(ctx: "Context", branch: "Branch", M, points):
     regular blocks (smallest entries first, the fewest determinant terms wins).
     """
     from ..errors import LocusError
-    from ..methods.blocks import choose_columns     # methods builds on tree: imported late
+    from .blocks import choose_columns
 
     try:
         return choose_columns(ctx, M, points, MINOR_CANDIDATES)[1]

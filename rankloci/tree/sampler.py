@@ -23,12 +23,9 @@ from ..algebra import PolyRing
 from ..numeric.gauss_newton import gauss_newton_rows
 from .branch import Branch
 from .certify import certified_point
+from ..tolerances import CERTIFY_ROWS
 
 __all__ = ["BranchSampler"]
-
-#: Rows of one batch whose tiny exclusion is put to the proof of .certify: a branch needs a
-#: few points, and a row in an excluded set costs a failed proof.
-CERTIFY_ROWS = 4
 
 
 @dataclass

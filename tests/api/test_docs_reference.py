@@ -41,9 +41,9 @@ def _resolve(dotted: str):
 def test_the_directive_pattern_reads_both_markups(tmp_path):
     (tmp_path / "a.rst").write_text(".. autofunction:: rankloci.api.locus\n\n"
                                     ".. data:: rankloci.__version__\n")
-    (tmp_path / "b.md").write_text("```{autoclass} rankloci.locus.Locus\n```\n")
+    (tmp_path / "b.md").write_text("```{autoclass} rankloci.loci.Locus\n```\n")
     assert documented_targets(tmp_path) == {"rankloci.api.locus", "rankloci.__version__",
-                                            "rankloci.locus.Locus"}
+                                            "rankloci.loci.Locus"}
 
 
 def test_every_public_name_is_in_the_api_reference():

@@ -243,7 +243,7 @@ def test_time_running_out_while_recomputing_is_a_timeout_not_a_rejection():
 
     import numpy as np
 
-    from rankloci.jacobian import task_matrix
+    from rankloci.jacobians import task_matrix
     from rankloci.methods import compute_locus, method_for
     from rankloci.verify import verified_locus
 

@@ -11,7 +11,7 @@ import sympy as sp
 
 import rankloci
 from rankloci.errors import ModelError
-from rankloci.locus import Component, Locus
+from rankloci.loci import Component, Locus
 
 X, Y = sp.symbols("x y", real=True)
 

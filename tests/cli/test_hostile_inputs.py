@@ -627,7 +627,7 @@ def test_the_kill_counts_from_the_given_start_not_from_the_childs():
     ended up to 4.8 s past --timeout."""
     import time
 
-    from rankloci.cli.limits import KILL_GRACE, LimitExceeded, run_limited
+    from rankloci.process_limits import KILL_GRACE, LimitExceeded, run_limited
 
     t0 = time.monotonic()
     with pytest.raises(LimitExceeded, match="did not finish within 4 s"):
@@ -642,7 +642,7 @@ def test_the_process_start_is_before_its_imports():
     import sys
 
     code = ("import time; t = time.monotonic(); time.sleep(0.5)\n"
-            "from rankloci.cli.limits import process_started\n"
+            "from rankloci.process_limits import process_started\n"
             "print(t - process_started(), time.monotonic() - process_started())")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          timeout=120, check=True).stdout.split()
@@ -721,7 +721,7 @@ def _killed_from_outside(progress):
 
 
 def test_a_child_killed_from_outside_is_not_called_out_of_memory():
-    from rankloci.cli.limits import LimitExceeded, run_limited
+    from rankloci.process_limits import LimitExceeded, run_limited
 
     with pytest.raises(LimitExceeded) as err:
         run_limited(_killed_from_outside, timeout=60, memory_mb=4096)
@@ -734,10 +734,10 @@ def test_a_check_out_of_time_says_what_stopped_in_plain_words(capsys, monkeypatc
     """It said "the check the svm computation did not finish ..."."""
     import itertools
 
-    import rankloci.cli.commands
+    import rankloci.cli.running
 
     ticks = itertools.count(0.0, 1000.0)       # every budget is spent at the first poll
-    monkeypatch.setattr(rankloci.cli.commands, "deadline_clock", lambda: next(ticks))
+    monkeypatch.setattr(rankloci.cli.running, "deadline_clock", lambda: next(ticks))
     assert main(["check", "planar3r", "--timeout", "600", "--quiet"]) == 1
     err = capsys.readouterr().err
     assert len(err.splitlines()) == 1 and "Traceback" not in err

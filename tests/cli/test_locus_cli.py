@@ -154,10 +154,10 @@ def jumping_clock(monkeypatch):
     finds any budget under 1000 s spent, however fast the machine."""
     import itertools
 
-    import rankloci.cli.commands
+    import rankloci.cli.running
 
     ticks = itertools.count(0.0, 1000.0)
-    monkeypatch.setattr(rankloci.cli.commands, "deadline_clock", lambda: next(ticks))
+    monkeypatch.setattr(rankloci.cli.running, "deadline_clock", lambda: next(ticks))
 
 
 def test_timeout_exits_1(capsys, jumping_clock):

@@ -23,7 +23,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import rankloci
-from rankloci.locus import Component
+from rankloci.loci import Component
 
 a, x = sp.symbols("a x", real=True)
 C, S, z, w = sp.symbols("C S z w")

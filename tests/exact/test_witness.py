@@ -17,8 +17,8 @@ import rankloci
 from rankloci.certify import certify_locus
 from rankloci.cli import main
 from rankloci.exact.witness import Certificate, certify_components
-from rankloci.jacobian import task_matrix
-from rankloci.locus import Component
+from rankloci.jacobians import task_matrix
+from rankloci.loci import Component
 
 q1, q2, q3, q4 = sp.symbols("q1 q2 q3 q4", real=True)
 x, y, t = sp.symbols("x y t", real=True)
@@ -211,7 +211,7 @@ def test_certify_locus_substitutes_the_models_parameter_values():
 
 def test_every_command_shows_the_locus_rankloci_locus_certified():
     from rankloci.api.calls import certified_locus, check
-    from rankloci.near.api import nearest_component
+    from rankloci.api.near import nearest_component
 
     model = rankloci.load_model("planar2r")
     shown = rankloci.locus(model)

@@ -292,7 +292,7 @@ def test_reference_jacobian_of_a_leader_off_the_chain_is_pinocchios_mimic_column
 @pytest.fixture(scope="module")
 def ur5_case(robots, chains):
     from rankloci.io import load_model
-    from rankloci.jacobian import task_matrix
+    from rankloci.jacobians import task_matrix
     from rankloci.methods import compute_locus, method_for
 
     chain = chains[("ur_description/urdf/ur5_robot.urdf", "wrist_3_link")]
@@ -322,7 +322,7 @@ def test_grading_rejects_a_locus_without_one_component(ur5_case, dropped):
 
 
 def test_grading_rejects_a_spurious_component(ur5_case):
-    from rankloci.locus import Component
+    from rankloci.loci import Component
 
     _, _, model, tm, locus, ref = ur5_case
     q1 = tm.variables[0]
@@ -376,7 +376,7 @@ def test_mapping_to_the_base_frame_equals_the_base_frame_jacobian(robots, chains
     a1's leg: position rows in the middle frame) to the base frame about the tool numerically;
     it equals rankloci's symbolic Jacobian in the base frame about the tool."""
     from rankloci.io import load_model
-    from rankloci.jacobian import task_matrix
+    from rankloci.jacobians import task_matrix
     from rankloci.numeric.equations import NumericMatrix
 
     chain = chains[(file, tip)]

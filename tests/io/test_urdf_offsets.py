@@ -17,7 +17,7 @@ import pytest
 import sympy as sp
 
 from rankloci.io import load_model
-from rankloci.jacobian import task_matrix
+from rankloci.jacobians import task_matrix
 
 JOINT = ('<joint name="j{k}" type="revolute"><parent link="link_{p}"/><child link="link_{k}"/>'
          '<origin rpy="0 0 0" xyz="{xyz}"/><axis xyz="{axis}"/>'
@@ -63,7 +63,7 @@ def test_offset_arm_locus_is_certified_complete_with_the_offset_component(urdf, 
     # Pinocchio-free check: points of the offset component, q2 = atan(1/1600) and
     # q4 = atan(1/800) whatever the other joints, are singular and on the locus; with either
     # sign flipped they are regular and off it
-    from rankloci.locus_dict import parse_locus_dict
+    from rankloci.loci import parse_locus_dict
 
     model = load_model(str(urdf), tip="link_7")
     locus = parse_locus_dict(out, model)
@@ -118,7 +118,7 @@ def _straight_elbow(tm):
 
 def test_the_check_rejects_a_nearly_singular_component(urdf):
     """Double precision calls the widened straight elbow singular; 50 and 100 digits do not."""
-    from rankloci.locus import Component, Locus
+    from rankloci.loci import Component, Locus
     from rankloci.numeric.crosscheck import cross_check, render_check_text
     from rankloci.tolerances import ON_LOCUS_RTOL
 

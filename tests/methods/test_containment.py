@@ -20,7 +20,7 @@ ON_RTOL = 1e-9
 @pytest.mark.parametrize("task", ["position"])
 def test_ur5_position_components_are_not_inside_each_other(task):
     from rankloci.io import load_model
-    from rankloci.jacobian import task_matrix
+    from rankloci.jacobians import task_matrix
     from rankloci.methods import compute_locus, method_for
 
     tm = task_matrix(load_model("ur5"), task=task, frame="auto", numeric=True)

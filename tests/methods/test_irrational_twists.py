@@ -17,7 +17,7 @@ import sympy as sp
 from rankloci.algebra import PolyRing, irreducible_factors, laplace_det
 from rankloci.algebra.ring import square_root_primes
 from rankloci.io.toml_model import parse_model
-from rankloci.jacobian import task_matrix
+from rankloci.jacobians import task_matrix
 from rankloci.methods import compute_locus, method_for
 from rankloci.numeric.crosscheck import cross_check
 

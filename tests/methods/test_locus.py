@@ -18,7 +18,7 @@ import sympy as sp
 
 import locus_helpers as H
 from rankloci.io import load_model
-from rankloci.jacobian import task_matrix
+from rankloci.jacobians import task_matrix
 from rankloci.methods import compute_locus
 from rankloci.tolerances import RANK_RTOL, ZERO_RTOL
 

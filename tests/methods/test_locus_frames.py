@@ -7,7 +7,7 @@ import sympy as sp
 
 from rankloci.directions import directions_in_model_frame
 from rankloci.io import load_model
-from rankloci.jacobian import task_matrix
+from rankloci.jacobians import task_matrix
 from rankloci.methods import compute_locus
 from rankloci.tolerances import RANK_RTOL
 

@@ -27,7 +27,7 @@ from scipy.optimize import least_squares
 
 import locus_helpers as H
 from rankloci.io.toml_model import read_model
-from rankloci.jacobian import task_matrix
+from rankloci.jacobians import task_matrix
 from rankloci.methods import compute_locus
 from rankloci.numeric.equations import NumericMatrix, descend_to_singular
 from rankloci.tolerances import COVER_DISTANCE, COVER_RESIDUAL, PROBE_DESCENT_RTOL, RANK_RTOL

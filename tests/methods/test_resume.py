@@ -15,7 +15,7 @@ import pytest
 import sympy as sp
 
 from rankloci.io.toml_model import parse_model
-from rankloci.jacobian import task_matrix
+from rankloci.jacobians import task_matrix
 from rankloci.methods import compute_locus, singular_vector
 
 RAW = 'variables = ["x", "y", "z"]\nmatrix = [["sin(x)", "sin(y) + sin(x)*cos(z)"]]\n'

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from rankloci.io.toml_model import read_model
-from rankloci.jacobian import task_matrix
+from rankloci.jacobians import task_matrix
 from rankloci.methods import compute_locus, method_for
 from rankloci.verify import dimension_findings, verified_locus
 

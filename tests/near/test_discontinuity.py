@@ -107,7 +107,7 @@ def test_planar4r_line_gravagnes_index_falls_where_ha_and_lees_does_not(planar4r
 
 def test_planar4r_rates_blow_up_and_the_index_drops_near_the_locus(planar4r):
     """Radially outward to 3.999 of the reach 4: the arm nears sin q2 = sin q3 = sin q4 = 0."""
-    from rankloci.jacobian import task_matrix
+    from rankloci.jacobians import task_matrix
     from rankloci.methods import compute_locus, method_for
     from rankloci.near.nearest import ComponentDistance
 

@@ -13,8 +13,8 @@ import pytest
 import sympy as sp
 
 from rankloci.io import load_model
-from rankloci.locus import Component
-from rankloci.jacobian import task_matrix
+from rankloci.loci import Component
+from rankloci.jacobians import task_matrix
 from rankloci.methods import compute_locus
 from rankloci.numeric.crosscheck import cross_check, parse_locus, render_check_text
 from rankloci.numeric.minors import relative_max_minor

@@ -13,7 +13,7 @@ import pytest
 from rankloci.exact import singular
 from rankloci.exact.singular import MAX_ANGLES, singular_available, singular_cross_check
 from rankloci.io import load_model
-from rankloci.jacobian import task_matrix
+from rankloci.jacobians import task_matrix
 from rankloci.methods import compute_locus
 
 SEED = 4

@@ -16,8 +16,8 @@ import sympy as sp
 
 from rankloci.io import load_model
 from rankloci.report import FORMATS, build_report, write_report
-from rankloci.report.html import KATEX_VERSION, blocks_html, render_html, view_data
-from rankloci.report.mathfmt import latex
+from rankloci.reporting.html import KATEX_VERSION, blocks_html, render_html, view_data
+from rankloci.reporting.mathfmt import latex
 from rankloci.tolerances import VIEW_ON_LOCUS_RTOL
 
 pytest.importorskip("matplotlib")
@@ -105,8 +105,8 @@ def test_page_holds_the_summary_and_every_components_equations(planar3r):
 
 
 def test_math_and_text_are_escaped():
-    from rankloci.report.blocks import Para, Table
-    from rankloci.report.escape import literal
+    from rankloci.reporting.blocks import Para, Table
+    from rankloci.reporting.escape import literal
 
     page = blocks_html([Para("a <b> & " + literal("<script>alert(1)</script>") + " $x < 1$"),
                         Table(("h<",), (("$q_1 & 2$",),))])
@@ -196,7 +196,7 @@ def test_model_text_is_text_in_the_page():
 
 def test_code_for_the_page_is_only_arithmetic_in_the_joints():
     from rankloci.locus import Component
-    from rankloci.report.html import _component_code
+    from rankloci.reporting.html import _component_code
 
     q1, q2, evil = sp.symbols("q1 q2 alert")
     ok = Component(equations=(sp.sin(q1) + sp.Rational(1, 2) * sp.cos(q2),), free=(q2,))

@@ -67,7 +67,7 @@ def _chromium():
 def puma_page(tmp_path_factory):
     pytest.importorskip("matplotlib")
     from rankloci.report import build_report
-    from rankloci.report.html import render_html
+    from rankloci.reporting.html import render_html
 
     report = build_report(load_model("puma560"), samples=2, exact=False)
     path = tmp_path_factory.mktemp("html") / "puma560.html"

@@ -1,5 +1,5 @@
 """Plotting starts from a Locus: ``plot_sigma_slice`` and ``plot_tree`` take one, draw into
-``ax=`` and return the Axes; ``rankloci.report.figures`` is reachable from the top level."""
+``ax=`` and return the Axes; ``rankloci.reporting.figures`` is reachable from the top level."""
 
 from __future__ import annotations
 
@@ -16,19 +16,19 @@ def planar2r():
 
 
 def test_the_documented_path_to_the_figures_is_reachable():
-    from rankloci.report import figures
+    from rankloci.reporting import figures
 
-    assert rankloci.report.figures is figures
-    assert rankloci.report.figures.plot_sigma_slice is figures.plot_sigma_slice
+    assert rankloci.reporting.figures is figures
+    assert rankloci.reporting.figures.plot_sigma_slice is figures.plot_sigma_slice
     assert callable(rankloci.report)
     with pytest.raises(AttributeError, match="no attribute 'nope'"):
-        rankloci.report.nope  # noqa: B018
+        rankloci.reporting.nope  # noqa: B018
 
 
 def test_sigma_slice_of_a_locus_returns_the_axes_it_drew_into(planar2r):
     from matplotlib.figure import Figure
 
-    from rankloci.report.figures import plot_sigma_slice
+    from rankloci.reporting.figures import plot_sigma_slice
 
     ax = Figure().add_subplot()
     assert plot_sigma_slice(planar2r, ax=ax, title="planar2r") is ax
@@ -42,7 +42,7 @@ def test_sigma_slice_of_a_locus_returns_the_axes_it_drew_into(planar2r):
 
 
 def test_sigma_slice_takes_the_jacobian_and_checks_its_arguments(planar2r):
-    from rankloci.report.figures import plot_sigma_slice
+    from rankloci.reporting.figures import plot_sigma_slice
 
     J = rankloci.jacobian("planar2r")
     assert plot_sigma_slice(planar2r, jacobian=J, axes=(1, 0)).get_xlabel() == "q2 [rad]"
@@ -55,7 +55,7 @@ def test_sigma_slice_takes_the_jacobian_and_checks_its_arguments(planar2r):
 def test_tree_of_a_locus_returns_the_axes(planar2r):
     from matplotlib.figure import Figure
 
-    from rankloci.report.figures import plot_tree
+    from rankloci.reporting.figures import plot_tree
 
     ax = Figure().add_subplot()
     assert plot_tree(planar2r, ax=ax) is ax

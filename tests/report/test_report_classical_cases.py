@@ -16,7 +16,7 @@ from rankloci.io import load_model
 from rankloci.jacobian import task_matrix
 from rankloci.methods import method_for
 from rankloci.methods.readable import solved_at_values
-from rankloci.report.build import component_views
+from rankloci.reporting.build import component_views
 
 SEED = 0
 
@@ -99,7 +99,7 @@ def test_puma_elbow_angle_is_solved_at_the_parameter_values():
 def test_report_prints_the_values_solved_at_the_parameter_values():
     from types import SimpleNamespace
 
-    from rankloci.report.findings import _solved_at_values
+    from rankloci.reporting.findings import _solved_at_values
 
     model = load_model("puma560")
     named = {str(k): k for k in model.parameters}

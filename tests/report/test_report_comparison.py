@@ -9,13 +9,13 @@ import pytest
 import sympy as sp
 
 from rankloci.io import load_model
-from rankloci.jacobian import task_matrix
+from rankloci.jacobians import task_matrix
 from rankloci.methods import compute_locus
 from rankloci.numeric.equations import NumericMatrix
-from rankloci.report import build_report
-from rankloci.report.analysis import sigma_ratios
-from rankloci.report.comparison import compare_loci
-from rankloci.report.markdown import render_markdown
+from rankloci.reporting import build_report
+from rankloci.reporting.analysis import sigma_ratios
+from rankloci.reporting.comparison import compare_loci
+from rankloci.reporting.markdown import render_markdown
 from rankloci.tolerances import RANK_RTOL
 
 SEED = 5

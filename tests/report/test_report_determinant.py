@@ -8,7 +8,7 @@ import sympy as sp
 import rankloci
 from rankloci.io import load_model
 from rankloci.jacobian import task_matrix
-from rankloci.report.determinant import factored_determinant
+from rankloci.reporting.determinant import factored_determinant
 
 
 def _factored(name, drop=None):
@@ -53,7 +53,7 @@ def test_a_wrong_factor_is_refused():
 
 def test_the_report_displays_the_factored_determinant():
     from rankloci.report import build_report
-    from rankloci.report.markdown import render_markdown
+    from rankloci.reporting.markdown import render_markdown
 
     md = render_markdown(build_report(load_model("stanford"), seed=0, samples=2, exact=False))
     assert "\\det J = q_{3}^{2} s_{2} s_{5}" in md

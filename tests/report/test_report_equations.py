@@ -9,8 +9,8 @@ import pytest
 import sympy as sp
 
 from rankloci.io import load_model
-from rankloci.report.build import equal_parameter_forms
-from rankloci.report.mathfmt import (LONG_INTEGER_DIGITS, SHOWN_DIGITS, has_long_integers,
+from rankloci.reporting.build import equal_parameter_forms
+from rankloci.reporting.mathfmt import (LONG_INTEGER_DIGITS, SHOWN_DIGITS, has_long_integers,
                                      latex)
 
 

@@ -15,7 +15,7 @@ import sympy as sp
 
 import report_helpers as RH
 from rankloci.cli import main
-from rankloci.report.figures import DPI, HEATMAP_SIZE, PATH_SIZE
+from rankloci.reporting.figures import DPI, HEATMAP_SIZE, PATH_SIZE
 
 SEED = 3
 SAMPLES = 3
@@ -57,7 +57,7 @@ def loci():
     import numpy as np
 
     from rankloci.io import load_model
-    from rankloci.jacobian import task_matrix
+    from rankloci.jacobians import task_matrix
     from rankloci.methods import compute_locus
 
     out = {}

@@ -128,7 +128,7 @@ def test_reproduce_command_names_a_model_file_by_its_path(tmp_path):
 
 def _tree_legibility(pdf: Path, png: Path) -> tuple[float, float]:
     """(grey-level spread of the tree's page, smallest text size in pt on that page)."""
-    from rankloci.report.figures import DPI
+    from rankloci.reporting.figures import DPI
 
     pages = _pdf_text(pdf)
     page = next(k for k, p in enumerate(pages, start=1) if "Branch tree of the" in p)

@@ -16,10 +16,10 @@ import report_helpers as RH
 from rankloci.cli import main
 from rankloci.io import load_model
 from rankloci.io.toml_model import parse_model
-from rankloci.report import build_report, file_stem, write_report
-from rankloci.report.escape import literal, rich_md, rich_tex
-from rankloci.report.latex import render_latex
-from rankloci.report.markdown import render_markdown
+from rankloci.reporting import build_report, file_stem, write_report
+from rankloci.reporting.escape import literal, rich_md, rich_tex
+from rankloci.reporting.latex import render_latex
+from rankloci.reporting.markdown import render_markdown
 
 SEED = 4
 

@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 import report_helpers as RH
-from rankloci.near.api import manipulability
-from rankloci.report.analysis import model_components
-from rankloci.report.content import report_blocks
-from rankloci.report.near_section import NEAR_OFFSET
+from rankloci.api.near import manipulability
+from rankloci.reporting.analysis import model_components
+from rankloci.reporting.content import report_blocks
+from rankloci.reporting.near_section import NEAR_OFFSET
 
 SEED = 1
 MODELS = ("planar3r", "puma560")
@@ -22,8 +22,8 @@ MODELS = ("planar3r", "puma560")
 def built(tmp_path_factory):
     """Model name -> (directory with md and tex, the Report)."""
     from rankloci.io import load_model
-    from rankloci.report.build import build_report
-    from rankloci.report.write import write_report
+    from rankloci.reporting.build import build_report
+    from rankloci.reporting.write import write_report
 
     out = {}
     for name in MODELS:
@@ -81,7 +81,7 @@ def test_a_matrix_model_has_no_such_section():
     import sympy as sp
 
     import rankloci
-    from rankloci.report.build import build_report
+    from rankloci.reporting.build import build_report
 
     x = sp.Symbol("x")
     report = build_report(rankloci.load_model(sp.Matrix([[sp.cos(x), 2], [1, sp.sin(x)]])),

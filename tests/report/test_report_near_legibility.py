@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from rankloci.io import load_model
-from rankloci.report.near_section import NearPose, near_manipulability_figure
+from rankloci.reporting.near_section import NearPose, near_manipulability_figure
 
 #: Printed width of a figure: 0.85 of the 16 cm line of an A4 page with 2.5 cm margins.
 PRINTED_WIDTH_IN = 0.85 * 16.0 / 2.54

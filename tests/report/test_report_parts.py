@@ -13,15 +13,15 @@ import sympy as sp
 
 import report_helpers as RH
 from rankloci.io import load_model
-from rankloci.locus import Outcome
-from rankloci.report import ReportError, build_report, write_report
-from rankloci.report.comparison import compare_loci
-from rankloci.report.tree_summary import tree_summary
-from rankloci.report.markdown import render_markdown
-from rankloci.report.mathfmt import LINE_WIDTH, broken_lines, latex, math_width
-from rankloci.report.matrixfmt import jacobian_display
-from rankloci.report.interpret import component_reading
-from rankloci.report.reading import direction_readings
+from rankloci.loci import Outcome
+from rankloci.reporting import ReportError, build_report, write_report
+from rankloci.reporting.comparison import compare_loci
+from rankloci.reporting.tree_summary import tree_summary
+from rankloci.reporting.markdown import render_markdown
+from rankloci.reporting.mathfmt import LINE_WIDTH, broken_lines, latex, math_width
+from rankloci.reporting.matrixfmt import jacobian_display
+from rankloci.reporting.interpret import component_reading
+from rankloci.reporting.reading import direction_readings
 
 SEED = 5
 
@@ -87,7 +87,7 @@ def test_long_equations_are_broken_within_the_line_width():
 
 @pytest.mark.parametrize("name", ["planar3r", "puma560", "ssrms", "mobile10"])
 def test_jacobian_display_is_equal_to_the_jacobian(name):
-    from rankloci.jacobian import task_matrix
+    from rankloci.jacobians import task_matrix
 
     tm = task_matrix(load_model(name), frame="auto")
     jd = jacobian_display(tm.matrix, tm.variables, tm.parameters)
@@ -105,8 +105,8 @@ def test_jacobian_display_is_equal_to_the_jacobian(name):
 
 
 def test_wide_jacobian_is_laid_out_in_columns_that_fit():
-    from rankloci.jacobian import task_matrix
-    from rankloci.report.content import matrix_blocks
+    from rankloci.jacobians import task_matrix
+    from rankloci.reporting.content import matrix_blocks
 
     tm = task_matrix(load_model("ssrms"), frame="auto")
     jd = jacobian_display(tm.matrix, tm.variables, tm.parameters)
@@ -157,7 +157,7 @@ def test_only_component_outcomes_make_component_leaves():
 
 
 def test_compare_loci_sees_a_missing_component():
-    from rankloci.jacobian import task_matrix
+    from rankloci.jacobians import task_matrix
     from rankloci.methods import compute_locus
     from rankloci.numeric.equations import NumericMatrix
 
@@ -206,7 +206,7 @@ def test_algorithmic_section_of_an_augmented_model(tmp_path):
     paths = write_report(report, tmp_path, formats=("md",))
     png = tmp_path / "planar3r_orient-augmented.png"
     assert png in paths and RH.grey_std(png) > RH.BLANK_STD
-    from rankloci.report.figures import AUGMENTED_SIZE, DPI
+    from rankloci.reporting.figures import AUGMENTED_SIZE, DPI
 
     assert RH.png_size(png) == (round(AUGMENTED_SIZE[0] * DPI), round(AUGMENTED_SIZE[1] * DPI))
 

@@ -11,9 +11,9 @@ import sympy as sp
 from rankloci.io.toml_model import parse_model
 from rankloci.limits import DEFAULT_STROKE
 from rankloci.numeric.equations import NumericMatrix
-from rankloci.report import analysis as A
-from rankloci.report import build_report
-from rankloci.report.markdown import render_markdown
+from rankloci.reporting import analysis as A
+from rankloci.reporting import build_report
+from rankloci.reporting.markdown import render_markdown
 
 #: A polar arm: joint 1 turns, joint 2 slides radially; J loses rank where q2 = 0.
 POLAR = """\
@@ -54,7 +54,7 @@ def test_no_prismatic_coordinate_is_given_in_rad(report):
 
 def test_heat_map_of_a_length_spans_its_stroke():
     arm = polar("limits = [-0.5, 0.8]")
-    from rankloci.jacobian import task_matrix
+    from rankloci.jacobians import task_matrix
 
     tm = task_matrix(arm)
     nm = NumericMatrix(sp.Matrix(tm.matrix), tm.variables, tm.angles)

@@ -2,7 +2,7 @@
 named after the classical case only where the geometry says so, and checked numerically.
 
 The loci are computed as the report computes them (model's method, seed 0); the readings
-with :func:`rankloci.report.build.component_views`.
+with :func:`rankloci.reporting.build.component_views`.
 """
 
 from __future__ import annotations
@@ -12,11 +12,11 @@ import pytest
 
 from rankloci.augmented import augmented_locus
 from rankloci.io import load_model
-from rankloci.jacobian import task_matrix
+from rankloci.jacobians import task_matrix
 from rankloci.methods import method_for
-from rankloci.report.build import component_views
-from rankloci.report.geometry import dependent_joints, facts_at
-from rankloci.report.mathfmt import latex as mlatex
+from rankloci.reporting.build import component_views
+from rankloci.reporting.geometry import dependent_joints, facts_at
+from rankloci.reporting.mathfmt import latex as mlatex
 
 SEED = 0
 
@@ -73,7 +73,7 @@ def test_puma560_readings_name_shoulder_elbow_and_wrist(puma):
 
 def test_lost_wrist_rotation_is_orthogonal_to_the_wrist_axes(puma):
     """The rotation the wrist loses is normal to the directions of axes 4, 5 and 6 there."""
-    from rankloci.report.reading import axis_lines
+    from rankloci.reporting.reading import axis_lines
 
     model, views = puma
     c = views[2].component

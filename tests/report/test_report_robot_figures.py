@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from rankloci.io import load_model
-from rankloci.report.figures import plot_robot, robot_figure
-from rankloci.report.robot import robot_pose
+from rankloci.reporting.figures import plot_robot, robot_figure
+from rankloci.reporting.robot import robot_pose
 
 
 def _pose(name, **q):

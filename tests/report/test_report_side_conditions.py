@@ -13,12 +13,12 @@ import pytest
 import sympy as sp
 
 from rankloci.io import load_model
-from rankloci.jacobian import task_matrix
+from rankloci.jacobians import task_matrix
 from rankloci.methods import compute_locus
 from rankloci.numeric.equations import NumericMatrix
 from rankloci.render_text import locus_latex, locus_text
-from rankloci.report import analysis as A
-from rankloci.report.comparison import compare_loci
+from rankloci.reporting import analysis as A
+from rankloci.reporting.comparison import compare_loci
 from rankloci.tolerances import ON_LOCUS_RTOL
 
 SEED = 0
@@ -102,7 +102,7 @@ def test_text_renderings_of_the_locus_keep_the_side_condition(ssrms):
 
 @pytest.fixture(scope="module")
 def ssrms_report():
-    from rankloci.report import build_report
+    from rankloci.reporting import build_report
 
     return build_report(load_model("ssrms"), seed=SEED, samples=2, exact=False)
 
@@ -115,8 +115,8 @@ def _component_section(text: str, index: int, heading: str) -> str:
 
 @pytest.mark.slow
 def test_every_display_of_an_excluded_component_states_its_side_condition(ssrms_report):
-    from rankloci.report.latex import render_latex
-    from rankloci.report.markdown import render_markdown
+    from rankloci.reporting.latex import render_latex
+    from rankloci.reporting.markdown import render_markdown
 
     views = [v for v in ssrms_report.components if v.component.excluding]
     assert views

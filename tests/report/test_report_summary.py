@@ -10,10 +10,10 @@ import pytest
 import sympy as sp
 
 from rankloci.io import load_model
-from rankloci.report import build_report
-from rankloci.report.escape import heading_anchor
-from rankloci.report.latex import render_latex
-from rankloci.report.markdown import render_markdown
+from rankloci.reporting import build_report
+from rankloci.reporting.escape import heading_anchor
+from rankloci.reporting.latex import render_latex
+from rankloci.reporting.markdown import render_markdown
 
 SEED = 4
 HEADER = "| no. | equations | reading | lost motion | figures | within limits |"

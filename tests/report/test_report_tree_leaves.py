@@ -7,7 +7,7 @@ import numpy as np
 import rankloci
 from rankloci.io import load_model
 from rankloci.jacobian import task_matrix
-from rankloci.report.tree_summary import component_leaves, tree_summary
+from rankloci.reporting.tree_summary import component_leaves, tree_summary
 
 
 def test_both_halves_of_the_puma_wrist_are_component_leaves():

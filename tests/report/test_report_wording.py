@@ -9,10 +9,10 @@ import networkx as nx
 import pytest
 
 from rankloci.io import load_model
-from rankloci.locus import Outcome
-from rankloci.report import build_report
-from rankloci.report.tree_summary import tree_summary
-from rankloci.report.markdown import render_markdown
+from rankloci.loci import Outcome
+from rankloci.reporting import build_report
+from rankloci.reporting.tree_summary import tree_summary
+from rankloci.reporting.markdown import render_markdown
 
 SEED = 2
 
@@ -32,7 +32,7 @@ def _section(md: str, heading: str) -> str:
 
 
 def test_unit_links_are_claimed_only_for_a_model_with_unit_links(reports):
-    from rankloci.report.content import _units_sentence
+    from rankloci.reporting.content import _units_sentence
 
     assert "(unit links)" in _section(reports["planar2r"], "### Parameters")
     for name in ("puma560", "ssrms", "mobile10"):
@@ -101,8 +101,8 @@ def test_model_notes_state_the_model_not_how_the_file_was_written():
 
 def test_timings_come_before_the_tree():
     from rankloci.io import load_model
-    from rankloci.report import build_report
-    from rankloci.report.markdown import render_markdown
+    from rankloci.reporting import build_report
+    from rankloci.reporting.markdown import render_markdown
 
     md = render_markdown(build_report(load_model("planar2r"), samples=2, exact=False,
                                       clock=iter(range(10**6)).__next__))

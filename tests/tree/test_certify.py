@@ -106,7 +106,7 @@ def test_elbow_component_with_a_tiny_exclusion_is_found_at_every_seed(elbow, see
     3-dimensional component where both shoulder axes and both elbow axes share the upper
     arm's line is found, and no component lies inside another."""
     from rankloci.api import locus
-    from rankloci.jacobian import task_matrix
+    from rankloci.jacobians import task_matrix
     from rankloci.numeric.crosscheck import cross_check
 
     L = locus(elbow, numeric=True, seed=seed, verify=False)

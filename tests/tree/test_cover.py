@@ -12,7 +12,7 @@ import sympy as sp
 
 from rankloci.tree.branch import Branch
 from rankloci.io.toml_model import parse_model
-from rankloci.jacobian import task_matrix
+from rankloci.jacobians import task_matrix
 from rankloci.tree.context import Context
 from rankloci.tree.cover import cover
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import locus_helpers as H
-from rankloci.jacobian import task_matrix
+from rankloci.jacobians import task_matrix
 from rankloci.tree.branch import Branch
 from rankloci.tree.cover import cover
 from rankloci.tree.prune import below_bound, on_leaf
@@ -78,7 +78,7 @@ def test_a_branch_of_the_bound_dimension_is_analysed():
 def test_pruning_below_the_bound_keeps_the_locus(name, monkeypatch):
     """The same components with and without the pruning, on arms where it prunes branches."""
     from rankloci.io import load_model
-    from rankloci.locus import Outcome
+    from rankloci.loci import Outcome
     from rankloci.methods import compute_locus
     from rankloci.tree import prune
 

@@ -13,8 +13,8 @@ import pytest
 import sympy as sp
 
 from rankloci.io.toml_model import parse_model
-from rankloci.jacobian import task_matrix
-from rankloci.locus import Outcome
+from rankloci.jacobians import task_matrix
+from rankloci.loci import Outcome
 from rankloci.tree import reducible
 from rankloci.tree.branch import Branch
 from rankloci.tree.context import Context

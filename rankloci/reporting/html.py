@@ -1,6 +1,6 @@
 """The report as one self-contained HTML page, with an interactive view of the arm.
 
-:func:`render_html` spells the blocks of :func:`~rankloci.report.content.report_blocks`
+:func:`render_html` spells the blocks of :func:`~rankloci.reporting.content.report_blocks`
 (the summary, the model, the equations, the checks: what the Markdown report
 says) as HTML, and adds a section in which the arm can be moved along each
 component of the locus.  Everything the page needs is inside it, so it opens
@@ -17,7 +17,7 @@ without a network:
   computation that found it.
 
 The figures (PNG) are not embedded, to keep the page small; their captions
-stay and name the files, which :func:`~rankloci.report.write.write_report`
+stay and name the files, which :func:`~rankloci.reporting.write.write_report`
 writes beside the page.  Everything here is pure.
 """
 
@@ -105,12 +105,12 @@ def _script(code: str) -> str:
 
 
 def blocks_html(blocks, *, extra=None) -> str:
-    """HTML of a list of blocks (:mod:`~rankloci.report.blocks`), numbered as Markdown numbers
+    """HTML of a list of blocks (:mod:`~rankloci.reporting.blocks`), numbered as Markdown numbers
     them; ``extra`` maps a position in ``blocks`` to HTML put before the block there.
 
     Examples
     --------
-    >>> from rankloci.report.blocks import Heading, Math, Para
+    >>> from rankloci.reporting.blocks import Heading, Math, Para
     >>> print(blocks_html([Heading(2, "Locus"), Para("where $x_1 = 0$"), Math(("x_1 = 0",))]))
     <h2>1. Locus</h2>
     <p>where <span class="math">x_1 = 0</span></p>

@@ -47,7 +47,7 @@ _PREAMBLE = r"""\documentclass[11pt,a4paper]{article}
 
 
 def render_latex(report, *, fragment: bool = False, timings: bool = True) -> str:
-    """LaTeX of a :class:`~rankloci.report.Report`: a document, or a fragment to ``\\input``."""
+    """LaTeX of a :class:`~rankloci.reporting.Report`: a document, or a fragment to ``\\input``."""
     blocks = report_blocks(report, timings=timings)
     wide = report.tm.shape[1] > 10
     if fragment:
@@ -70,7 +70,7 @@ def render_latex(report, *, fragment: bool = False, timings: bool = True) -> str
 
 def blocks_latex(blocks, *, wide_matrix: bool = False, top: int = 1,
                  appendix: bool = True, placement: str = "H", breakable: bool = False) -> str:
-    """LaTeX of a list of blocks (:mod:`~rankloci.report.blocks`).
+    """LaTeX of a list of blocks (:mod:`~rankloci.reporting.blocks`).
 
     Headings of level ``top`` become ``\\section``, the next level
     ``\\subsection`` and so on.  Figures stay where they are in the text
@@ -79,12 +79,12 @@ def blocks_latex(blocks, *, wide_matrix: bool = False, top: int = 1,
     ``placeins`` keeping figures in their sections); a tall one (the branch tree)
     gets a page of its own.  With ``breakable`` (the full document loads
     ``longtable``) a table with fixed column widths may break across pages, so a
-    long summary table starts on the first page.  :class:`~rankloci.report.blocks.Appendix` becomes
+    long summary table starts on the first page.  :class:`~rankloci.reporting.blocks.Appendix` becomes
     ``\\appendix`` (a comment when ``appendix`` is false, for a fragment).
 
     Examples
     --------
-    >>> from rankloci.report.blocks import Heading, Math
+    >>> from rankloci.reporting.blocks import Heading, Math
     >>> print(blocks_latex([Heading(2, "Locus", "l"), Math(("x_1 = 0",))], top=1))
     \\subsection{Locus}\\label{l}
     <BLANKLINE>

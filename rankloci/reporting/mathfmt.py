@@ -5,8 +5,8 @@ expression short enough to read is done once here: trigonometric functions of
 the joint variables are abbreviated (``s_2 = sin q2``, ``c_2 = cos q2``, the
 usual robotics notation), each expression is written in the shortest of its
 expanded, factored and parameter-collected forms, and lines that are too wide
-for a page are broken between terms.  :mod:`~rankloci.report.matrixfmt` builds
-the display of a whole Jacobian on these; :mod:`~rankloci.report.escape`
+for a page are broken between terms.  :mod:`~rankloci.reporting.matrixfmt` builds
+the display of a whole Jacobian on these; :mod:`~rankloci.reporting.escape`
 escapes the plain text around the math.
 
 Everything here is pure: expressions in, strings and expressions out.

@@ -16,23 +16,14 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import LocusError
-from ..tree.modular import block_rank
-from ..tree.probe import numeric_rank
+from .modular import block_rank
+from .probe import numeric_rank
+from ..tolerances import MAX_COLUMN_SETS, CANDIDATE_MAX_TERMS, MAX_BLOCKS
 
 if TYPE_CHECKING:
-    from ..tree.context import Context
+    from .context import Context
 
 __all__ = ["choose_columns", "choose_block"]
-
-#: At most this many column sets are ranked by size when choosing a block.
-MAX_COLUMN_SETS = 5000
-#: Once a regular block's determinant has more terms than this, no further candidate is
-#: formed: on 8-joint URDF chains (icub's arm with its torso) the root's candidates have 1.2 to
-#: 4.3 million terms and take 29 to 84 s each, and the smallest is usually among the first
-#: (the blocks are tried smallest entries first).
-CANDIDATE_MAX_TERMS = 200_000
-#: Blocks of the null-vector level are searched only when there are at most this many.
-MAX_BLOCKS = 400
 
 
 def _regular(ctx: "Context", M, points, size: int, branch):

@@ -1,8 +1,8 @@
 """The blocks a report is made of, and the spellings the sections share.
 
 A report is a list of blocks (:class:`Heading`, :class:`Para`, :class:`Math`,
-:class:`Table`, ...), plain data that :mod:`~rankloci.report.markdown` and
-:mod:`~rankloci.report.latex` spell each in their own way.  Text in blocks
+:class:`Table`, ...), plain data that :mod:`~rankloci.reporting.markdown` and
+:mod:`~rankloci.reporting.latex` spell each in their own way.  Text in blocks
 may hold ``$math$`` and ```code``` segments.  Everything here is pure.
 """
 

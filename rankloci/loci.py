@@ -4,21 +4,29 @@ A :class:`Locus` is a union of :class:`Component` objects.  Each component
 lists equations that vanish on it (sympy expressions in the joint variables
 and the parameters), its solved form where there is one, the variables that
 stay free, its dimension, the rank drop, and the task directions that are
-lost there.
+lost there.  :meth:`Locus.to_dict` writes a locus as a JSON document and
+:func:`parse_locus_dict` (:meth:`Locus.from_dict`) reads one back.
 """
 
 from __future__ import annotations
 
 import enum
-import re
+import functools
+import math
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import sympy as sp
 
-from .expr import as_expression
+from .errors import ExpressionError, ModelError
+from .expr import as_expression, exact_number, natural_key, parse_expression
 from .tolerances import LOCUS_CONTAINS_RTOL
 
-__all__ = ["Component", "Locus", "Outcome", "SCHEMA", "READABLE_SCHEMAS"]
+if TYPE_CHECKING:
+    import networkx as nx
+
+__all__ = ["Component", "Locus", "Outcome", "SCHEMA", "READABLE_SCHEMAS", "dimension_bound",
+           "parse_locus_dict", "MAX_LOCUS_COMPONENTS", "MAX_RANK_DROP"]
 
 SCHEMA = "rankloci.locus/2"
 
@@ -68,6 +76,20 @@ class Outcome(enum.StrEnum):
 
 _COMPONENT_OUTCOMES = frozenset({Outcome.DEGENERATE, Outcome.BEYOND_REDUNDANCY,
                                  Outcome.NO_REDUNDANT_COLUMN, Outcome.ALL_MINORS_VANISH})
+
+
+def dimension_bound(shape, n_variables: int, rank_drop: int) -> int:
+    """The smallest dimension a component of the given rank drop can have.
+
+    Examples
+    --------
+    >>> dimension_bound((6, 7), 7, 1)      # a 6x7 Jacobian losing one rank: codimension <= 2
+    5
+    >>> dimension_bound((6, 6), 6, 2)      # square, rank drop 2: codimension <= 4
+    2
+    """
+    n, m = sorted(shape)
+    return max(0, n_variables - rank_drop * (m - n + rank_drop))
 
 
 @dataclass(frozen=True)
@@ -190,7 +212,7 @@ class Component:
         eqs = [as_expression(e).subs(subs) for e in self.equations]
         if variables is None:
             symbols = set().union(*(e.free_symbols for e in eqs)) if eqs else set()
-            variables = sorted(symbols, key=_natural_key)
+            variables = sorted(symbols, key=natural_key)
         from .numeric.functions import numpy_function
 
         return numpy_function(tuple(variables), eqs)
@@ -222,6 +244,9 @@ class Locus:
     components that exist only for other parameter values (a link length of
     zero, two equal offsets the model does not have): the analysis found
     them with symbolic parameters, and they say where the locus would change.
+    A component given in ``components`` that does not exist for the model
+    is moved to ``special`` when the locus is made; :attr:`all_components`
+    gives both.
 
     ``joint_names`` gives, for a URDF chain, the URDF joint of each variable
     (``q1`` is ``joint_names[0]``), and ``()`` for other models; ``contains``
@@ -237,14 +262,28 @@ class Locus:
     method: str
     components: tuple
     degenerate: bool = False
-    tree: object = None        # networkx.DiGraph of the branch tree, or None
+    tree: nx.DiGraph | None = None    # the branch tree, or None
     seconds: float = 0.0
     notes: tuple = ()
     base: "Locus | None" = None   # for an augmented matrix: the locus of J itself
     special: tuple = ()           # components for other parameter values only
     complete: bool | None = None  # the certificate passed (None: not certified either way)
-    certificate: object = None    # rankloci.exact.witness.Certificate, when one was computed
+    certificate: object = None    # rankloci.exact.certificate.Certificate, when one was computed
     joint_names: tuple = ()       # the model's joint (URDF) name of each variable, or ()
+
+    def __post_init__(self):
+        # the one place where components are split: those without real points for the model's
+        # own parameter values go to ``special``, whoever built the locus
+        apart = tuple(c for c in self.components if not c.exists_for_model)
+        if apart:
+            object.__setattr__(self, "components",
+                               tuple(c for c in self.components if c.exists_for_model))
+            object.__setattr__(self, "special", tuple(self.special) + apart)
+
+    @property
+    def all_components(self) -> tuple:
+        """:attr:`components`, then :attr:`special`: every component the computation found."""
+        return tuple(self.components) + tuple(self.special)
 
     def __repr__(self) -> str:
         special = f" (+{len(self.special)} special)" if self.special else ""
@@ -261,10 +300,6 @@ class Locus:
 
     def _repr_html_(self) -> str:
         return _table_html(self.components, self)
-
-    def __getstate__(self):
-        # the numeric equations cached by contains() hold lambdified functions
-        return {k: v for k, v in self.__dict__.items() if k != "_numeric"}
 
     def contains(self, q, *, rtol: float = LOCUS_CONTAINS_RTOL):
         """Is the configuration ``q`` on the locus (of the model's own components)?
@@ -325,15 +360,14 @@ class Locus:
         return bool(inside[0]) if single else inside
 
     def _equations(self, k):
-        """The scaled numeric equations of component ``k``, lambdified once."""
-        from .numeric.equations import Equations
-
-        numeric = self.__dict__.setdefault("_numeric", {})
-        if k not in numeric:
-            comp = self.components[k]
-            numeric[k] = Equations(comp.equations, self.variables, self.parameters,
-                                   comp.excluding)
-        return numeric[k]
+        """The scaled numeric equations of component ``k`` (lambdified once per content)."""
+        comp = self.components[k]
+        key = (tuple(comp.equations), tuple(self.variables),
+               tuple(dict(self.parameters).items()), tuple(comp.excluding))
+        try:
+            return _numeric_equations(*key)
+        except TypeError:          # a value that cannot be hashed: not kept
+            return _numeric_equations.__wrapped__(*key)
 
     def equations_function(self, k: int):
         """The equations of component ``k`` as a numpy function of the joint vector.
@@ -413,8 +447,6 @@ class Locus:
         >>> Locus.from_dict(L.to_dict()).to_dict() == L.to_dict()
         True
         """
-        from .locus_dict import parse_locus_dict
-
         return parse_locus_dict(data, model)
 
     def to_dict(self) -> dict:
@@ -444,9 +476,13 @@ class Locus:
         return c.to_dict() | extra
 
 
-def _natural_key(symbol):
-    """Sort ``q2`` before ``q10``."""
-    return [int(t) if t.isdigit() else t for t in re.split(r"(\d+)", str(symbol))]
+@functools.lru_cache(maxsize=256)
+def _numeric_equations(equations, variables, parameters, excluding):
+    """:class:`~rankloci.numeric.equations.Equations` of a component, kept by content: a locus
+    stays immutable, and asking the same locus (or an equal one) again costs no lambdify."""
+    from .numeric.equations import Equations
+
+    return Equations(equations, variables, dict(parameters), excluding)
 
 
 def _count(n: int, word: str) -> str:
@@ -491,16 +527,252 @@ def _table_html(components, locus) -> str:
     return f"{head}<table><tr>{header}</tr>{''.join(rows)}</table>"
 
 
-def _near_admitted(eqs, x, rng, tries: int = 6) -> bool:
+def _near_admitted(eqs, x, rng) -> bool:
     """Do points of the component with every exclusion nonzero lie near ``x``?"""
     import numpy as np
 
-    from .numeric.gauss_newton import gauss_newton
-    from .tolerances import NEAR_ADMITTED_RADIUS, NEAR_ADMITTED_STEP
+    from .numeric.closure import near_admitted
 
-    for _ in range(tries):
-        y = gauss_newton(lambda Y: eqs.batch(Y).T, x + NEAR_ADMITTED_STEP * rng.standard_normal(x.size))
-        if y is not None and eqs.residual(y) <= LOCUS_CONTAINS_RTOL \
-                and np.max(np.abs(y - x)) <= NEAR_ADMITTED_RADIUS and eqs.admits(y):
-            return True
-    return False
+    return near_admitted(lambda Y: eqs.batch(Y).T,
+                         lambda Y: np.array([eqs.residual(y) <= LOCUS_CONTAINS_RTOL for y in Y]),
+                         eqs.admits, x, rng)
+
+# --- a locus read back from its JSON document (``rankloci.locus/2`` or ``/1``) --------------
+#
+# parse_locus_dict is what Locus.from_dict and ``rankloci check --locus FILE`` use.  Every
+# string is parsed with the safe expression parser over the document's (or the model's)
+# variable and parameter names, and every field is checked for its type and size: the
+# document may come from anywhere.
+
+
+#: The most components a locus file may hold (the built-in models have at most 12).
+MAX_LOCUS_COMPONENTS = 1000
+
+#: The largest rank drop a locus file may state (a 100 x 100 matrix losing all its rank).
+MAX_RANK_DROP = 100
+
+#: The most entries of any list or mapping of one component (samples, solved values, ...).
+MAX_ITEMS = 10_000
+
+#: The most entries of one lost direction (a row or column count of the matrix).
+MAX_VECTOR = 1000
+
+
+def _names(data, key, where=None) -> list:
+    value = data.get(key, [])
+    if not isinstance(value, list) or not all(isinstance(v, str) for v in value) \
+            or len(value) > MAX_ITEMS:
+        raise ModelError("must be a list of names", field=where or key)
+    return value
+
+
+def _number(value, where) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) \
+            or not math.isfinite(value):
+        raise ModelError(f"{str(value)[:20]!r} is not a finite number", field=where)
+    return float(value)
+
+
+def _symbols(data, model):
+    """Variables and parameters (symbol -> value) of the document, in the model's symbols."""
+    if not isinstance(data, dict):
+        raise ModelError("a locus file must hold a JSON object", field="schema")
+    if data.get("schema") not in READABLE_SCHEMAS:
+        raise ModelError(f"schema is {str(data.get('schema'))[:40]!r}, expected one of "
+                         f"{', '.join(READABLE_SCHEMAS)}", field="schema")
+    raw = data.get("parameters", {})
+    if not isinstance(raw, dict) or len(raw) > MAX_ITEMS:
+        raise ModelError("must be an object of numbers", field="parameters")
+    if model is not None:
+        names = [v.name for v in model.variables]
+        if data.get("variables") != names:
+            raise ModelError(f"variables {data.get('variables')!r} are not the model's {names}",
+                             field="variables")
+        params = {p: model.parameters[p] for p in model.parameters if p.name in raw}
+        return tuple(model.variables), params, {p.name: p for p in model.parameters}
+    names = _names(data, "variables")
+    try:
+        params = {sp.Symbol(k, real=True): exact_number(_number(v, f"parameters.{k}"))
+                  for k, v in raw.items()}
+    except ExpressionError as e:
+        raise ModelError(str(e), field="parameters") from None
+    bad = [n for n in names + list(raw) if not n.isidentifier()]
+    if bad:
+        raise ModelError(f"{bad[0][:40]!r} is not a symbol name", field="variables")
+    return (tuple(sp.Symbol(n, real=True) for n in names), params,
+            {p.name: p for p in params})
+
+
+def _undefined_somewhere(e):
+    """The part of ``e`` that is not finite at some configuration, or None.
+
+    Equations of a locus are polynomials in the variables and in sines and
+    cosines of them; ``sqrt(sin(q2))``, ``acos(q2)`` or ``1/q2`` have no real
+    value at some points, where a numeric check could not evaluate them.
+    Functions of constants only (``sqrt(2)``) are numbers.
+    """
+    for node in sp.preorder_traversal(e):
+        if not node.free_symbols:
+            continue
+        if isinstance(node, sp.Function) and not isinstance(node, (sp.sin, sp.cos)):
+            return node
+        if isinstance(node, sp.Pow) and not (node.exp.is_Integer and node.exp >= 0):
+            return node
+    return None
+
+
+def _component(c, where, symbols, schema_1, special, n_variables=0):
+    if not isinstance(c, dict) or "equations" not in c:
+        raise ModelError("each component must be an object with 'equations'", field=where)
+
+    def exprs(items, field, *, everywhere=False):
+        if not isinstance(items, list) or len(items) > MAX_ITEMS:
+            raise ModelError(f"{where}.{field} must be a list of strings", field=f"{where}.{field}")
+        try:
+            got = tuple(parse_expression(t, symbols) for t in items)
+        except ExpressionError as e:
+            raise ModelError(str(e), field=f"{where}.{field}") from None
+        for e in got if everywhere else ():
+            bad = _undefined_somewhere(e)
+            if bad is not None:
+                raise ModelError(f"{sp.sstr(bad)[:60]} is not defined at every configuration; "
+                                 "equations are polynomials in the variables and in sines and "
+                                 "cosines", field=f"{where}.{field}")
+        return got
+
+    def integer(field, default, low, high):
+        v = c.get(field, default)
+        if isinstance(v, bool) or not isinstance(v, int) or not low <= v <= high:
+            raise ModelError(f"{field} must be an integer from {low} to {high}, not "
+                             f"{str(v)[:20]}", field=f"{where}.{field}")
+        return v
+
+    def mapping(field):
+        v = c.get(field, {})
+        if not isinstance(v, dict) or len(v) > MAX_ITEMS:
+            raise ModelError("must be an object", field=f"{where}.{field}")
+        return v
+
+    solved = {}
+    for name, vals in mapping("solved").items():
+        if name not in symbols:
+            raise ModelError(f"unknown variable {name[:40]!r}", field=f"{where}.solved")
+        solved[symbols[name]] = exprs(vals, f"solved.{name}")
+    free = _names(c, "free", f"{where}.free")
+    if any(n not in symbols for n in free):
+        raise ModelError("names a symbol that is not a variable", field=f"{where}.free")
+    direction = c.get("direction", [])
+    at_sample = c.get("direction_at_sample", [])
+    for key, vecs in (("direction", direction), ("direction_at_sample", at_sample)):
+        if not isinstance(vecs, list) or len(vecs) > MAX_RANK_DROP or not all(
+                isinstance(v, list) and len(v) <= MAX_VECTOR for v in vecs):
+            raise ModelError(f"must be at most {MAX_RANK_DROP} lists of at most {MAX_VECTOR} "
+                             "entries", field=f"{where}.{key}")
+    kind = c.get("kind")
+    if kind not in (None, "kinematic", "algorithmic", "mixed"):
+        raise ModelError(f"kind {str(kind)[:20]!r} is not kinematic, algorithmic or mixed",
+                         field=f"{where}.kind")
+    meets = c.get("meets", [])
+    if not isinstance(meets, list) or len(meets) > MAX_ITEMS or not all(
+            isinstance(m, dict) for m in meets):
+        raise ModelError("must be a list of objects", field=f"{where}.meets")
+    conditions = exprs(c.get("parameter_conditions", []), "parameter_conditions")
+    equations = exprs(c["equations"], "equations", everywhere=True)
+    # a component without a stated dimension is taken as cut out by its equations, one
+    # codimension each (the certificate checks it like a stated one)
+    default_dimension = max(0, n_variables - len([e for e in equations if e != 0]))
+    return Component(
+        equations=equations,
+        solved=solved,
+        free=tuple(symbols[n] for n in free),
+        dimension=integer("dimension", default_dimension, 0, MAX_ITEMS),
+        rank_drop=integer("rank_drop", 1, 1, MAX_RANK_DROP),
+        direction=tuple(exprs(v, "direction") for v in direction),
+        direction_at_sample=tuple(tuple(_number(x, f"{where}.direction_at_sample") for x in v)
+                                  for v in at_sample),
+        sample={str(k): _number(v, f"{where}.sample") for k, v in mapping("sample").items()},
+        parameter_conditions=conditions,
+        # schema /1 listed special-parameter components among the others
+        for_model=not special and bool(c.get("for_model", True))
+        and not (schema_1 and c.get("parameter_conditions")),
+        excluding=exprs(c.get("excluding", []), "excluding", everywhere=True),
+        kind=kind, meets=tuple(meets),
+        real_points_of=exprs(c.get("real_points_of", []), "real_points_of", everywhere=True))
+
+
+def parse_locus_dict(data, model=None):
+    """A :class:`~rankloci.loci.Locus` from its JSON document.
+
+    Parameters
+    ----------
+    data : dict
+    model : RobotModel or MatrixModel, optional
+        Whose symbols to use; the document's variables must be the model's.
+
+    Raises
+    ------
+    ModelError
+        If the schema key is wrong, the variables are not the model's, a field
+        has the wrong type or size, or an expression does not parse over the
+        variable and parameter names.
+    """
+    variables, params, names = _symbols(data, model)
+    symbols = {v.name: v for v in variables} | names
+    schema_1 = data["schema"] == READABLE_SCHEMAS[0]
+    comps = data.get("components")
+    if not isinstance(comps, list):
+        raise ModelError("'components' must be a list", field="components")
+    special = data.get("special_components", [])
+    if not isinstance(special, list):
+        raise ModelError("'special_components' must be a list", field="special_components")
+    if len(comps) + len(special) > MAX_LOCUS_COMPONENTS:
+        raise ModelError(f"more than {MAX_LOCUS_COMPONENTS} components", field="components")
+    out = [_component(c, f"components[{k}]", symbols, schema_1, False, len(variables))
+           for k, c in enumerate(comps, 1)]
+    out += [_component(c, f"special_components[{k}]", symbols, schema_1, True, len(variables))
+            for k, c in enumerate(special, 1)]
+    shape = data.get("matrix", {})
+    if not isinstance(shape, dict):
+        raise ModelError("must be an object with rows and cols", field="matrix")
+    dims = tuple(shape.get(k, 0) for k in ("rows", "cols"))
+    if not all(isinstance(n, int) and not isinstance(n, bool) and 0 <= n <= MAX_ITEMS
+               for n in dims):
+        raise ModelError("rows and cols must be integers", field="matrix")
+    notes = _names(data, "notes")
+    complete = data.get("complete")
+    if complete not in (None, True, False):
+        raise ModelError("must be true, false or null", field="complete")
+    certificate = data.get("certificate")
+    if certificate is not None:
+        from .exact.certificate import Certificate
+
+        try:
+            certificate = Certificate.from_dict(certificate, symbols)
+        except ValueError as exc:
+            raise ModelError(str(exc), field="certificate") from None
+    base = data.get("base_locus")
+    if base is not None:
+        if isinstance(base, dict) and "base_locus" in base:
+            raise ModelError("a base locus cannot have a base locus", field="base_locus")
+        base = parse_locus_dict(base, model)
+    return Locus(
+        model=str(data.get("model", model.name if model is not None else "locus"))[:200],
+        variables=variables, parameters=params, shape=dims,
+        method=str(data.get("method", "file"))[:40],
+        components=tuple(out),
+        degenerate=bool(data.get("degenerate", False)),
+        seconds=_number(data.get("seconds", 0.0), "seconds"),
+        notes=tuple(notes), base=base, complete=complete, certificate=certificate,
+        joint_names=_joint_names(data, variables))
+
+
+def _joint_names(data, variables) -> tuple:
+    """The ``joint_names`` entry ``rankloci locus --format json`` adds for a URDF chain, if any."""
+    given = data.get("joint_names")
+    if given is None:
+        return ()
+    if not isinstance(given, dict) or set(given) != {v.name for v in variables} \
+            or not all(isinstance(j, str) and 0 < len(j) <= 200 for j in given.values()):
+        raise ModelError("'joint_names' must map every variable to a joint name",
+                         field="joint_names")
+    return tuple(given[v.name] for v in variables)

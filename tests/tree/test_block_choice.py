@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from rankloci.io import load_model
-from rankloci.jacobian import task_matrix
-from rankloci.methods import blocks
+from rankloci.jacobians import task_matrix
+from rankloci.tree import blocks
 from rankloci.tree.branch import Branch
 from rankloci.tree.context import Context
 

@@ -28,7 +28,7 @@ SUMMARY_CHARS = 110
 SUMMARY_READING_CHARS = 420
 
 #: An equation a reading names is written out when its width (in
-#: :func:`~rankloci.report.mathfmt.math_width` units) is at most this, else named by its order.
+#: :func:`~rankloci.reporting.mathfmt.math_width` units) is at most this, else named by its order.
 READING_EQUATION_WIDTH = 16.0
 
 
@@ -140,7 +140,7 @@ class Report:
 
     @property
     def name(self) -> str:
-        """The model's name as a file stem (:func:`~rankloci.report.escape.file_stem`).
+        """The model's name as a file stem (:func:`~rankloci.reporting.escape.file_stem`).
 
         It names the report's files and its LaTeX labels, so it holds only
         ASCII letters, digits, ``_`` and ``-``.
@@ -191,7 +191,7 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
         when Singular is absent or the matrix is too large).
     model_notes : str
         Free-text notes on the model (see
-        :func:`~rankloci.report.write.read_model_notes`), shown
+        :func:`~rankloci.reporting.write.read_model_notes`), shown
         with its source.
     stamp : str
         A date and time to print under the title; empty (the default) keeps
@@ -212,7 +212,7 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
     """
     from ..api.calls import certified_locus
     from ..errors import LocusTimeout
-    from ..jacobian import task_matrix
+    from ..jacobians import task_matrix
     from ..methods import compute_locus, method_for
     from ..numeric.crosscheck import cross_check
     from ..numeric.equations import NumericMatrix
@@ -440,7 +440,7 @@ def component_views(model, locus, *, seed: int = 0) -> tuple:
     --------
     >>> import numpy as np
     >>> from rankloci.io import load_model
-    >>> from rankloci.jacobian import task_matrix
+    >>> from rankloci.jacobians import task_matrix
     >>> from rankloci.methods import compute_locus
     >>> arm = load_model("planar2r")
     >>> locus = compute_locus(task_matrix(arm), "determinant", rng=np.random.default_rng(0))
@@ -448,7 +448,7 @@ def component_views(model, locus, *, seed: int = 0) -> tuple:
     All links aligned (the arm is stretched out or folded back): the task point lies in the
     plane of axes 1 and 2
     """
-    from ..jacobian import task_matrix
+    from ..jacobians import task_matrix
     from ..numeric.equations import NumericMatrix
     from .matrixfmt import jacobian_display
 
@@ -553,7 +553,7 @@ def _equation_label(k: int, e) -> str:
 
 
 def _reading(model, comp, eqs, labels, nm, params, rng):
-    """The :class:`~rankloci.report.interpret.Reading` of one component (or None)."""
+    """The :class:`~rankloci.reporting.interpret.Reading` of one component (or None)."""
     from ..model import RobotModel
     from ..numeric.equations import points_on
     from .analysis import component_equations, component_points

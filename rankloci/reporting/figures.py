@@ -1,6 +1,6 @@
 """The report's figures: a plotting API that starts from a locus, and PNG bytes for the report.
 
-Every ``plot_*`` function takes a :class:`~rankloci.locus.Locus` (or, for
+Every ``plot_*`` function takes a :class:`~rankloci.loci.Locus` (or, for
 :func:`plot_robot`, also a model and a configuration) and draws into ``ax``
 when given (a 3-D axes for :func:`plot_robot`), otherwise into a new
 :class:`matplotlib.figure.Figure`; it returns the Axes it drew into, as
@@ -144,7 +144,7 @@ def plot_sigma_slice(data, names=None, prismatic=None, *, jacobian=None, compone
         A locus: the slice passes through a sample point of its component
         ``component``, along the two joints ``axes`` (default: the two the
         component's equations depend on most), and its components are drawn.
-        Or the slice's data, from :func:`~rankloci.report.analysis.slice_grid`.
+        Or the slice's data, from :func:`~rankloci.reporting.analysis.slice_grid`.
     names : sequence of str, optional
         For slice data: the names of all joint variables (``data.axes`` index them).
     prismatic : sequence of bool, optional
@@ -169,12 +169,12 @@ def plot_sigma_slice(data, names=None, prismatic=None, *, jacobian=None, compone
     Examples
     --------
     >>> import rankloci
-    >>> from rankloci.report.figures import plot_sigma_slice
+    >>> from rankloci.reporting.figures import plot_sigma_slice
     >>> ax = plot_sigma_slice(rankloci.locus("planar2r"))
     >>> ax.get_xlabel(), ax.get_ylabel()
     ('q1 [rad]', 'q2 [rad]')
     """
-    from ..locus import Locus
+    from ..loci import Locus
 
     if isinstance(data, Locus):
         data, names, prismatic = locus_slice(data, jacobian, component=component, axes=axes)
@@ -233,7 +233,7 @@ def _locus_matrix(locus, jacobian=None, *, rows=None):
     """
     from ..api import jacobian as task_jacobian
     from ..errors import ArgumentError
-    from ..jacobian import TaskMatrix
+    from ..jacobians import TaskMatrix
     from ..numeric.equations import NumericMatrix
 
     tm = jacobian if isinstance(jacobian, TaskMatrix) else task_jacobian(
@@ -265,7 +265,7 @@ def _sample(component, names) -> np.ndarray:
 
 
 def _is_locus(obj) -> bool:
-    from ..locus import Locus
+    from ..loci import Locus
 
     return isinstance(obj, Locus)
 
@@ -306,7 +306,7 @@ def plot_augmented(plain, augmented=None, names=None, prismatic=None, *, jacobia
     Examples
     --------
     >>> import rankloci
-    >>> from rankloci.report.figures import plot_augmented
+    >>> from rankloci.reporting.figures import plot_augmented
     >>> J = rankloci.jacobian("planar3r", augment=["q1 + q2 + q3"], numeric=True)
     >>> L = rankloci.locus("planar3r", augment=["q1 + q2 + q3"], numeric=True)
     >>> left, right = plot_augmented(L, jacobian=J)
@@ -397,7 +397,7 @@ def plot_manipulability_path(path, *, units: str = "", jacobian=None, component:
     Examples
     --------
     >>> import rankloci
-    >>> from rankloci.report.figures import plot_manipulability_path
+    >>> from rankloci.reporting.figures import plot_manipulability_path
     >>> ax = plot_manipulability_path(rankloci.locus("planar2r"))
     >>> ax.get_xlabel()
     'path parameter t'
@@ -479,7 +479,7 @@ def plot_manipulability_paths(paths, *, units: str = "", title: str = "", jacobi
     Examples
     --------
     >>> import rankloci
-    >>> from rankloci.report.figures import plot_manipulability_paths
+    >>> from rankloci.reporting.figures import plot_manipulability_paths
     >>> len(plot_manipulability_paths(rankloci.locus("puma560", numeric=True)))
     3
     """
@@ -660,7 +660,7 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
         A locus: the arm at the sample point of its component ``component``
         (the robot is ``model``, default ``locus.model`` as a built-in name).
         A model (anything :func:`rankloci.load_model` takes): the arm at
-        ``q``.  Or the pose from :func:`~rankloci.report.robot.robot_pose`.
+        ``q``.  Or the pose from :func:`~rankloci.reporting.robot.robot_pose`.
     q : array_like or mapping, optional
         For a model: one value per joint variable, or variable name -> value.
     component : int
@@ -683,7 +683,7 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
     Examples
     --------
     >>> import rankloci
-    >>> from rankloci.report.figures import plot_robot
+    >>> from rankloci.reporting.figures import plot_robot
     >>> plot_robot(rankloci.locus("puma560", numeric=True), component=2).name
     '3d'
     >>> ax = plot_robot("planar2r", [0.3, 0.5])
@@ -786,7 +786,7 @@ def robot_figure(singular, regular=None, *, component: int = 1, model=None, seed
     Examples
     --------
     >>> import rankloci
-    >>> from rankloci.report.figures import robot_figure
+    >>> from rankloci.reporting.figures import robot_figure
     >>> [a.get_title() for a in robot_figure(rankloci.locus("planar2r"))]
     ['singular: the sample point', 'regular: a nearby configuration']
     """
@@ -835,7 +835,7 @@ _ROLE_STYLE = {
 
 
 def tree_dot_source(summary) -> str:
-    """Graphviz source of a :class:`~rankloci.report.tree_summary.TreeSummary`, top-down."""
+    """Graphviz source of a :class:`~rankloci.reporting.tree_summary.TreeSummary`, top-down."""
     def esc(s):
         return str(s).replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n")
 
@@ -879,7 +879,7 @@ def plot_tree(summary, ax=None):
     ----------
     summary : Locus or TreeSummary
         A locus (its branch tree ``Locus.tree``, cut down by
-        :func:`~rankloci.report.tree_summary.tree_summary`), or the cut-down tree.
+        :func:`~rankloci.reporting.tree_summary.tree_summary`), or the cut-down tree.
     ax : matplotlib.axes.Axes, optional
         Drawn into; a new Figure otherwise.
 
@@ -890,13 +890,13 @@ def plot_tree(summary, ax=None):
     Examples
     --------
     >>> import rankloci
-    >>> from rankloci.report.figures import plot_tree
+    >>> from rankloci.reporting.figures import plot_tree
     >>> L = rankloci.locus("planar2r")
     >>> ax = plot_tree(L)
     >>> len(ax.texts) == L.tree.number_of_nodes(), ax.axison    # a small tree is drawn whole
     (True, False)
     """
-    from ..locus import Locus
+    from ..loci import Locus
 
     if isinstance(summary, Locus):
         from .tree_summary import tree_summary

@@ -15,16 +15,16 @@ __all__ = ["render_markdown", "blocks_markdown"]
 
 
 def render_markdown(report, *, timings: bool = True) -> str:
-    """The Markdown text of a :class:`~rankloci.report.Report`."""
+    """The Markdown text of a :class:`~rankloci.reporting.Report`."""
     return blocks_markdown(report_blocks(report, timings=timings))
 
 
 def blocks_markdown(blocks) -> str:
-    """Markdown of a list of blocks (:mod:`~rankloci.report.blocks`).
+    """Markdown of a list of blocks (:mod:`~rankloci.reporting.blocks`).
 
     Examples
     --------
-    >>> from rankloci.report.blocks import Heading, Math, Para
+    >>> from rankloci.reporting.blocks import Heading, Math, Para
     >>> print(blocks_markdown([Heading(2, "Locus"), Para("where $x_1 = 0$"), Math(("x_1 = 0",))]))
     ## 1. Locus
     <BLANKLINE>

@@ -33,8 +33,7 @@ import sys
 import time
 import traceback
 
-from ..errors import LocusTimeout, RanklociError
-from .output import shortened
+from .errors import LocusTimeout, RanklociError, UsageError, shortened
 
 __all__ = ["run_limited", "LimitExceeded", "KILL_GRACE", "DEFAULT_MEMORY_MB", "MAX_TIMEOUT_S",
            "MAX_MEMORY_MB", "process_started", "own_memory_mib", "MEMORY_POLL_S"]
@@ -65,7 +64,7 @@ MAX_TIMEOUT_S = 1_000_000
 MAX_MEMORY_MB = 2 ** 24
 
 
-class LimitExceeded(Exception):
+class LimitExceeded(RanklociError):
     """The work ran out of time or memory; ``str`` says which and how far it got."""
 
 
@@ -131,8 +130,6 @@ def run_limited(work, *, timeout: float | None, memory_mb: int | None, progress=
     ChildFailed
         Any other exception in the work (a bug): the child's traceback.
     """
-    from .parser import UsageError
-
     # Load the compiled libraries before the fork: OpenBLAS (scipy's copy is loaded lazily)
     # spins instead of failing when it cannot map its buffers under the child's limit.
     import scipy.linalg  # noqa: F401
@@ -230,8 +227,6 @@ PR_SET_PDEATHSIG = 1
 
 
 def _child(work, send, memory_mb):
-    from .parser import UsageError
-
     signal.signal(signal.SIGINT, signal.SIG_IGN)       # the parent handles Ctrl-C
     _die_with_parent()
     if memory_mb:

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 
 import networkx as nx
 
-from ..locus import Outcome
+from ..loci import Outcome
 from ..tolerances import LEAF_MATCH_RTOL
 
 __all__ = ["TreeSummary", "tree_summary", "node_outcome", "is_component_leaf", "component_leaves"]
@@ -15,7 +15,7 @@ __all__ = ["TreeSummary", "tree_summary", "node_outcome", "is_component_leaf", "
 
 
 def node_outcome(data) -> Outcome | None:
-    """The :class:`~rankloci.locus.Outcome` of a branch-tree node with attributes ``data``.
+    """The :class:`~rankloci.loci.Outcome` of a branch-tree node with attributes ``data``.
 
     None when the node has no outcome; a text that is no outcome is a ValueError.
     """

@@ -9,7 +9,7 @@ import time
 
 import pytest
 
-from rankloci.cli.limits import KILL_GRACE, ChildFailed, LimitExceeded, run_limited
+from rankloci.process_limits import KILL_GRACE, ChildFailed, LimitExceeded, run_limited
 from rankloci.errors import LocusTimeout, ModelError
 
 #: Slack for starting and reaping the child on a loaded 2-core machine (the limit itself is
@@ -39,13 +39,13 @@ def _stuck_after_a_long_message(progress):
 
 def test_the_error_line_keeps_the_last_progress_short():
     """A progress message of 100 kB (a component's equations) is cut in the error line."""
-    from rankloci.cli.output import PROGRESS_LINE_MAX
+    from rankloci.errors import MESSAGE_MAX
 
     with pytest.raises(LimitExceeded, match="did not finish") as err:
         run_limited(_stuck_after_a_long_message, timeout=0.5, memory_mb=0)
     message = str(err.value)
     assert "component found: 123456789*sin(q1)" in message and "more characters" in message
-    assert len(message) < PROGRESS_LINE_MAX + 200
+    assert len(message) < MESSAGE_MAX + 200
 
 
 def _hungry(progress):

@@ -3,7 +3,7 @@
 The chain of frame origins (links), each joint axis as a point and a unit
 direction, and the task point, all in the world frame, plus the size of the
 arm for scaling what is drawn on it.  numpy only; the drawing is
-:func:`~rankloci.report.figures.plot_robot`.
+:func:`~rankloci.reporting.figures.plot_robot`.
 """
 
 from __future__ import annotations

@@ -38,7 +38,7 @@ class Manipulability:
 
 
 def _robot(model, tip=None, base_link=None):
-    from ..api import load_model
+    from .calls import load_model
     from ..model import RobotModel
 
     model = load_model(model, tip=tip, base_link=base_link)
@@ -71,8 +71,8 @@ def manipulability(model, q, *, position_only: bool = False, tip: str | None = N
     >>> round(m.ellipsoid.w, 6), round(m.polytope.w_p, 6)
     (0.707107, 2.828427)
     """
-    from .manipulability import MAX_POLYTOPE_COLUMNS, ellipsoid, polytope
-    from .path import Kinematics
+    from ..near.manipulability import MAX_POLYTOPE_COLUMNS, ellipsoid, polytope
+    from ..near.path import Kinematics
 
     kin = Kinematics(_robot(model, tip, base_link))
     q = np.asarray(q, dtype=float)
@@ -101,7 +101,7 @@ def joint_rates(model, q0, points, *, tip=None, base_link=None, **options):
     >>> path.rates.shape
     (11, 4)
     """
-    from .path import Kinematics, joint_rates_along
+    from ..near.path import Kinematics, joint_rates_along
 
     return joint_rates_along(Kinematics(_robot(model, tip, base_link)), q0, points, **options)
 
@@ -122,9 +122,9 @@ def nearest_component(model, q, *, seed: int = 0, tip: str | None = None,
     >>> near.component, round(near.distance, 12)
     (1, 0.5)
     """
-    from .nearest import ComponentDistance
+    from ..near.nearest import ComponentDistance
 
-    from ..api.calls import certified_locus
+    from .calls import certified_locus
 
     locus, tm = certified_locus(_robot(model, tip, base_link), seed=seed)
     return ComponentDistance(locus, tm.angles).nearest(np.asarray(q, dtype=float))

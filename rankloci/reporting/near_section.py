@@ -5,7 +5,7 @@ functions of :mod:`rankloci.near` at a regular pose and near each component
 (manipulability ellipsoid and polytope, distance to the component) and along one
 task-space line through a component (minimum infinity-norm joint rates), and draws
 their figures; :func:`near_blocks` turns the result into blocks of
-:mod:`~rankloci.report.blocks`.  Nothing is written to disk here.
+:mod:`~rankloci.reporting.blocks`.  Nothing is written to disk here.
 """
 
 from __future__ import annotations
@@ -110,7 +110,7 @@ def near_data(model, locus, nm, params, seed: int, stem: str) -> NearData | None
     not a robot or whose task has no position rows.
     """
     from ..model import RobotModel
-    from ..near.api import joint_rates, manipulability
+    from ..api.near import joint_rates, manipulability
     from ..near.figures import path_figure
     from ..near.manipulability import ellipsoid
     from ..near.nearest import ComponentDistance
@@ -203,7 +203,7 @@ def near_manipulability_figure(model, poses, *, three: bool = True):
     from matplotlib.figure import Figure as MplFigure
     from matplotlib.ticker import MaxNLocator
 
-    from ..near.api import manipulability
+    from ..api.near import manipulability
     from ..near.figures import plot_manipulability
 
     cols = min(NEAR_COLUMNS, len(poses))

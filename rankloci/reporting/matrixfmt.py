@@ -1,7 +1,7 @@
 """A symbolic Jacobian prepared for display: compact entries, abbreviations, named subexpressions.
 
 :func:`jacobian_display` writes each entry in its narrowest form (see
-:func:`~rankloci.report.mathfmt.compact`) in the ``s_i``/``c_i``
+:func:`~rankloci.reporting.mathfmt.compact`) in the ``s_i``/``c_i``
 abbreviations of the sines and cosines, names common subexpressions
 ``xi_k`` when that shortens the matrix enough, and decides whether the
 whole matrix fits on a line or is shown column by column.  Pure.

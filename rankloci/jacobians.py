@@ -256,13 +256,13 @@ def exact_constant_angles(M):
     >>> len(notes)
     1
     """
-    from .io.urdf_exact import _cos_sin
+    from .io.urdf_exact import cos_sin
 
     found = {}
     for a in M.atoms(sp.sin, sp.cos):
         const = _constant_part(a.args[0])
         if const is not None and const not in found:
-            found[const] = _cos_sin(float(const))
+            found[const] = cos_sin(float(const))
     if not found:
         return M, ()
 

@@ -3,7 +3,7 @@
 :func:`facts_at` lists what holds at a configuration: axes collinear,
 parallel, perpendicular or meeting, and the task point or a design point (where
 consecutive axes meet at every configuration, :func:`design_points`) on an
-axis or in a plane.  :mod:`~rankloci.report.interpret` keeps the facts that
+axis or in a plane.  :mod:`~rankloci.reporting.interpret` keeps the facts that
 hold on a component and at no random configuration.  :func:`dependent_joints`
 finds the smallest set of dependent columns of J.  numpy only.
 """

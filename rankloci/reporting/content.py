@@ -1,11 +1,11 @@
 """The report as a list of blocks, shared by the Markdown and the LaTeX renderers.
 
 :func:`report_blocks` decides *what* the report says, section by section, as
-plain data (the blocks of :mod:`~rankloci.report.blocks`);
-:mod:`~rankloci.report.markdown` and :mod:`~rankloci.report.latex` only
+plain data (the blocks of :mod:`~rankloci.reporting.blocks`);
+:mod:`~rankloci.reporting.markdown` and :mod:`~rankloci.reporting.latex` only
 decide how each block is spelled.  This module writes the summary, the model,
 the symbolic Jacobian and the appendix (timings, how to reproduce the report);
-:mod:`~rankloci.report.findings` the sections on the locus and its checks.
+:mod:`~rankloci.reporting.findings` the sections on the locus and its checks.
 Everything here is pure.
 """
 
@@ -91,7 +91,7 @@ def _summary(report):
     return blocks
 
 
-#: An equation wider than this (in :func:`~rankloci.report.mathfmt.math_width` units) is not
+#: An equation wider than this (in :func:`~rankloci.reporting.mathfmt.math_width` units) is not
 #: written out in the summary table, which points to the component's subsection instead: one
 #: line of its equations column (0.3 of the line width in small type).  Each equation is kept
 #: on one line, so that a reader never has to join "... =" and "0".
@@ -172,7 +172,7 @@ def comparison_headline(cmp) -> str:
 
     Examples
     --------
-    >>> from rankloci.report.comparison import Comparison, Disagreement
+    >>> from rankloci.reporting.comparison import Comparison, Disagreement
     >>> d = Disagreement("subdeterminant", "svm", 2, ("q1 = 0",), 5, ((0.0, 1.0),), (0.3,))
     >>> cmp = Comparison(("svm", "subdeterminant"), False, False, ("",), disagreements=(d,))
     >>> print(comparison_headline(cmp))  # doctest: +NORMALIZE_WHITESPACE
@@ -397,7 +397,7 @@ def _jacobian_section(report):
 
 
 def matrix_blocks(jd) -> list:
-    """Blocks showing a :class:`~rankloci.report.matrixfmt.JacobianDisplay`.
+    """Blocks showing a :class:`~rankloci.reporting.matrixfmt.JacobianDisplay`.
 
     The whole matrix when it fits on a line (``jd.layout == "matrix"``);
     otherwise its columns, as many side by side as fit on a line, and each
@@ -492,6 +492,6 @@ def _reproduce_section(report):
 
 def _version() -> str:
     """The version of rankloci that writes the report."""
-    from .. import __version__
+    from ..version import __version__
 
     return __version__

@@ -3,7 +3,7 @@ singularity maps, the branch tree, the numeric cross-check, the method compariso
 algorithmic singularities of an augmented Jacobian.
 
 :func:`findings_blocks` returns them in this order, as blocks of
-:mod:`~rankloci.report.blocks`; :func:`~rankloci.report.content.report_blocks`
+:mod:`~rankloci.reporting.blocks`; :func:`~rankloci.reporting.content.report_blocks`
 puts them between the model and the appendix.  Everything here is pure.
 """
 
@@ -532,11 +532,11 @@ def _point_text(q) -> str:
 
 
 def disagreement_verdict(d) -> str:
-    """The SVD's verdict on a :class:`~rankloci.report.comparison.Disagreement`, in a sentence.
+    """The SVD's verdict on a :class:`~rankloci.reporting.comparison.Disagreement`, in a sentence.
 
     Examples
     --------
-    >>> from rankloci.report.comparison import Disagreement
+    >>> from rankloci.reporting.comparison import Disagreement
     >>> d = Disagreement("subdeterminant", "svm", 2, ("q1 = 0",), 5, ((0.0, 1.0),), (0.3,))
     >>> print(disagreement_verdict(d))  # doctest: +NORMALIZE_WHITESPACE
     The subdeterminant component 2 contains regular points: sigma ratio 3.0e-01 at

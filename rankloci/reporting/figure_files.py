@@ -1,7 +1,7 @@
 """The figures of a report, chosen and captioned: :func:`report_figures`.
 
-:mod:`~rankloci.report.analysis` computes the numbers and
-:mod:`~rankloci.report.figures` draws them; this module decides which
+:mod:`~rankloci.reporting.analysis` computes the numbers and
+:mod:`~rankloci.reporting.figures` draws them; this module decides which
 figures a report has (heat-map slices through the components, manipulability
 along paths across them, the branch tree, J beside the augmented J) and
 writes their captions.  Nothing is written to disk here.
@@ -227,10 +227,10 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot, views=()) -> t
     finish), and then the heat map passes through a configuration found
     numerically.  ``seed`` fixes the paths, ``dot`` is graphviz's ``dot``
     (or None: the tree is drawn with matplotlib).  ``views`` are the report's
-    :class:`~rankloci.report.build.ComponentView` (their readings name the axes
+    :class:`~rankloci.reporting.build.ComponentView` (their readings name the axes
     the pictures of the robot highlight).
     """
-    from ..jacobian import task_matrix
+    from ..jacobians import task_matrix
     from ..numeric.equations import NumericMatrix
     from . import analysis as A
     from .tree_summary import tree_summary

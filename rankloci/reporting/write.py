@@ -3,14 +3,14 @@
 
 This is the only module of the report package that touches files; it runs
 LaTeX, and the only other program the package runs is graphviz's ``dot``
-(:func:`~rankloci.report.figures.tree_png`, on bytes in memory).
+(:func:`~rankloci.reporting.figures.tree_png`, on bytes in memory).
 :func:`write_report` builds the whole report in a temporary directory beside
 the target and then moves the files into place, so that a failure leaves
 nothing half-written.  The LaTeX command is passed in (or None): nothing here
 looks for programs.
 
 Every file a report writes is named ``STEM.ext`` or ``STEM-what.png``, where
-``STEM`` is :attr:`Report.name <rankloci.report.build.Report.name>` (ASCII
+``STEM`` is :attr:`Report.name <rankloci.reporting.build.Report.name>` (ASCII
 letters, digits, ``_`` and ``-``), and lies directly in the target
 directory.  When a report is written again, the figures of the previous one
 that it does not produce are removed: only files whose whole name is one a
@@ -27,6 +27,8 @@ import subprocess
 import tempfile
 from pathlib import Path
 
+from ..errors import RanklociError
+
 __all__ = ["write_report", "report_workdir", "read_model_notes", "ReportError", "FORMATS"]
 
 #: The formats :func:`write_report` writes (the PNG figures come with each; the HTML page
@@ -34,7 +36,7 @@ __all__ = ["write_report", "report_workdir", "read_model_notes", "ReportError", 
 FORMATS = ("md", "tex", "pdf", "html")
 
 
-class ReportError(Exception):
+class ReportError(RanklociError):
     """A report could not be written (LaTeX failed on it): not bad input, a failure."""
 
 
@@ -86,11 +88,11 @@ def write_report(report, directory, *, formats=FORMATS, fragment: bool = False,
     Parameters
     ----------
     report : Report
-        What :func:`~rankloci.report.build.build_report` returned.
+        What :func:`~rankloci.reporting.build.build_report` returned.
     directory : path
     formats : sequence of {"md", "tex", "pdf", "html"}
         The PNG figures are always written beside the text.  The HTML page
-        (:func:`~rankloci.report.html.render_html`) is one self-contained file.
+        (:func:`~rankloci.reporting.html.render_html`) is one self-contained file.
     fragment : bool
         Write the LaTeX body without a preamble (for ``\\input`` into a paper).
     latex : (str, str) or None

@@ -1,7 +1,7 @@
 """Plain-language readings of a lost direction, verified numerically, and the joint axes.
 
 :func:`axis_lines` gives the joint axes at a configuration (the geometric
-readings of :mod:`~rankloci.report.interpret` are made of them).  The lost
+readings of :mod:`~rankloci.reporting.interpret` are made of them).  The lost
 direction is read here:
 
 - **the lost direction**: ``u^T J = 0`` at the sample point, read as "the
