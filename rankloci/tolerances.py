@@ -780,3 +780,16 @@ MAX_SIGN_CHOICES = 4
 #: Gauss-Newton step from far away can jump past the nearest zero of a trigonometric
 #: equation to another; short steps follow the descent of the residual to the nearest.
 MAX_PROJECTION_STEP = 0.1
+
+# --- real points of complex components (exact/real_points.py) ----------------------------------
+
+#: The largest matrix (its smaller side) whose maximal minors are expanded symbolically to
+#: find hypersurface components whose real points are of lower dimension, and the most
+#: minors: beyond, the expansion costs more than the rest of the certificate, and such
+#: components are left to the certificate's verdict.
+REAL_POINTS_MAX_SIDE = 3
+REAL_POINTS_MAX_MINORS = 20
+#: The most terms the matrix's entries may have in total, and the most monomials in half the
+#: Newton polytope of a factor (the size of its Gram matrix).
+REAL_POINTS_MAX_ENTRY_TERMS = 120
+REAL_POINTS_MAX_GRAM = 40

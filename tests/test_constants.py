@@ -43,6 +43,10 @@ ALLOWED_NAMES = {
     "tree/probe.py:_MATRIX_CACHE": "size of a cache (speed only)",
     "tree/probe.py:_POLY_CACHE": "size of a cache (speed only)",
     "api/calls.py:_MAX_CACHED": "loci kept by is_singular (speed only)",
+    "parallel.py:WORKER_MIN_VARIABLES": "which parts run in a worker: the locus is the same "
+                                         "for any jobs (tests/test_parallel.py)",
+    "parallel.py:POLL_SECONDS": "process timing: how often a wait looks at the time limit",
+    "parallel.py:PARENT_CHECK_SECONDS": "process timing: how often a worker looks for its parent",
     "limits.py:_TURN": "2 pi, a mathematical constant",
     "near/discontinuity.py:DEFAULT_MIXING_GAIN": "the documented default of a user option",
     "near/manipulability.py:MAX_POLYTOPE_COLUMNS": "bounds the input: a wider matrix is refused",

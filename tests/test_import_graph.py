@@ -19,7 +19,8 @@ PACKAGE = Path(__file__).resolve().parent.parent / "rankloci"
 #: module belongs to the layer of the longest prefix of its dotted name listed here.
 LAYERS = (
     # what any module may use: errors, tolerances, the version, what an optional part needs
-    ("rankloci.errors", "rankloci.tolerances", "rankloci.version", "rankloci.extras"),
+    ("rankloci.errors", "rankloci.tolerances", "rankloci.version", "rankloci.extras",
+     "rankloci.renamed", "rankloci.parallel"),
     # exact and numeric building blocks, on no model and no locus
     ("rankloci.expr", "rankloci.algebra", "rankloci.process_limits",
      "rankloci.exact.certificate"),
@@ -40,7 +41,7 @@ LAYERS = (
      "rankloci.api.progress", "rankloci.api.results", "rankloci.api.symbols",
      "rankloci.api.calls", "rankloci.api.near"),
     # renderers of what the calls return
-    ("rankloci.render_text", "rankloci.reporting"),
+    ("rankloci.render_text", "rankloci.reporting", "rankloci.near.figures"),
     # the library's interface (the report call included), then the command line and sweeps
     ("rankloci.api",),
     ("rankloci.sweep",),

@@ -130,7 +130,7 @@ def matrix_model(matrix, *, variables=None, parameters=None, name: str = "matrix
     params = {str(k): v for k, v in (parameters or {}).items()}
     if isinstance(matrix, sp.MatrixBase):
         _check_functions(matrix)
-        stand_ins = _stand_ins(matrix, variables, params)
+        stand_ins = stand_in_names(matrix, variables, params)
         if stand_ins:
             return _with_stand_ins(matrix, variables, params, name, stand_ins)
     M = _sympy_matrix(matrix, [str(v) for v in variables or ()] + list(params))
@@ -188,7 +188,7 @@ def _with_entries(model, entries):
     return dataclasses.replace(model, matrix=sp.ImmutableMatrix(A))
 
 
-def _stand_ins(matrix, variables, params) -> dict:
+def stand_in_names(matrix, variables, params) -> dict:
     """Name -> a stand-in name a model file can hold, for each symbol name it cannot."""
     names = {s.name for e in matrix for s in e.free_symbols}
     names |= {str(v) for v in variables or ()} | set(params)

@@ -31,7 +31,7 @@ def caller_symbols(model, variables=None, parameters=None) -> dict:
     """
     import sympy as sp
 
-    from .models import _stand_ins
+    from .models import stand_in_names
 
     found = []
     if isinstance(model, sp.MatrixBase):
@@ -39,7 +39,7 @@ def caller_symbols(model, variables=None, parameters=None) -> dict:
     found += [v for v in variables or () if isinstance(v, sp.Symbol)]
     found += [k for k in dict(parameters or {}) if isinstance(k, sp.Symbol)]
     # a name a model file cannot hold is carried under a stand-in (matrix_model)
-    ins = (_stand_ins(model, variables, {str(k): v for k, v in dict(parameters or {}).items()})
+    ins = (stand_in_names(model, variables, {str(k): v for k, v in dict(parameters or {}).items()})
            if isinstance(model, sp.MatrixBase) else {})
     return {ins.get(s.name, s.name): s for s in sorted(found, key=lambda s: s.name)}
 

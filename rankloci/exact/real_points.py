@@ -35,17 +35,13 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from ..tolerances import REAL_POINTS_MAX_ENTRY_TERMS as MAX_ENTRY_TERMS
+from ..tolerances import REAL_POINTS_MAX_GRAM as MAX_GRAM
+from ..tolerances import REAL_POINTS_MAX_MINORS as MAX_MINORS
+from ..tolerances import REAL_POINTS_MAX_SIDE as MAX_SIDE
+
 __all__ = ["RealPart", "definite_parts", "real_part_of", "without_real_points"]
 
-#: The largest matrix (its smaller side) whose maximal minors are expanded symbolically to
-#: find hypersurface components, and the most minors: beyond, the expansion costs more than
-#: the rest of the certificate.
-MAX_SIDE = 3
-MAX_MINORS = 20
-#: The most terms the matrix's entries may have in total, and the most monomials in half the
-#: Newton polytope of a factor (the size of its Gram matrix).
-MAX_ENTRY_TERMS = 120
-MAX_GRAM = 40
 
 
 @dataclass(frozen=True)

@@ -102,7 +102,7 @@ def path_distances(path, locus, *, model=None):
         The distances, shape (len(path.t), number of components), and a label
         per component (``"component 1: sin(q2) = 0"``).
     """
-    from ..api import jacobian
+    from ..api.calls import jacobian
     from ..errors import ArgumentError
     from .nearest import ComponentDistance
 

@@ -49,7 +49,7 @@ _LITERAL = re.compile("\x0e([tcfs])([^\x0e\x0f]*)\x0f")
 # and text apart by _SEP.  In Markdown it stays a placeholder, _REF_OPEN kind label _SEP text
 # _REF_CLOSE, until the whole document is known (see :func:`md_refs`).
 _SEP, _REF_OPEN, _REF_CLOSE = "\x1f", "\x10", "\x11"
-_MD_REF = re.compile("\x10([fs])([^\x1f]*)\x1f([^\x11]*)\x11")
+MD_REF = re.compile("\x10([fs])([^\x1f]*)\x1f([^\x11]*)\x11")
 _CONTROL = re.compile(r"[\x00-\x1f\x7f]+")
 
 
@@ -119,7 +119,7 @@ def md_refs(text: str, figures: dict, headings: dict) -> str:
             return f"[{words} {number}]({file})"
         return f"[{words}](#{headings[label]})" if label in headings else words
 
-    return _MD_REF.sub(link, text)
+    return MD_REF.sub(link, text)
 
 
 _TEX_SPECIAL = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#",

@@ -51,10 +51,6 @@ def _units(model, model_tm) -> str:
     return "dimensionless" if linear == 0 else ("m" if linear == 1 else f"m^{linear}")
 
 
-#: The regular pose beside each picture of the robot: this far along the component's path.
-ROBOT_REGULAR_T = 0.35
-
-
 def _vector3(labels, vec, rows) -> np.ndarray:
     """The entries of ``vec`` on ``rows`` (e.g. vx vy vz) as a 3-vector (0 where absent)."""
     labels = list(labels)
@@ -64,7 +60,7 @@ def _vector3(labels, vec, rows) -> np.ndarray:
 def _robot_figures(model, model_tm, comps, views, nm, params, paths, stem) -> list:
     """A picture of the arm at each component's sample point and at a nearby regular pose."""
     from ..model import RobotModel
-    from .figures import robot_png
+    from .figures import ROBOT_REGULAR_T, robot_png
     from .robot import robot_pose
 
     if not isinstance(model, RobotModel) or getattr(model, "frame", "base") != "base":

@@ -231,7 +231,7 @@ def _locus_matrix(locus, jacobian=None, *, rows=None):
     model name.  ``rows``: keep only the first ``rows`` rows (J without its
     constraint rows).
     """
-    from ..api import jacobian as task_jacobian
+    from ..api.calls import jacobian as task_jacobian
     from ..errors import ArgumentError
     from ..jacobians import TaskMatrix
     from ..numeric.equations import NumericMatrix
@@ -530,9 +530,13 @@ def _ellipsoid(ax, centre, Jv, size, colour):
                       alpha=0.6)
 
 
+#: The regular pose beside each picture of the robot: this far along the component's path.
+ROBOT_REGULAR_T = 0.35
+
+
 def _robot_and_q(robot, q, *, model=None, component: int = 1):
     """(RobotModel, {name: value}) for a locus's component sample or a model and q."""
-    from ..api import load_model
+    from ..api.calls import load_model
     from ..errors import ArgumentError
     from ..model import RobotModel
 
@@ -793,7 +797,6 @@ def robot_figure(singular, regular=None, *, component: int = 1, model=None, seed
     from matplotlib.figure import Figure
 
     if _is_locus(singular):
-        from .figure_files import ROBOT_REGULAR_T
         from .robot import robot_pose
 
         locus = singular

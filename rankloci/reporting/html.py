@@ -33,7 +33,7 @@ import sympy as sp
 from ..tolerances import FOLLOWER_RTOL, VIEW_ON_LOCUS_RTOL
 from .blocks import Appendix, Bullets, Code, Figure, Heading, Marker, Math, Para, Table
 from .content import report_blocks
-from .escape import _MD_REF, html_id, rich_html
+from .escape import MD_REF, html_id, rich_html
 
 __all__ = ["render_html", "view_data", "blocks_html", "KATEX_VERSION"]
 
@@ -126,7 +126,7 @@ def blocks_html(blocks, *, extra=None) -> str:
             return f'<a href="#{html_id(label)}">{words} {figures[label]}</a>'
         return words
 
-    return _MD_REF.sub(link, text)
+    return MD_REF.sub(link, text)
 
 
 def _spell(blocks, state, extra) -> str:
