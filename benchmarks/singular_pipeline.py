@@ -69,7 +69,7 @@ def singular_script(path, base, tip, augment) -> tuple[str, str]:
 
     from rankloci.augmented import parse_augment
     from rankloci.io import load_model
-    from rankloci.jacobian import task_matrix
+    from rankloci.jacobians import task_matrix
 
     model = load_model(path, base_link=base, tip_link=tip)
     tm = task_matrix(model, frame="auto", numeric=True,

@@ -326,7 +326,7 @@ ORIENTATION = ("q1 + q2 + q3",)
 
 
 def _augmented_reference():
-    from rankloci.jacobian import task_matrix as tm_of
+    from rankloci.jacobians import task_matrix as tm_of
 
     model = load_model("planar3r")
     return tm_of(model, augment=parse_augment(model, ORIENTATION))
@@ -362,7 +362,7 @@ def test_a_wrong_base_locus_fails_the_augmented_locus():
 
     import rankloci
     from rankloci.certify import certify_locus
-    from rankloci.locus import Component
+    from rankloci.loci import Component
     from rankloci.verify import verified_locus
 
     locus = rankloci.locus("planar3r", augment=list(ORIENTATION))

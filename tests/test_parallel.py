@@ -14,7 +14,7 @@ import rankloci
 from rankloci.cli import main
 from rankloci.errors import ArgumentError
 from rankloci.io import load_model
-from rankloci.jacobian import task_matrix
+from rankloci.jacobians import task_matrix
 from rankloci.methods import compute_locus, method_for
 from rankloci.parallel import Workers, available_cores, check_jobs
 from rankloci.verify import verified_locus

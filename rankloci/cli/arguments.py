@@ -11,7 +11,8 @@ import argparse
 from ..errors import UsageError
 from ..process_limits import MAX_MEMORY_MB, MAX_TIMEOUT_S
 
-__all__ = ["ArgumentParser", "frame_arg", "timeout_arg", "memory_arg", "seed_arg", "task_arg"]
+__all__ = ["ArgumentParser", "frame_arg", "timeout_arg", "memory_arg", "seed_arg", "jobs_arg",
+           "task_arg"]
 
 
 class ArgumentParser(argparse.ArgumentParser):
@@ -85,6 +86,17 @@ def memory_arg(text: str) -> int:
     return value
 
 
+def _integer_at_least(text: str, least: int) -> int:
+    """``text`` as an integer ``least`` or above, or the ArgumentTypeError naming it."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = least - 1
+    if value < least:
+        raise argparse.ArgumentTypeError(f"{text[:20]!r} is not an integer {least} or above")
+    return value
+
+
 def seed_arg(text: str) -> int:
     """A seed of :func:`numpy.random.default_rng`: an integer 0 or above.
 
@@ -97,13 +109,22 @@ def seed_arg(text: str) -> int:
         ...
     argparse.ArgumentTypeError: '-1' is not an integer 0 or above
     """
-    try:
-        seed = int(text)
-    except ValueError:
-        seed = -1
-    if seed < 0:
-        raise argparse.ArgumentTypeError(f"{text!r} is not an integer 0 or above")
-    return seed
+    return _integer_at_least(text, 0)
+
+
+def jobs_arg(text: str) -> int:
+    """A number of processes for one computation: an integer 1 or above.
+
+    Examples
+    --------
+    >>> jobs_arg("2")
+    2
+    >>> jobs_arg("0")
+    Traceback (most recent call last):
+        ...
+    argparse.ArgumentTypeError: '0' is not an integer 1 or above
+    """
+    return _integer_at_least(text, 1)
 
 
 def task_arg(text: str):

@@ -12,9 +12,10 @@ import argparse
 
 from ..errors import UsageError
 from ..process_limits import DEFAULT_MEMORY_MB
-from .arguments import ArgumentParser, frame_arg, memory_arg, seed_arg, task_arg, timeout_arg
+from .arguments import (ArgumentParser, frame_arg, jobs_arg, memory_arg, seed_arg, task_arg,
+                        timeout_arg)
 
-__all__ = ["UsageError", "build_parser", "OLD_OPTIONS", "jobs_arg"]
+__all__ = ["UsageError", "build_parser", "OLD_OPTIONS"]
 
 
 #: Options renamed to one spelling across the subcommands: old spelling -> new.  The old
@@ -41,27 +42,6 @@ def _numeric_flag(p, help_text):
     """``--numeric``, and its old spelling ``--numeric-parameters`` (hidden from the help)."""
     p.add_argument("--numeric", dest="numeric", action="store_true", help=help_text)
     p.add_argument("--numeric-parameters", dest="numeric", action=_OldSpelling)
-
-
-def jobs_arg(text: str) -> int:
-    """A number of processes for one computation: an integer 1 or above.
-
-    Examples
-    --------
-    >>> jobs_arg("2")
-    2
-    >>> jobs_arg("0")
-    Traceback (most recent call last):
-        ...
-    argparse.ArgumentTypeError: '0' is not an integer 1 or above
-    """
-    try:
-        jobs = int(text)
-    except ValueError:
-        jobs = 0
-    if jobs < 1:
-        raise argparse.ArgumentTypeError(f"{text[:20]!r} is not an integer 1 or above")
-    return jobs
 
 
 def _jobs_option(p):

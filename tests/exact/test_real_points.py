@@ -17,7 +17,7 @@ import rankloci
 from rankloci.cli import main
 from rankloci.exact.real_points import real_part_of, sum_of_squares
 from rankloci.exact.witness import certify_components
-from rankloci.locus import Component
+from rankloci.loci import Component
 from rankloci.tolerances import RANK_RTOL
 
 x, y = sp.symbols("x y", real=True)

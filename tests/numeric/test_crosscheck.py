@@ -239,7 +239,7 @@ def test_extended_precision_separates_singular_from_nearly_singular():
                           dimension=0, rank_drop=1)),
 ])
 def test_a_matrix_that_vanishes_on_a_component_is_singular_there(matrix, component):
-    from rankloci.locus import Locus
+    from rankloci.loci import Locus
 
     x, y = sp.symbols("x y", real=True)
     M = {"sines": sp.Matrix([[sp.sin(x), -sp.sin(y)], [sp.sin(y), sp.sin(x)]]),

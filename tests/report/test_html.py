@@ -15,7 +15,7 @@ import pytest
 import sympy as sp
 
 from rankloci.io import load_model
-from rankloci.report import FORMATS, build_report, write_report
+from rankloci.reporting import FORMATS, build_report, write_report
 from rankloci.reporting.html import KATEX_VERSION, blocks_html, render_html, view_data
 from rankloci.reporting.mathfmt import latex
 from rankloci.tolerances import VIEW_ON_LOCUS_RTOL
@@ -140,7 +140,7 @@ def test_view_data_put_each_sample_on_its_component(planar3r):
 
 @pytest.mark.slow
 def test_view_data_carry_the_rows_that_augment_j():
-    from rankloci.jacobian import task_matrix
+    from rankloci.jacobians import task_matrix
     from rankloci.numeric.equations import NumericMatrix
 
     model = load_model("planar3r_orient")           # J is [vx; vy; grad(q1 + q2 + q3)]
@@ -195,7 +195,7 @@ def test_model_text_is_text_in_the_page():
 
 
 def test_code_for_the_page_is_only_arithmetic_in_the_joints():
-    from rankloci.locus import Component
+    from rankloci.loci import Component
     from rankloci.reporting.html import _component_code
 
     q1, q2, evil = sp.symbols("q1 q2 alert")

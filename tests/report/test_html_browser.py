@@ -24,7 +24,7 @@ import pytest
 import sympy as sp
 
 from rankloci.io import load_model
-from rankloci.jacobian import task_matrix
+from rankloci.jacobians import task_matrix
 from rankloci.numeric.equations import NumericMatrix
 from rankloci.tolerances import REGULAR_MIN_RATIO, VIEW_ON_LOCUS_RTOL
 
@@ -66,7 +66,7 @@ def _chromium():
 @pytest.fixture(scope="module")
 def puma_page(tmp_path_factory):
     pytest.importorskip("matplotlib")
-    from rankloci.report import build_report
+    from rankloci.reporting import build_report
     from rankloci.reporting.html import render_html
 
     report = build_report(load_model("puma560"), samples=2, exact=False)

@@ -13,7 +13,7 @@ import sympy as sp
 
 from rankloci.augmented import augmented_locus
 from rankloci.io import load_model
-from rankloci.jacobian import task_matrix
+from rankloci.jacobians import task_matrix
 from rankloci.methods import method_for
 from rankloci.methods.readable import solved_at_values
 from rankloci.reporting.build import component_views

@@ -7,7 +7,7 @@ import sympy as sp
 
 import rankloci
 from rankloci.io import load_model
-from rankloci.jacobian import task_matrix
+from rankloci.jacobians import task_matrix
 from rankloci.reporting.determinant import factored_determinant
 
 
@@ -52,7 +52,7 @@ def test_a_wrong_factor_is_refused():
 
 
 def test_the_report_displays_the_factored_determinant():
-    from rankloci.report import build_report
+    from rankloci.reporting import build_report
     from rankloci.reporting.markdown import render_markdown
 
     md = render_markdown(build_report(load_model("stanford"), seed=0, samples=2, exact=False))

@@ -7,7 +7,7 @@ import re
 import pytest
 
 from rankloci.io import load_model
-from rankloci.report import build_report
+from rankloci.reporting import build_report
 
 
 @pytest.mark.slow

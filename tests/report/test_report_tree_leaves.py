@@ -6,7 +6,7 @@ import numpy as np
 
 import rankloci
 from rankloci.io import load_model
-from rankloci.jacobian import task_matrix
+from rankloci.jacobians import task_matrix
 from rankloci.reporting.tree_summary import component_leaves, tree_summary
 
 
