@@ -501,7 +501,7 @@ def grade(model, tm, locus, ref: PinocchioJacobian, rng) -> dict:
 
     # soundness: each component of the model's own locus is singular in Pinocchio's J
     names = [v.name for v in tm.variables]
-    components = [c for c in locus.components if c.exists_for_model]
+    components = [c for c in locus.components if c.for_model]
     sound = []
     for i, c in enumerate(components, start=1):
         eqs = Equations(c.equations, tm.variables, tm.parameters, c.excluding)
@@ -630,7 +630,7 @@ def run_case(chain: Chain, root: Path, *, time_limit: float | None = 60.0, seed:
         out["reason"] = f"locus: {_exception_text(e)}"
         return out
     t2 = time.perf_counter()
-    mine = [c for c in locus.components if c.exists_for_model]
+    mine = [c for c in locus.components if c.for_model]
     out.update(shape=list(tm.shape), method=method, setup_s=t1 - t0, locus_s=t2 - t1,
                components=len(mine), other_components=len(locus.components) - len(mine),
                degenerate=locus.degenerate, nodes=locus.tree.number_of_nodes(),
@@ -684,7 +684,7 @@ def self_checked(model, tm, method, chain: Chain, ref, seed: int, *, emit=None,
     g = grade(model, tm, locus, ref, np.random.default_rng(seed))
     return {"status": "pass" if g["ok"] else "fail", "reason": g["reason"],
             "complete": locus.complete, "attempts": list(v.attempts), "seconds": t1 - t0,
-            "components": sum(c.exists_for_model for c in locus.components)}
+            "components": sum(c.for_model for c in locus.components)}
 
 
 # --- running the corpus ---------------------------------------------------------------------

@@ -138,8 +138,8 @@ class Component:
     for_model : bool
         Whether the component has real points for the model's own parameter
         values (a component with parameter conditions the model does not
-        satisfy, or whose equations have no real solution for them, has not);
-        see :attr:`exists_for_model`.
+        satisfy, or whose equations have no real solution for them, has not).
+        The others are kept apart, in :attr:`Locus.special`.
     """
 
     equations: tuple
@@ -159,12 +159,11 @@ class Component:
 
     @property
     def exists_for_model(self) -> bool:
-        """Is this a component of the model's own locus?
+        """The old name of :attr:`for_model`, which it returns (with a DeprecationWarning)."""
+        import warnings
 
-        It is when it has real points for the model's own parameter values:
-        its parameter conditions, if any, hold for them.  The others are kept
-        apart, in :attr:`Locus.special`.
-        """
+        warnings.warn("Component.exists_for_model is for_model", DeprecationWarning,
+                      stacklevel=2)
         return self.for_model
 
     def __repr__(self) -> str:
@@ -274,10 +273,10 @@ class Locus:
     def __post_init__(self):
         # the one place where components are split: those without real points for the model's
         # own parameter values go to ``special``, whoever built the locus
-        apart = tuple(c for c in self.components if not c.exists_for_model)
+        apart = tuple(c for c in self.components if not c.for_model)
         if apart:
             object.__setattr__(self, "components",
-                               tuple(c for c in self.components if c.exists_for_model))
+                               tuple(c for c in self.components if c.for_model))
             object.__setattr__(self, "special", tuple(self.special) + apart)
 
     @property

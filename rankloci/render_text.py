@@ -154,7 +154,7 @@ def locus_latex(locus) -> str:
     out = [f"% rank-deficiency locus of {locus.model} ({locus.shape[0]}x{locus.shape[1]}), "
            f"method {locus.method}"]
     for i, c in enumerate(locus.all_components, 1):
-        tag = " (special parameters)" if not c.exists_for_model else ""
+        tag = " (special parameters)" if not c.for_model else ""
         tag += f", {c.kind}" if c.kind else ""
         out.append(f"% component {i}: dimension {c.dimension}, rank drop {c.rank_drop}{tag}")
         out.append(r"\begin{align*}")

@@ -66,7 +66,7 @@ def raw_locus(text: str, method: str = "svm", seed: int = 0):
 
 def model_components(locus):
     """The components that exist for the model's own parameter values."""
-    return [c for c in locus.components if c.exists_for_model]
+    return [c for c in locus.components if c.for_model]
 
 
 # --- numeric J ------------------------------------------------------------------------------

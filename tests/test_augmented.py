@@ -38,7 +38,7 @@ def _loci(name, augment=(), numeric=True):
 
 
 def _main_components(locus):
-    return [c for c in locus.components if c.exists_for_model]
+    return [c for c in locus.components if c.for_model]
 
 
 def _on(comp, tm, q, tol=1e-9):

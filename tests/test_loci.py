@@ -38,3 +38,12 @@ def test_components_for_other_parameter_values_go_to_special_whoever_builds_the_
     # a locus built with the split already made is the same locus
     assert Locus("m", (q1, q2), {a: 1}, (2, 2), "determinant", (Component((sp.sin(q2),)),),
                  special=(other,)) == L
+
+
+def test_exists_for_model_is_the_old_name_of_for_model():
+    import pytest
+
+    for flag in (True, False):
+        c = Component((a - 2,), for_model=flag)
+        with pytest.warns(DeprecationWarning, match="for_model"):
+            assert c.exists_for_model is flag

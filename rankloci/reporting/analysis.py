@@ -48,7 +48,7 @@ PATH_NORMAL_SHARE = 0.8
 
 def model_components(locus):
     """(1-based index, component) of the components that exist for the model's values."""
-    return [(i, c) for i, c in enumerate(locus.components, start=1) if c.exists_for_model]
+    return [(i, c) for i, c in enumerate(locus.components, start=1) if c.for_model]
 
 
 def sigma_ratios(Js: np.ndarray) -> np.ndarray:

@@ -333,7 +333,7 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
     augmented = ()
     base = getattr(locus, "base", None) if locus is not None else None
     if base is not None:
-        augmented = tuple(ComponentView(i, c, not c.exists_for_model,
+        augmented = tuple(ComponentView(i, c, not c.for_model,
                                         kind=getattr(c, "kind", None))
                           for i, c in enumerate(locus.components + locus.special, start=1))
 
@@ -488,7 +488,7 @@ def _component_views(model, model_tm, locus, nm, params, rng, jac):
         return tuple(out)
 
     for i, c in enumerate(locus.components + locus.special, start=1):
-        special = not c.exists_for_model
+        special = not c.for_model
         folded = fold(c.equations)
         folded_excluding = fold(c.excluding) if folded else ()
         geometry, directions, motions = [], [], []

@@ -499,7 +499,7 @@ def _comparison_section(report):
                         "$\\det J = 0$ here."))
         return out
     loc, sec = report.locus, report.second
-    rows = [(x.method, str(sum(c.exists_for_model for c in x.components)),
+    rows = [(x.method, str(sum(c.for_model for c in x.components)),
              str(x.tree.number_of_nodes() if x.tree is not None else "-"))
             for x in (loc, sec) if x is not None]
     out.append(Table(("method", "components (model values)", "tree nodes"), tuple(rows), "lrr"))
@@ -603,7 +603,7 @@ def _augmented_section(report):
     out.append(Table(("component", "kind"), tuple(rows), "ll"))
     base = getattr(report.locus, "base", None)
     if base is not None:
-        comps = [c for c in base.components if c.exists_for_model]
+        comps = [c for c in base.components if c.for_model]
         out.append(Para(f"The locus of $J$ without the constraint rows ({base.shape[0]}x"
                         f"{base.shape[1]}, {base.method} method) has "
                         f"{counted(len(comps), 'component')} for the model's values"

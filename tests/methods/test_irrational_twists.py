@@ -36,7 +36,7 @@ def test_jaco2_locus_passes_the_numeric_check(numeric):
     tm = task_matrix(model, frame="auto", numeric=numeric)
     assert square_root_primes(tm.matrix) == (3,)
     locus = compute_locus(tm, method_for(tm.shape), rng=np.random.default_rng(SEED))
-    assert [c for c in locus.components if c.exists_for_model], locus.components
+    assert [c for c in locus.components if c.for_model], locus.components
     J = task_matrix(model)
     report = cross_check(locus, J.matrix, J.variables, angles=J.angles, parameters=J.parameters,
                          samples=8, rng=np.random.default_rng(SEED), seed=SEED)

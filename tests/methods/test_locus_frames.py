@@ -16,14 +16,14 @@ SEED = 7
 
 def _equation_sets(locus):
     return {tuple(sorted(sp.sstr(e) for e in c.equations))
-            for c in locus.components if c.exists_for_model}
+            for c in locus.components if c.for_model}
 
 
 def _vanish_somewhere(comp_a, locus_b, syms):
     """Is comp_a's sample point on some component of locus_b?"""
     x = [comp_a.sample[str(s)] for s in syms]
     for c in locus_b.components:
-        if not c.exists_for_model:
+        if not c.for_model:
             continue
         f = sp.lambdify(syms, list(c.equations))
         if np.max(np.abs(np.array(f(*x), dtype=float))) < 1e-7:

@@ -31,7 +31,7 @@ def test_baxter_locus_at_its_own_parameter_values():
 
     locus, verification = verified_locus(compute, tm, task_matrix(model))
     assert verification.complete, verification.problems
-    assert locus.components and all(c.exists_for_model for c in locus.components)
+    assert locus.components and all(c.for_model for c in locus.components)
     # a rank drop of 1 of a 6 x 7 matrix holds on sets of dimension 5 at least (7 - 2)
     assert all(c.dimension == 5 for c in locus.components if c.rank_drop == 1)
     assert not dimension_findings(locus)
