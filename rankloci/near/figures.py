@@ -255,7 +255,7 @@ def plot_manipulability(J, ax=None):
     >>> plot_manipulability(m).name
     '3d'
     """
-    from .api import Manipulability
+    from ..api.near import Manipulability
     from .manipulability import ellipsoid, polytope
 
     if isinstance(J, Manipulability):
