@@ -36,9 +36,10 @@ AUGMENTED_SIZE = (11.0, 4.6)
 PATH_SIZE = (8.0, 4.8)
 ROBOT_SIZE = (10.0, 4.8)
 
-#: Locus curves: colours that stand out on viridis, with a dark outline.
-_CURVE_COLOURS = ("#ff2d55", "#ffffff", "#00e5ff", "#ffb000", "#ff66ff", "#7CFC00",
-                  "#ff8c00", "#c0c0c0", "#1e90ff", "#ffd700")
+#: Locus curves: colours that stand out on viridis, with a dark outline; any two differ by a
+#: CIE76 delta E of at least 20 (tests/report/test_report_figure_text.py).
+CURVE_COLOURS = ("#ff2d55", "#ffffff", "#00e5ff", "#ffb000", "#ff66ff", "#7CFC00",
+                 "#ff8c00", "#c0c0c0", "#1e90ff", "#ffd700")
 _LINESTYLES = ("-", "--", "-.", ":")
 
 #: Width (points) of a locus line on a heat map; its dark edge is half a point wider.
@@ -111,7 +112,7 @@ def _draw_slice(ax, data, names, prismatic, norm, cmap, *, legend=True, prefix="
     # each component differs from the others in colour and in dash pattern (told apart in grey)
     outline = [pe.Stroke(linewidth=CURVE_WIDTH + 0.5, foreground="black"), pe.Normal()]
     for idx, lines, pts in data.curves:
-        colour = _CURVE_COLOURS[(idx - 1) % len(_CURVE_COLOURS)]
+        colour = CURVE_COLOURS[(idx - 1) % len(CURVE_COLOURS)]
         style = _LINESTYLES[(idx - 1) % len(_LINESTYLES)]
         label = f"{prefix} {idx}"
         for k, seg in enumerate(lines):

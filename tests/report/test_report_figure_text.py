@@ -226,6 +226,6 @@ def test_every_pair_of_locus_colours_is_told_apart():
     # a heat map with up to ten components uses the whole palette
     from matplotlib.colors import to_rgb
 
-    for a, b in itertools.combinations(F._CURVE_COLOURS, 2):
+    for a, b in itertools.combinations(F.CURVE_COLOURS, 2):
         d = float(np.linalg.norm(_lab(to_rgb(a)) - _lab(to_rgb(b))))
         assert d >= MIN_DELTA_E, (a, b, round(d, 1))
