@@ -345,8 +345,13 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot, views=()) -> t
                                  plain_tm.angles)
         nm_plain.strokes = getattr(nm, "strokes", {})
         data = slices[0]
+        # the same window as the augmented slice: the panels share their axes, and a window
+        # chosen for J alone would leave a white band in one of them
+        # (an angle's window is a full turn about its middle, a length's is set by the point)
+        window = tuple((g[0] + g[-1]) / 2 if nm.variables[k] in nm.angles else data.point[k]
+                       for g, k in ((data.xs, data.axes[0]), (data.ys, data.axes[1])))
         left = A.slice_grid(nm_plain, A.model_components(base), params, data.axes, data.point,
-                            through=data.through)
+                            through=data.through, n=len(data.xs), centres=window)
         i, j = data.axes
         caption = (f"{SIGMA} over the ({names[i]}, {names[j]}) slice of the first "
                    "heat map, one colour scale: left J without the constraint rows, with the "

@@ -27,6 +27,10 @@ MIN_FONT_PT = 6.0
 #: the just-noticeable difference; 20 is a difference seen at a glance on a thin line.
 MIN_DELTA_E = 20.0
 
+#: Two windows are the same when their edges agree to this fraction of their width: the
+#: round-off of finding the centre of a full turn from its ends and back.
+SAME_WINDOW_REL = 1e-9
+
 MODELS = ("planar3r", "planar3r_orient", "puma560", "ur5")
 
 
@@ -229,3 +233,15 @@ def test_every_pair_of_locus_colours_is_told_apart():
     for a, b in itertools.combinations(F.CURVE_COLOURS, 2):
         d = float(np.linalg.norm(_lab(to_rgb(a)) - _lab(to_rgb(b))))
         assert d >= MIN_DELTA_E, (a, b, round(d, 1))
+
+
+@pytest.mark.slow
+def test_both_panels_of_the_augmented_figure_cover_the_same_window(drawn):
+    # the panels share their axes: a smaller window on one leaves a white band in it
+    figs = [fig for label, fig, _ in drawn["planar3r_orient"] if "-augmented" in label]
+    assert len(figs) == 1
+    extents = [ax.images[0].get_extent() for ax in figs[0].axes if ax.images]
+    assert len(extents) == 2
+    a, b = np.asarray(extents)
+    width = max(a[1] - a[0], a[3] - a[2])
+    assert np.max(np.abs(a - b)) <= SAME_WINDOW_REL * width, extents
