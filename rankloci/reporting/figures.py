@@ -32,9 +32,16 @@ __all__ = ["plot_sigma_slice", "locus_slice", "plot_augmented", "plot_manipulabi
 DPI = 100
 #: Figure sizes in inches; at DPI they give the pixel sizes the tests expect.
 HEATMAP_SIZE = (7.0, 5.2)
-AUGMENTED_SIZE = (11.0, 4.6)
+AUGMENTED_SIZE = (8.0, 3.6)
 PATH_SIZE = (8.0, 4.8)
-ROBOT_SIZE = (10.0, 4.8)
+ROBOT_SIZE = (8.0, 3.9)
+
+#: Font size (pt) of legends and joint numbers on the path and robot figures: the report
+#: prints an 8-inch figure about 5.4 inches wide, so 9 pt reads as 6 pt.
+LABEL_PT = 9
+
+#: A 3-D arm's cube fills this fraction of its panel, leaving room for the axis labels.
+ROBOT_CUBE_ZOOM = 0.85
 
 #: Locus curves: colours that stand out on viridis, with a dark outline; any two differ by a
 #: CIE76 delta E of at least 20 (tests/report/test_report_figure_text.py).
@@ -99,7 +106,8 @@ def _norm(*ratios):
 _CBAR_LABEL = r"$\sigma_{\min}/\sigma_{\max}$ of J (log scale)"
 
 
-def _draw_slice(ax, data, names, prismatic, norm, cmap, *, legend=True, prefix="component"):
+def _draw_slice(ax, data, names, prismatic, norm, cmap, *, legend=True, prefix="component",
+                legend_pt=None):
     import matplotlib.patheffects as pe
 
     i, j = data.axes
@@ -131,7 +139,7 @@ def _draw_slice(ax, data, names, prismatic, norm, cmap, *, legend=True, prefix="
     _pi_ticks(ax.xaxis, data.xs[0], data.xs[-1])
     _pi_ticks(ax.yaxis, data.ys[0], data.ys[-1])
     if legend:
-        ax.legend(loc="upper right", framealpha=0.85)
+        ax.legend(loc="upper right", framealpha=0.85, fontsize=legend_pt)
     return mesh
 
 
@@ -329,8 +337,10 @@ def plot_augmented(plain, augmented=None, names=None, prismatic=None, *, jacobia
             fig = Figure(figsize=AUGMENTED_SIZE, layout="constrained")
             ax = fig.subplots(1, 2, sharey=True)
         norm = _norm(plain.ratio, augmented.ratio)
-        _draw_slice(ax[0], plain, names, prismatic, norm, "viridis", prefix="J's component")
-        mesh = _draw_slice(ax[1], augmented, names, prismatic, norm, "viridis")
+        _draw_slice(ax[0], plain, names, prismatic, norm, "viridis", prefix="J's component",
+                    legend_pt=LABEL_PT)
+        mesh = _draw_slice(ax[1], augmented, names, prismatic, norm, "viridis",
+                           legend_pt=LABEL_PT)
         ax[0].set_title("J (task rows only)")
         ax[1].set_title("J augmented with the constraint rows")
         ax[1].set_ylabel("")
@@ -506,7 +516,7 @@ def plot_manipulability_paths(paths, *, units: str = "", title: str = "", jacobi
                 a.set_xlabel("")
         fig = axes[0].figure
         if any(len(getattr(p, "zeros", ())) for p in paths):
-            axes[0].legend(loc="upper left", fontsize=7, framealpha=0.85)
+            axes[0].legend(loc="upper left", fontsize=LABEL_PT, framealpha=0.85)
         if title:
             fig.suptitle(title + "  (q(t) = q0 + t d; t = 0 on the component)")
     return axes
@@ -617,7 +627,7 @@ def _plot_robot_2d(pose, *, highlight, arrow, arrow_label, Jv, title, ax):
                                  zorder=3))
         if hot:
             ax.annotate(f"{k}", p[:2], xytext=(4, 4), textcoords="offset points",
-                        color="#d62728", fontsize=8)
+                        color="#d62728", fontsize=LABEL_PT)
     tip = np.asarray(pose.tool)[:2]
     ax.plot([tip[0]], [tip[1]], marker="*", markersize=10, color="#ff7f0e", linestyle="none",
             label="task point", zorder=4)
@@ -648,10 +658,10 @@ def _plot_robot_2d(pose, *, highlight, arrow, arrow_label, Jv, title, ax):
     ax.set_aspect("equal")
     ax.set_xlabel("x")
     ax.set_ylabel("y")
-    ax.tick_params(labelsize=7)
+    ax.tick_params(labelsize=LABEL_PT)
     if title:
-        ax.set_title(title, fontsize=9)
-    ax.legend(loc="upper left", fontsize=7)
+        ax.set_title(title, fontsize=10)
+    ax.legend(loc="best", fontsize=LABEL_PT)
     return ax
 
 
@@ -734,7 +744,7 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
                 for edge in _box_edges(p, d, 0.14 * scale, 0.05 * scale):
                     ax.plot(edge[:, 0], edge[:, 1], edge[:, 2], color=colour, linewidth=1.0)
             if hot:
-                ax.text(*(p + half_axis * d), f"{k}", color="#d62728", fontsize=8)
+                ax.text(*(p + half_axis * d), f"{k}", color="#d62728", fontsize=LABEL_PT)
         tip = np.asarray(pose.tool)
         ax.plot([tip[0]], [tip[1]], [tip[2]], marker="*", markersize=9, color="#ff7f0e",
                 linestyle="none", label="task point")
@@ -753,15 +763,17 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
         ax.set_xlim(mid[0] - half, mid[0] + half)
         ax.set_ylim(mid[1] - half, mid[1] + half)
         ax.set_zlim(mid[2] - half, mid[2] + half)
-        ax.set_box_aspect((1, 1, 1))
+        # constrained layout does not see the labels at the cube's corners: a smaller cube
+        # keeps them inside the figure
+        ax.set_box_aspect((1, 1, 1), zoom=ROBOT_CUBE_ZOOM)
         ax.set_xlabel("x")
         ax.set_ylabel("y")
         ax.set_zlabel("z")
-        ax.tick_params(labelsize=7)
+        ax.tick_params(labelsize=LABEL_PT)
         ax.view_init(elev=22, azim=-60)
         if title:
-            ax.set_title(title, fontsize=9)
-        ax.legend(loc="upper left", fontsize=7)
+            ax.set_title(title, fontsize=10)
+        ax.legend(loc="upper left", fontsize=LABEL_PT)
     return ax
 
 
