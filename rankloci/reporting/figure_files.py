@@ -101,13 +101,17 @@ def _robot_figures(model, model_tm, comps, views, nm, params, paths, stem) -> li
             elif np.linalg.norm(a) > small:
                 arrow, what = a, "translation part of the lost motion"
         axes = tuple(view.axes) if view is not None else ()
+        # a shoulder singularity's reading names a plane through an axis: it is drawn
+        through = re.compile(r"the task point lies in the plane through axis (\d+)\b")
+        plane = next((int(m.group(1)) for r in (view.readings if view is not None else ())
+                      if (m := through.search(r))), None)
         Jv0 = J0[lin] if lin else None
         Jv1 = J1[lin] if lin else None
         title = f"{stem}: component {idx}"
         pose0 = robot_pose(model, dict(zip(names, q0)), params)
         pose1 = robot_pose(model, dict(zip(names, q1)), params)
         png = robot_png(pose0, pose1, highlight=axes, arrow=arrow, arrow_label=what,
-                        Jv_singular=Jv0, Jv_regular=Jv1, title=title)
+                        Jv_singular=Jv0, Jv_regular=Jv1, title=title, plane=plane)
         prismatic = "prismatic" in pose0.kinds
         flat = ""
         if lin:
@@ -138,6 +142,9 @@ def _robot_figures(model, model_tm, comps, views, nm, params, paths, stem) -> li
                      + "; orange star: the task point, with the end-effector frame's x, y and z "
                      "axes (red, green, blue).")
         arrow_text = f" Purple arrow: the {what} at the task point." if arrow is not None else ""
+        if plane is not None and not planar:
+            arrow_text += (f" Translucent red, left: the plane through axis {plane} and the "
+                           "task point that the reading names.")
         caption = (f"The arm at the sample point of component {idx} (left) and at the regular "
                    f"configuration $q_0 + {t_reg:.2f}\\,d$ on its manipulability path (right; "
                    f"{SIGMA} = {float(np.interp(t_reg, path.t, path.ratio)):.2g}). "

@@ -665,8 +665,27 @@ def _plot_robot_2d(pose, *, highlight, arrow, arrow_label, Jv, title, ax):
     return ax
 
 
+def _plane_corners(pose, joint: int):
+    """The four corners of the plane through joint ``joint``'s axis and the task point, as
+    wide as the arm; None when the task point lies on that axis (no plane is defined)."""
+    p = np.asarray(pose.axis_points[joint - 1], dtype=float)
+    d = np.asarray(pose.axis_directions[joint - 1], dtype=float)
+    d = d / np.linalg.norm(d)
+    r = np.asarray(pose.tool, dtype=float) - p
+    u = r - (r @ d) * d
+    if np.linalg.norm(u) <= 1e-9 * pose.scale:
+        return None
+    u = u / np.linalg.norm(u)
+    half = 0.6 * pose.scale
+    reach = max(float(r @ u), 0.0)
+    along = np.array([r @ d - half, r @ d + half])
+    across = np.array([-0.2 * pose.scale, reach + 0.2 * pose.scale])
+    return np.array([p + s * d + t * u for s, t in ((along[0], across[0]), (along[1], across[0]),
+                                                     (along[1], across[1]), (along[0], across[1]))])
+
+
 def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), arrow=None,
-               arrow_label="", Jv=None, title: str = "", ax=None):
+               arrow_label="", Jv=None, title: str = "", ax=None, plane=None):
     """The arm at one configuration in 3-D: links, joint axes, task point.
 
     Parameters
@@ -690,6 +709,9 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
         The translational rows of J (2 or 3 rows); its manipulability ellipsoid is
         drawn at the task point.
     ax : mpl_toolkits.mplot3d.axes3d.Axes3D, optional
+    plane : int, optional
+        A 1-based joint: the plane through its axis and the task point is drawn
+        translucent (the plane a shoulder singularity's reading names).  3-D only.
 
     Returns
     -------
@@ -746,6 +768,14 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
             if hot:
                 ax.text(*(p + half_axis * d), f"{k}", color="#d62728", fontsize=LABEL_PT)
         tip = np.asarray(pose.tool)
+        if plane is not None:
+            corners = _plane_corners(pose, plane)
+            if corners is not None:
+                from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+                ax.add_collection3d(Poly3DCollection([corners], facecolor="#d62728", alpha=0.15,
+                                                     edgecolor="#d62728", linewidth=0.6,
+                                                     label=f"plane through axis {plane}"))
         ax.plot([tip[0]], [tip[1]], [tip[2]], marker="*", markersize=9, color="#ff7f0e",
                 linestyle="none", label="task point")
         if getattr(pose, "tool_frame", None) is not None:
@@ -773,13 +803,14 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
         ax.view_init(elev=22, azim=-60)
         if title:
             ax.set_title(title, fontsize=10)
-        ax.legend(loc="upper left", fontsize=LABEL_PT)
+        ax.legend(loc="upper left", fontsize=LABEL_PT,
+                  ncols=2 if len(ax.get_legend_handles_labels()[1]) > 2 else 1)
     return ax
 
 
 def robot_figure(singular, regular=None, *, component: int = 1, model=None, seed: int = 0,
                  highlight=(), arrow=None, arrow_label="", Jv_singular=None, Jv_regular=None,
-                 title: str = "", ax=None):
+                 title: str = "", ax=None, plane=None):
     """Two 3-D panels: the arm at a component's sample point and at a nearby regular pose.
 
     Parameters
@@ -793,6 +824,8 @@ def robot_figure(singular, regular=None, *, component: int = 1, model=None, seed
     regular : RobotPose, optional
     highlight, arrow, arrow_label, Jv_singular, Jv_regular, title
         As :func:`plot_robot`.
+    plane : int, optional
+        As :func:`plot_robot`, on the singular panel.
     ax : pair of 3-D axes, optional
         A new Figure's otherwise.
 
@@ -832,7 +865,7 @@ def robot_figure(singular, regular=None, *, component: int = 1, model=None, seed
                   fig.add_subplot(1, 2, 2, projection=None if flat else "3d")]
         a, b = ax
         plot_robot(singular, highlight=highlight, arrow=arrow, arrow_label=arrow_label,
-                   Jv=Jv_singular, title="singular: the sample point", ax=a)
+                   Jv=Jv_singular, title="singular: the sample point", ax=a, plane=plane)
         plot_robot(regular, highlight=highlight, Jv=Jv_regular,
                    title="regular: a nearby configuration", ax=b)
         if title:
