@@ -255,11 +255,9 @@ def plot_manipulability(J, ax=None):
     >>> plot_manipulability(m).name
     '3d'
     """
-    from ..api.near import Manipulability
     from .manipulability import ellipsoid, polytope
 
-    if isinstance(J, Manipulability):
-        J = J.J
+    J = getattr(J, "J", J)        # a Manipulability result carries its J
     J = np.asarray(J, dtype=float)
     m = J.shape[0]
     if m not in (2, 3):

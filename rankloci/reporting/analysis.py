@@ -195,7 +195,7 @@ def _window_centres(nm: NumericMatrix, axes, point, R):
 
 
 def slice_grid(nm: NumericMatrix, locus_components, parameters, axes, point, *, through=None,
-               n: int = GRID) -> SliceData:
+               n: int = GRID, centres=None) -> SliceData:
     """The heat map data of the slice ``axes`` through ``point`` with the locus curves.
 
     ``locus_components`` is a list of (index, Component); each is drawn where
@@ -203,11 +203,17 @@ def slice_grid(nm: NumericMatrix, locus_components, parameters, axes, point, *, 
     kept where the others vanish too, or, where they vanish only at isolated
     points, those points (refined by least squares).  Only points outside the
     component's excluded sets are drawn (:meth:`Equations.admits`): there the
-    equations may vanish at regular configurations.
+    equations may vanish at regular configurations.  ``centres`` (one per
+    axis) fixes the window, so that two slices drawn side by side cover the
+    same one; by default it is chosen to keep the locus off the frame's edges.
     """
-    xs, ys, R = ratio_grid(nm, axes, point, n)
-    centres = _window_centres(nm, axes, point, R)
-    if centres != (float(point[axes[0]]), float(point[axes[1]])):
+    if centres is None:
+        xs, ys, R = ratio_grid(nm, axes, point, n)
+        centres = _window_centres(nm, axes, point, R)
+        if centres != (float(point[axes[0]]), float(point[axes[1]])):
+            xs, ys, R = ratio_grid(nm, axes, point, n, centres)
+    else:
+        centres = (float(centres[0]), float(centres[1]))
         xs, ys, R = ratio_grid(nm, axes, point, n, centres)
     # the curves are traced on a grid two steps wider, so that a component on the border
     # of the slice is drawn too; the figure clips them to the slice

@@ -101,13 +101,17 @@ def _robot_figures(model, model_tm, comps, views, nm, params, paths, stem) -> li
             elif np.linalg.norm(a) > small:
                 arrow, what = a, "translation part of the lost motion"
         axes = tuple(view.axes) if view is not None else ()
+        # a shoulder singularity's reading names a plane through an axis: it is drawn
+        through = re.compile(r"the task point lies in the plane through axis (\d+)\b")
+        plane = next((int(m.group(1)) for r in (view.readings if view is not None else ())
+                      if (m := through.search(r))), None)
         Jv0 = J0[lin] if lin else None
         Jv1 = J1[lin] if lin else None
         title = f"{stem}: component {idx}"
         pose0 = robot_pose(model, dict(zip(names, q0)), params)
         pose1 = robot_pose(model, dict(zip(names, q1)), params)
         png = robot_png(pose0, pose1, highlight=axes, arrow=arrow, arrow_label=what,
-                        Jv_singular=Jv0, Jv_regular=Jv1, title=title)
+                        Jv_singular=Jv0, Jv_regular=Jv1, title=title, plane=plane)
         prismatic = "prismatic" in pose0.kinds
         flat = ""
         if lin:
@@ -138,6 +142,9 @@ def _robot_figures(model, model_tm, comps, views, nm, params, paths, stem) -> li
                      + "; orange star: the task point, with the end-effector frame's x, y and z "
                      "axes (red, green, blue).")
         arrow_text = f" Purple arrow: the {what} at the task point." if arrow is not None else ""
+        if plane is not None and not planar:
+            arrow_text += (f" Translucent red, left: the plane through axis {plane} and the "
+                           "task point that the reading names.")
         caption = (f"The arm at the sample point of component {idx} (left) and at the regular "
                    f"configuration $q_0 + {t_reg:.2f}\\,d$ on its manipulability path (right; "
                    f"{SIGMA} = {float(np.interp(t_reg, path.t, path.ratio)):.2g}). "
@@ -345,8 +352,13 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot, views=()) -> t
                                  plain_tm.angles)
         nm_plain.strokes = getattr(nm, "strokes", {})
         data = slices[0]
+        # the same window as the augmented slice: the panels share their axes, and a window
+        # chosen for J alone would leave a white band in one of them
+        # (an angle's window is a full turn about its middle, a length's is set by the point)
+        window = tuple((g[0] + g[-1]) / 2 if nm.variables[k] in nm.angles else data.point[k]
+                       for g, k in ((data.xs, data.axes[0]), (data.ys, data.axes[1])))
         left = A.slice_grid(nm_plain, A.model_components(base), params, data.axes, data.point,
-                            through=data.through)
+                            through=data.through, n=len(data.xs), centres=window)
         i, j = data.axes
         caption = (f"{SIGMA} over the ({names[i]}, {names[j]}) slice of the first "
                    "heat map, one colour scale: left J without the constraint rows, with the "

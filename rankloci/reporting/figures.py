@@ -32,13 +32,21 @@ __all__ = ["plot_sigma_slice", "locus_slice", "plot_augmented", "plot_manipulabi
 DPI = 100
 #: Figure sizes in inches; at DPI they give the pixel sizes the tests expect.
 HEATMAP_SIZE = (7.0, 5.2)
-AUGMENTED_SIZE = (11.0, 4.6)
+AUGMENTED_SIZE = (8.0, 3.6)
 PATH_SIZE = (8.0, 4.8)
-ROBOT_SIZE = (10.0, 4.8)
+ROBOT_SIZE = (8.0, 3.9)
 
-#: Locus curves: colours that stand out on viridis, with a dark outline.
-_CURVE_COLOURS = ("#ff2d55", "#ffffff", "#00e5ff", "#ffb000", "#ff66ff", "#7CFC00",
-                  "#ff8c00", "#c0c0c0", "#1e90ff", "#ffd700")
+#: Font size (pt) of legends and joint numbers on the path and robot figures: the report
+#: prints an 8-inch figure about 5.4 inches wide, so 9 pt reads as 6 pt.
+LABEL_PT = 9
+
+#: A 3-D arm's cube fills this fraction of its panel, leaving room for the axis labels.
+ROBOT_CUBE_ZOOM = 0.85
+
+#: Locus curves: colours that stand out on viridis, with a dark outline; any two differ by a
+#: CIE76 delta E of at least 20 (tests/report/test_report_figure_text.py).
+CURVE_COLOURS = ("#ff2d55", "#ffffff", "#00e5ff", "#ffb000", "#ff66ff", "#7CFC00",
+                 "#ff8c00", "#c0c0c0", "#1e90ff", "#ffd700")
 _LINESTYLES = ("-", "--", "-.", ":")
 
 #: Width (points) of a locus line on a heat map; its dark edge is half a point wider.
@@ -98,7 +106,8 @@ def _norm(*ratios):
 _CBAR_LABEL = r"$\sigma_{\min}/\sigma_{\max}$ of J (log scale)"
 
 
-def _draw_slice(ax, data, names, prismatic, norm, cmap, *, legend=True, prefix="component"):
+def _draw_slice(ax, data, names, prismatic, norm, cmap, *, legend=True, prefix="component",
+                legend_pt=None):
     import matplotlib.patheffects as pe
 
     i, j = data.axes
@@ -111,7 +120,7 @@ def _draw_slice(ax, data, names, prismatic, norm, cmap, *, legend=True, prefix="
     # each component differs from the others in colour and in dash pattern (told apart in grey)
     outline = [pe.Stroke(linewidth=CURVE_WIDTH + 0.5, foreground="black"), pe.Normal()]
     for idx, lines, pts in data.curves:
-        colour = _CURVE_COLOURS[(idx - 1) % len(_CURVE_COLOURS)]
+        colour = CURVE_COLOURS[(idx - 1) % len(CURVE_COLOURS)]
         style = _LINESTYLES[(idx - 1) % len(_LINESTYLES)]
         label = f"{prefix} {idx}"
         for k, seg in enumerate(lines):
@@ -130,7 +139,7 @@ def _draw_slice(ax, data, names, prismatic, norm, cmap, *, legend=True, prefix="
     _pi_ticks(ax.xaxis, data.xs[0], data.xs[-1])
     _pi_ticks(ax.yaxis, data.ys[0], data.ys[-1])
     if legend:
-        ax.legend(loc="upper right", framealpha=0.85)
+        ax.legend(loc="upper right", framealpha=0.85, fontsize=legend_pt)
     return mesh
 
 
@@ -328,8 +337,10 @@ def plot_augmented(plain, augmented=None, names=None, prismatic=None, *, jacobia
             fig = Figure(figsize=AUGMENTED_SIZE, layout="constrained")
             ax = fig.subplots(1, 2, sharey=True)
         norm = _norm(plain.ratio, augmented.ratio)
-        _draw_slice(ax[0], plain, names, prismatic, norm, "viridis", prefix="J's component")
-        mesh = _draw_slice(ax[1], augmented, names, prismatic, norm, "viridis")
+        _draw_slice(ax[0], plain, names, prismatic, norm, "viridis", prefix="J's component",
+                    legend_pt=LABEL_PT)
+        mesh = _draw_slice(ax[1], augmented, names, prismatic, norm, "viridis",
+                           legend_pt=LABEL_PT)
         ax[0].set_title("J (task rows only)")
         ax[1].set_title("J augmented with the constraint rows")
         ax[1].set_ylabel("")
@@ -505,7 +516,7 @@ def plot_manipulability_paths(paths, *, units: str = "", title: str = "", jacobi
                 a.set_xlabel("")
         fig = axes[0].figure
         if any(len(getattr(p, "zeros", ())) for p in paths):
-            axes[0].legend(loc="upper left", fontsize=7, framealpha=0.85)
+            axes[0].legend(loc="upper left", fontsize=LABEL_PT, framealpha=0.85)
         if title:
             fig.suptitle(title + "  (q(t) = q0 + t d; t = 0 on the component)")
     return axes
@@ -616,7 +627,7 @@ def _plot_robot_2d(pose, *, highlight, arrow, arrow_label, Jv, title, ax):
                                  zorder=3))
         if hot:
             ax.annotate(f"{k}", p[:2], xytext=(4, 4), textcoords="offset points",
-                        color="#d62728", fontsize=8)
+                        color="#d62728", fontsize=LABEL_PT)
     tip = np.asarray(pose.tool)[:2]
     ax.plot([tip[0]], [tip[1]], marker="*", markersize=10, color="#ff7f0e", linestyle="none",
             label="task point", zorder=4)
@@ -647,15 +658,34 @@ def _plot_robot_2d(pose, *, highlight, arrow, arrow_label, Jv, title, ax):
     ax.set_aspect("equal")
     ax.set_xlabel("x")
     ax.set_ylabel("y")
-    ax.tick_params(labelsize=7)
+    ax.tick_params(labelsize=LABEL_PT)
     if title:
-        ax.set_title(title, fontsize=9)
-    ax.legend(loc="upper left", fontsize=7)
+        ax.set_title(title, fontsize=10)
+    ax.legend(loc="best", fontsize=LABEL_PT)
     return ax
 
 
+def _plane_corners(pose, joint: int):
+    """The four corners of the plane through joint ``joint``'s axis and the task point, as
+    wide as the arm; None when the task point lies on that axis (no plane is defined)."""
+    p = np.asarray(pose.axis_points[joint - 1], dtype=float)
+    d = np.asarray(pose.axis_directions[joint - 1], dtype=float)
+    d = d / np.linalg.norm(d)
+    r = np.asarray(pose.tool, dtype=float) - p
+    u = r - (r @ d) * d
+    if np.linalg.norm(u) <= 1e-9 * pose.scale:
+        return None
+    u = u / np.linalg.norm(u)
+    half = 0.6 * pose.scale
+    reach = max(float(r @ u), 0.0)
+    along = np.array([r @ d - half, r @ d + half])
+    across = np.array([-0.2 * pose.scale, reach + 0.2 * pose.scale])
+    return np.array([p + s * d + t * u for s, t in ((along[0], across[0]), (along[1], across[0]),
+                                                     (along[1], across[1]), (along[0], across[1]))])
+
+
 def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), arrow=None,
-               arrow_label="", Jv=None, title: str = "", ax=None):
+               arrow_label="", Jv=None, title: str = "", ax=None, plane=None):
     """The arm at one configuration in 3-D: links, joint axes, task point.
 
     Parameters
@@ -679,6 +709,9 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
         The translational rows of J (2 or 3 rows); its manipulability ellipsoid is
         drawn at the task point.
     ax : mpl_toolkits.mplot3d.axes3d.Axes3D, optional
+    plane : int, optional
+        A 1-based joint: the plane through its axis and the task point is drawn
+        translucent (the plane a shoulder singularity's reading names).  3-D only.
 
     Returns
     -------
@@ -733,8 +766,16 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
                 for edge in _box_edges(p, d, 0.14 * scale, 0.05 * scale):
                     ax.plot(edge[:, 0], edge[:, 1], edge[:, 2], color=colour, linewidth=1.0)
             if hot:
-                ax.text(*(p + half_axis * d), f"{k}", color="#d62728", fontsize=8)
+                ax.text(*(p + half_axis * d), f"{k}", color="#d62728", fontsize=LABEL_PT)
         tip = np.asarray(pose.tool)
+        if plane is not None:
+            corners = _plane_corners(pose, plane)
+            if corners is not None:
+                from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+                ax.add_collection3d(Poly3DCollection([corners], facecolor="#d62728", alpha=0.15,
+                                                     edgecolor="#d62728", linewidth=0.6,
+                                                     label=f"plane through axis {plane}"))
         ax.plot([tip[0]], [tip[1]], [tip[2]], marker="*", markersize=9, color="#ff7f0e",
                 linestyle="none", label="task point")
         if getattr(pose, "tool_frame", None) is not None:
@@ -752,21 +793,24 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
         ax.set_xlim(mid[0] - half, mid[0] + half)
         ax.set_ylim(mid[1] - half, mid[1] + half)
         ax.set_zlim(mid[2] - half, mid[2] + half)
-        ax.set_box_aspect((1, 1, 1))
+        # constrained layout does not see the labels at the cube's corners: a smaller cube
+        # keeps them inside the figure
+        ax.set_box_aspect((1, 1, 1), zoom=ROBOT_CUBE_ZOOM)
         ax.set_xlabel("x")
         ax.set_ylabel("y")
         ax.set_zlabel("z")
-        ax.tick_params(labelsize=7)
+        ax.tick_params(labelsize=LABEL_PT)
         ax.view_init(elev=22, azim=-60)
         if title:
-            ax.set_title(title, fontsize=9)
-        ax.legend(loc="upper left", fontsize=7)
+            ax.set_title(title, fontsize=10)
+        ax.legend(loc="upper left", fontsize=LABEL_PT,
+                  ncols=2 if len(ax.get_legend_handles_labels()[1]) > 2 else 1)
     return ax
 
 
 def robot_figure(singular, regular=None, *, component: int = 1, model=None, seed: int = 0,
                  highlight=(), arrow=None, arrow_label="", Jv_singular=None, Jv_regular=None,
-                 title: str = "", ax=None):
+                 title: str = "", ax=None, plane=None):
     """Two 3-D panels: the arm at a component's sample point and at a nearby regular pose.
 
     Parameters
@@ -780,6 +824,8 @@ def robot_figure(singular, regular=None, *, component: int = 1, model=None, seed
     regular : RobotPose, optional
     highlight, arrow, arrow_label, Jv_singular, Jv_regular, title
         As :func:`plot_robot`.
+    plane : int, optional
+        As :func:`plot_robot`, on the singular panel.
     ax : pair of 3-D axes, optional
         A new Figure's otherwise.
 
@@ -819,7 +865,7 @@ def robot_figure(singular, regular=None, *, component: int = 1, model=None, seed
                   fig.add_subplot(1, 2, 2, projection=None if flat else "3d")]
         a, b = ax
         plot_robot(singular, highlight=highlight, arrow=arrow, arrow_label=arrow_label,
-                   Jv=Jv_singular, title="singular: the sample point", ax=a)
+                   Jv=Jv_singular, title="singular: the sample point", ax=a, plane=plane)
         plot_robot(regular, highlight=highlight, Jv=Jv_regular,
                    title="regular: a nearby configuration", ax=b)
         if title:

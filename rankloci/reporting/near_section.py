@@ -31,6 +31,10 @@ MAX_NEAR_COMPONENTS = 4
 FULL_POLYTOPE_JOINTS = 7
 #: Panels of the near-manipulability figure in one row.
 NEAR_COLUMNS = 3
+#: The 3-D panels of that figure draw their cube at this fraction of the panel: at full size
+#: the label of the third axis (vz), which constrained layout does not place, runs off the
+#: right edge of the figure by about 10 pixels.
+NEAR_CUBE_ZOOM = 0.85
 #: Font size (pt) of that figure as drawn: a row of three 3.4-inch panels is printed at about
 #: half size (0.85 of a 6.3-inch line), so 13 pt titles and 12 pt legends and ticks read as
 #: 6 pt and more.
@@ -214,6 +218,10 @@ def near_manipulability_figure(model, poses, *, three: bool = True):
         for i, p in enumerate(poses, start=1):
             ax = fig.add_subplot(rows, cols, i, projection="3d" if three else None)
             plot_manipulability(manipulability(model, p.q, position_only=True).J, ax=ax)
+            if three:
+                # constrained layout does not see a 3-D axis label: draw the cube smaller so
+                # that the labels at its corners (vz on the right) stay inside the figure
+                ax.set_box_aspect((1, 1, 1), zoom=NEAR_CUBE_ZOOM)
             ax.set_title("regular pose" if p.component == 0
                          else f"near component {p.component}", fontsize=NEAR_FONT_PT)
             ax.tick_params(labelsize=NEAR_FONT_PT - 1)

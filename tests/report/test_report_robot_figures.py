@@ -13,6 +13,11 @@ from rankloci.reporting.figures import plot_robot, robot_figure
 from rankloci.reporting.robot import robot_pose
 
 
+#: Points computed in one plane leave a third singular value of their differences at the
+#: round-off of double precision on coordinates of about one metre.
+COPLANAR_REL = 1e-12
+
+
 def _pose(name, **q):
     model = load_model(name)
     values = {str(v): 0.3 for v in model.variables}
@@ -52,3 +57,24 @@ def test_prismatic_joints_are_drawn_as_boxes():
     with_box = plot_robot(pose)
     without = plot_robot(as_revolute)
     assert len(with_box.lines) - len(without.lines) == 12     # the edges of one box
+
+
+def test_the_plane_through_axis_1_and_the_task_point_is_drawn():
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    from rankloci.reporting.figures import _plane_corners
+
+    pose = _pose("puma560")
+    corners = _plane_corners(pose, 1)
+    assert corners.shape == (4, 3)
+    # the four corners, a point of axis 1, a second point along it and the task point all lie
+    # in one plane: the matrix of their differences has rank 2
+    p, d = np.asarray(pose.axis_points[0]), np.asarray(pose.axis_directions[0])
+    pts = np.vstack([corners, p, p + d, pose.tool]) - corners[0]
+    s = np.linalg.svd(pts, compute_uv=False)
+    assert s[2] <= COPLANAR_REL * s[0] and s[1] > 0.1 * s[0]
+    with_plane = plot_robot(pose, plane=1)
+    without = plot_robot(pose)
+    count = lambda ax: sum(isinstance(c, Poly3DCollection) for c in ax.collections)  # noqa: E731
+    assert count(with_plane) == count(without) + 1
+    assert "plane through axis 1" in [t.get_text() for t in with_plane.get_legend().get_texts()]

@@ -1,0 +1,257 @@
+"""The report's figures are legible: no text cut by the figure's edge, no two labels of one
+Axes on top of each other, no text too small to read, and locus lines on a heat map told apart
+by colour and drawn thin.  Each report is built once per module and every figure it draws
+(heat maps, J beside the augmented J, paths, robots, tree, near-locus figures) is checked
+after an Agg draw."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+
+import rankloci.reporting.figures as F
+from rankloci.io import load_model
+from rankloci.reporting.build import build_report
+
+#: A text may reach this many pixels past the figure's edge: antialiasing of the glyphs
+#: spills about one pixel, which is not a clipped label.
+EDGE_ALLOWANCE_PX = 1.0
+#: Two texts of one Axes may share a strip this many pixels wide: the bounding boxes of
+#: glyphs include side bearings and line gaps, so neighbours that read apart touch by 1-2 px.
+OVERLAP_ALLOWANCE_PX = 2.0
+#: Smallest font size (points) of any text as printed: below 6 pt a page is not readable.
+MIN_FONT_PT = 6.0
+#: The LaTeX report prints a figure at most 0.85 of the line wide (A4 less 2.5 cm margins:
+#: 16 cm) and 0.42 of the text high (24.7 cm), keeping its aspect ratio.
+PRINT_WIDTH_IN = 0.85 * 16.0 / 2.54
+PRINT_HEIGHT_IN = 0.42 * 24.7 / 2.54
+#: Smallest CIE76 colour difference between two locus lines of one heat map.  About 2.3 is
+#: the just-noticeable difference; 20 is a difference seen at a glance on a thin line.
+MIN_DELTA_E = 20.0
+
+#: Two windows are the same when their edges agree to this fraction of their width: the
+#: round-off of finding the centre of a full turn from its ends and back.
+SAME_WINDOW_REL = 1e-9
+
+MODELS = ("planar3r", "planar3r_orient", "puma560", "ur5")
+
+
+@pytest.fixture(scope="module")
+def drawn():
+    """name -> list of (figure file stem, drawn Figure, renderer) for every model in MODELS."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    original = F.figure_png
+    out = {}
+    try:
+        for name in MODELS:
+            figs = []
+
+            def record(fig, _figs=figs):
+                _figs.append(fig)
+                return original(fig)
+
+            F.figure_png = record
+            report = build_report(load_model(name), samples=2, exact=False)
+            F.figure_png = original
+            # the tree may come from graphviz; every other figure is drawn by matplotlib
+            files = [f.name for f in report.figures if f.kind != "tree" or len(figs) > 0]
+            assert len(figs) >= len(report.figures) - 1
+            entries = []
+            for k, fig in enumerate(figs):
+                canvas = FigureCanvasAgg(fig)
+                fig.set_dpi(F.DPI)
+                canvas.draw()
+                label = files[k] if k < len(files) else f"{name}-figure-{k}"
+                entries.append((label, fig, canvas.get_renderer()))
+            out[name] = entries
+    finally:
+        F.figure_png = original
+    return out
+
+
+def _undrawn_tick_labels(artist) -> set:
+    """Tick labels matplotlib keeps but does not draw: their ticks lie outside the view."""
+    out = set()
+    for ax in artist.figure.axes:
+        for axis in ax._axis_map.values():
+            shown = ax.axison and axis.get_visible()
+            drawn = {id(t) for t in axis._update_ticks()} if shown else set()
+            for tick in axis.get_major_ticks() + axis.get_minor_ticks():
+                if id(tick) not in drawn:
+                    out.update((id(tick.label1), id(tick.label2)))
+    return out
+
+
+def _texts(artist):
+    """The texts of ``artist`` (a Figure or an Axes) that are drawn and say something."""
+    from matplotlib.text import Text
+
+    undrawn = _undrawn_tick_labels(artist)
+    return [t for t in artist.findobj(Text, include_self=False)
+            if t.get_visible() and t.get_text().strip() and t.get_alpha() != 0
+            and id(t) not in undrawn]
+
+
+def _extent(t, renderer):
+    """The window extent of ``t`` as drawn; a 3-D text is projected as its draw() does."""
+    from mpl_toolkits.mplot3d import proj3d
+    from mpl_toolkits.mplot3d.art3d import Text3D
+
+    if not isinstance(t, Text3D) or t.axes is None or t.axes.name != "3d":
+        return t.get_window_extent(renderer)
+    x, y = t.get_position()
+    px, py, _ = proj3d.proj_transform(x, y, t._z, t.axes.get_proj())
+    saved = t._x, t._y
+    t._x, t._y = px, py
+    try:
+        return t.get_window_extent(renderer)
+    finally:
+        t._x, t._y = saved
+
+
+def _clipped(fig, renderer) -> list:
+    """(text, extent) of each text of ``fig`` that runs past the figure's edge."""
+    box = fig.bbox
+    out = []
+    for t in _texts(fig):
+        e = _extent(t, renderer)
+        if (e.x0 < box.x0 - EDGE_ALLOWANCE_PX or e.y0 < box.y0 - EDGE_ALLOWANCE_PX
+                or e.x1 > box.x1 + EDGE_ALLOWANCE_PX or e.y1 > box.y1 + EDGE_ALLOWANCE_PX):
+            out.append((t.get_text(), tuple(float(v) for v in np.round(e.extents, 1))))
+    return out
+
+
+def _overlapping(fig, renderer) -> list:
+    """(text, text) of each pair of texts of one Axes of ``fig`` whose boxes intersect."""
+    out = []
+    for ax in fig.axes:
+        boxes = [(t.get_text(), _extent(t, renderer)) for t in _texts(ax)]
+        for (s, a), (u, b) in itertools.combinations(boxes, 2):
+            w = min(a.x1, b.x1) - max(a.x0, b.x0)
+            h = min(a.y1, b.y1) - max(a.y0, b.y0)
+            if w > OVERLAP_ALLOWANCE_PX and h > OVERLAP_ALLOWANCE_PX:
+                out.append((s, u))
+    return out
+
+
+def test_the_checks_find_a_clipped_and_an_overlapping_label():
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(3, 2), dpi=F.DPI)
+    ax = fig.add_subplot()
+    ax.set_axis_off()
+    ax.text(0.4, 0.5, "first label", transform=ax.transAxes)
+    ax.text(0.45, 0.5, "second label", transform=ax.transAxes)
+    fig.text(0.95, 0.5, "cut off")
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    assert [s for s, _ in _clipped(fig, renderer)] == ["cut off"]
+    assert _overlapping(fig, renderer) == [("first label", "second label")]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", MODELS)
+def test_no_text_is_cut_by_the_edge_of_the_figure(drawn, name):
+    bad = [(label, *c) for label, fig, renderer in drawn[name] for c in _clipped(fig, renderer)]
+    assert not bad, bad
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", MODELS)
+def test_no_two_labels_of_one_axes_overlap(drawn, name):
+    bad = [(label, *c) for label, fig, renderer in drawn[name]
+           for c in _overlapping(fig, renderer)]
+    assert not bad, bad
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", MODELS)
+def test_no_text_is_too_small_to_read(drawn, name):
+    bad = []
+    for label, fig, _ in drawn[name]:
+        if "-tree" in label:        # drawn by graphviz in the report, tall: a page of its own
+            continue
+        w, h = fig.get_size_inches()
+        scale = min(1.0, PRINT_WIDTH_IN / w, PRINT_HEIGHT_IN / h)
+        bad += [(label, t.get_text(), round(scale * t.get_fontsize(), 1)) for t in _texts(fig)
+                if scale * t.get_fontsize() < MIN_FONT_PT]
+    assert not bad, bad
+
+
+def _lab(rgb) -> np.ndarray:
+    """CIE L*a*b* (D65) of an sRGB colour with channels in 0..1."""
+    c = np.asarray(rgb, dtype=float)
+    lin = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+    m = np.array([[0.4124564, 0.3575761, 0.1804375],
+                  [0.2126729, 0.7151522, 0.0721750],
+                  [0.0193339, 0.1191920, 0.9503041]])
+    xyz = m @ lin / np.array([0.95047, 1.0, 1.08883])
+    f = np.where(xyz > (6 / 29) ** 3, np.cbrt(xyz), xyz / (3 * (6 / 29) ** 2) + 4 / 29)
+    return np.array([116 * f[1] - 16, 500 * (f[0] - f[1]), 200 * (f[1] - f[2])])
+
+
+def test_lab_conversion_matches_known_values():
+    assert np.allclose(_lab((1.0, 1.0, 1.0)), [100.0, 0.0, 0.0], atol=0.01)
+    assert np.allclose(_lab((0.0, 0.0, 0.0)), [0.0, 0.0, 0.0], atol=0.01)
+    assert np.allclose(_lab((1.0, 0.0, 0.0)), [53.24, 80.09, 67.20], atol=0.05)
+
+
+def _locus_lines(ax):
+    """(component label, colour, width) of each locus line of a heat map's Axes."""
+    from matplotlib.colors import to_rgb
+
+    out = {}
+    for line in ax.get_lines():
+        lab = line.get_label()
+        if lab.startswith("_") or "point" in lab:
+            continue
+        if line.get_linestyle() in ("None", "none", " ", ""):     # isolated points: no width
+            out.setdefault(lab, (to_rgb(line.get_markerfacecolor()), 0.0))
+        else:
+            out.setdefault(lab, (to_rgb(line.get_color()), line.get_linewidth()))
+    return out
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", MODELS)
+def test_locus_lines_on_a_heat_map_are_told_apart(drawn, name):
+    seen = 0
+    for label, fig, _ in drawn[name]:
+        if "-sigma-" not in label and "-augmented" not in label:
+            continue
+        for ax in fig.axes:
+            lines = _locus_lines(ax)
+            seen += len(lines)
+            for comp, (_, width) in lines.items():
+                assert width <= F.CURVE_WIDTH, (label, comp, width)
+            for (s, (a, _)), (u, (b, _)) in itertools.combinations(lines.items(), 2):
+                d = float(np.linalg.norm(_lab(a) - _lab(b)))
+                assert d >= MIN_DELTA_E, (label, s, u, round(d, 1))
+    if name != "planar3r_orient":
+        assert seen >= 1
+
+
+def test_every_pair_of_locus_colours_is_told_apart():
+    # a heat map with up to ten components uses the whole palette
+    from matplotlib.colors import to_rgb
+
+    for a, b in itertools.combinations(F.CURVE_COLOURS, 2):
+        d = float(np.linalg.norm(_lab(to_rgb(a)) - _lab(to_rgb(b))))
+        assert d >= MIN_DELTA_E, (a, b, round(d, 1))
+
+
+@pytest.mark.slow
+def test_both_panels_of_the_augmented_figure_cover_the_same_window(drawn):
+    # the panels share their axes: a smaller window on one leaves a white band in it
+    figs = [fig for label, fig, _ in drawn["planar3r_orient"] if "-augmented" in label]
+    assert len(figs) == 1
+    extents = [ax.images[0].get_extent() for ax in figs[0].axes if ax.images]
+    assert len(extents) == 2
+    a, b = np.asarray(extents)
+    width = max(a[1] - a[0], a[3] - a[2])
+    assert np.max(np.abs(a - b)) <= SAME_WINDOW_REL * width, extents
