@@ -130,7 +130,7 @@ def real_part_components(locus, reference, *, seed: int = 0):
     Examples
     --------
     >>> import rankloci
-    >>> from rankloci.jacobian import TaskMatrix
+    >>> from rankloci.jacobians import TaskMatrix
     >>> x, y = sp.symbols("x y", real=True)
     >>> tm = TaskMatrix("rot", sp.ImmutableMatrix([[x, -y], [y, x]]), (x, y), ())
     >>> L = rankloci.locus(tm.matrix, variables=(x, y), verify=False)

@@ -104,6 +104,22 @@ class _ParentAlive:
         return False
 
 
+#: The process that started the forkserver this process may use (None before any).
+_FORKSERVER_OWNER = None
+
+
+def _start_method() -> str:
+    """``"forkserver"``, or ``"spawn"`` in a process forked from one that started the
+    forkserver (the command line's limited child): the forkserver's state is inherited with
+    the fork, and that server is the parent's, which this process cannot wait for."""
+    global _FORKSERVER_OWNER
+
+    if _FORKSERVER_OWNER not in (None, os.getpid()):
+        return "spawn"
+    _FORKSERVER_OWNER = os.getpid()
+    return "forkserver"
+
+
 def _die_with_parent():
     """A worker's initializer: on Linux, the kernel kills the worker when the forkserver that
     started it ends, which it does when the computing process ends (even killed outright)."""
@@ -227,7 +243,7 @@ class Workers:
                 # the command line's limited child (rankloci.cli.limits) is daemonic only so
                 # that its parent does not wait for it at exit; its workers end with it
                 me.daemon = False
-            ctx = mp.get_context("forkserver")
+            ctx = mp.get_context(_start_method())
             # one worker fewer than the jobs: this process computes too
             self._executor = ProcessPoolExecutor(max_workers=max(1, self.jobs - 1),
                                                  mp_context=ctx, initializer=_die_with_parent)

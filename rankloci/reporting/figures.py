@@ -661,7 +661,7 @@ def _plot_robot_2d(pose, *, highlight, arrow, arrow_label, Jv, title, ax):
     ax.tick_params(labelsize=LABEL_PT)
     if title:
         ax.set_title(title, fontsize=10)
-    ax.legend(loc="best", fontsize=LABEL_PT)
+    ax.legend(loc="lower right", fontsize=LABEL_PT)
     return ax
 
 

@@ -58,7 +58,7 @@ def render_html(report, *, timings: bool = True) -> str:
     Examples
     --------
     >>> from rankloci.io import load_model
-    >>> from rankloci.report import build_report
+    >>> from rankloci.reporting import build_report
     >>> page = render_html(build_report(load_model("planar2r"), samples=2, exact=False),
     ...                    timings=False)
     >>> page.startswith("<!DOCTYPE html>"), 'id="arm-canvas"' in page
