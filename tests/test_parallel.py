@@ -139,3 +139,19 @@ def test_a_part_whose_worker_dies_is_computed_here():
     with Workers(2) as workers:
         assert workers.submit(_dies_in_a_worker, os.getpid()).result() == "computed here"
         assert workers.submit(os.getpid).result() != os.getpid()
+
+
+def test_a_process_forked_from_the_forkserver_owner_spawns_its_workers(monkeypatch):
+    """The command line's limited child is forked from a process that may have started the
+    forkserver: that server is its parent's, so the child's workers are spawned instead."""
+    import os
+
+    import rankloci.parallel as parallel
+
+    monkeypatch.setattr(parallel, "_FORKSERVER_OWNER", None)
+    assert parallel._start_method() == "forkserver"
+    assert parallel._FORKSERVER_OWNER == os.getpid()
+    monkeypatch.setattr(parallel, "_FORKSERVER_OWNER", os.getpid() + 1)   # a parent's server
+    assert parallel._start_method() == "spawn"
+    with Workers(2) as workers:                                          # and spawned workers
+        assert workers.submit(max, 3, 7).result(lambda: False) == 7      # compute
