@@ -8,9 +8,10 @@ certificate of a slice inside the recovery) is counted once, in the inner stage:
 - **imports**: ``import rankloci`` and what the pipeline imports on its first call
   (measured apart, in a process of its own, and subtracted from nothing);
 - **J**: :func:`rankloci.jacobians.task_matrix` (the matrix and the self-check's reference);
-- **engine**: the first :func:`rankloci.augmented.augmented_locus`;
+- **engine**: the first :func:`rankloci.augmented.augmented_locus_and_tree` (the pipeline's
+  engine stage);
 - **recomputation**: every later one (with the self-check's hints, other seeds or values)
-  and the loci of slices (:func:`rankloci.methods.compute_locus` called by the recovery);
+  and the loci of slices (:func:`rankloci.methods.locus_and_tree` called by the recovery);
 - **self-check**: :func:`rankloci.numeric.crosscheck.cross_check`;
 - **certificate**: :func:`rankloci.certify.certify_locus`;
 - **worker wait**: waiting for a part computed in a worker process (``--jobs`` above 1; the
@@ -92,8 +93,11 @@ def _child(path, base, tip, augment, jobs) -> dict:
         setattr(module, name, wrapper)
 
     timed(jacobian, "task_matrix", "J")
-    timed(augmented, "augmented_locus", "engine")
-    timed(methods, "compute_locus", "recomputation")
+    # the engine's functions; a version before the pipeline's stages had only the first names
+    timed(augmented, "augmented_locus_and_tree" if hasattr(augmented, "augmented_locus_and_tree")
+          else "augmented_locus", "engine")
+    timed(methods, "locus_and_tree" if hasattr(methods, "locus_and_tree") else "compute_locus",
+          "recomputation")
     timed(crosscheck, "cross_check", "self-check")
     timed(certify, "certify_locus", "certificate")
     if parallel is not None:

@@ -27,7 +27,8 @@ import sympy as sp
 
 from .errors import ModelError
 
-__all__ = ["PRESETS", "expand_preset", "parse_augment", "classify", "KINDS"]
+__all__ = ["PRESETS", "expand_preset", "parse_augment", "classify", "KINDS", "augmented_locus",
+           "augmented_locus_and_tree"]
 
 KINDS = ("kinematic", "algorithmic", "mixed")
 
@@ -206,14 +207,14 @@ def base_matrix(model, tm):
 
 
 def augmented_locus(model, tm, method: str | None = None, *, seed: int = 0, progress=None,
-                    should_stop=None, clock=None, hints=(), trees=None, workers=None):
+                    should_stop=None, clock=None, hints=(), grown=None, workers=None):
     """Loci of J_aug (``tm``) and of J, and J_aug's components classified.
 
     ``method`` applies to J_aug and to J, as
     :func:`~rankloci.methods.method_for` decides (by default the
     determinant method for a square matrix, svm otherwise); a request for
     the determinant method falls back to svm for J when only J_aug is
-    square.  Both loci use the generator seeded with ``seed``.  ``hints`` and ``trees`` go to
+    square.  Both loci use the generator seeded with ``seed``.  ``hints`` and ``grown`` go to
     :func:`~rankloci.methods.compute_locus` for J_aug.  With ``workers``
     (:class:`~rankloci.parallel.Workers`), J's locus is computed in a worker process while
     J_aug's is computed here; the result is the same.
@@ -229,9 +230,18 @@ def augmented_locus(model, tm, method: str | None = None, *, seed: int = 0, prog
     >>> [str(e) for e in locus.base.components[0].equations]
     ['sin(q2)', 'sin(q3)']
     """
-    from .directions import directions_in_model_frame
-    from .methods import compute_locus, method_for
+    return augmented_locus_and_tree(model, tm, method, seed=seed, progress=progress,
+                                    should_stop=should_stop, clock=clock, hints=hints,
+                                    grown=grown, workers=workers)[0]
 
+
+def augmented_locus_and_tree(model, tm, method: str | None = None, *, seed: int = 0,
+                             progress=None, should_stop=None, clock=None, hints=(), grown=None,
+                             workers=None):
+    """:func:`augmented_locus`, and the tree grown for J_aug
+    (:class:`~rankloci.methods.GrownTree`, or None), to resume from with hints."""
+    from .directions import directions_in_model_frame
+    from .methods import compute_locus, locus_and_tree, method_for
     progress = progress or (lambda msg: None)
     base_task = None
     workers = workers.sized(len(tm.variables)) if workers is not None else None
@@ -244,12 +254,12 @@ def augmented_locus(model, tm, method: str | None = None, *, seed: int = 0, prog
         base_task = workers.submit(compute_locus, base_tm, base_method,
                                    rng=np.random.default_rng(seed), should_stop=None,
                                    clock=clock)
-    aug = compute_locus(tm, method_for(tm.shape, method), rng=np.random.default_rng(seed),
-                        progress=progress, should_stop=should_stop, clock=clock, hints=hints,
-                        trees=trees)
+    aug, tree = locus_and_tree(tm, method_for(tm.shape, method), rng=np.random.default_rng(seed),
+                               progress=progress, should_stop=should_stop, clock=clock,
+                               hints=hints, grown=grown)
     aug = directions_in_model_frame(aug, model, tm)
     if not tm.n_constraint_rows:
-        return aug
+        return aug, tree
     if base_task is not None:
         base = base_task.result(should_stop)
     else:
@@ -261,4 +271,4 @@ def augmented_locus(model, tm, method: str | None = None, *, seed: int = 0, prog
                              progress=progress, should_stop=should_stop, clock=clock)
     base = directions_in_model_frame(base, model, base_tm)
     progress("classifying the components: kinematic, algorithmic or mixed")
-    return classify(aug, base, tm, base_tm, rng=np.random.default_rng(seed))
+    return classify(aug, base, tm, base_tm, rng=np.random.default_rng(seed)), tree

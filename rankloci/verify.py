@@ -374,8 +374,12 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
     Parameters
     ----------
     compute : callable
-        ``compute(tm, seed, hints=(), method=None)`` returns the
-        :class:`~rankloci.loci.Locus` of a task matrix (``method`` None: the one asked for).
+        ``compute(tm, seed, hints=(), method=None, grown=None)`` returns the
+        :class:`~rankloci.loci.Locus` of a task matrix (``method`` None: the one asked for),
+        or a pair of the locus and the tree it grew (:class:`~rankloci.methods.GrownTree`):
+        that tree comes back as ``grown`` with the hints of the locus's numeric check, so that
+        the recomputation resumes from it.  ``grown`` is passed only to a ``compute`` that
+        returned a tree.
     tm : TaskMatrix
         The matrix to compute the locus of.
     reference : TaskMatrix
@@ -426,23 +430,24 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
     def slice_compute(var, value):
         return workers.submit(_slice_locus, tm, var, value, method, seed, should_stop=None)
 
-    plan = [(tm, seed, "as computed", None)]
+    # each attempt: (matrix, seed, what, method, the tree to resume from)
+    plan = [(tm, seed, "as computed", None, None)]
     if tm.parameters:
         numeric = tm.numeric_parameters()
-        plan += [(numeric, seed, "with the model's parameter values substituted", None),
-                 (numeric, seed + 1, f"with the model's values, seed {seed + 1}", None)]
+        plan += [(numeric, seed, "with the model's parameter values substituted", None, None),
+                 (numeric, seed + 1, f"with the model's values, seed {seed + 1}", None, None)]
     else:
-        plan += [(tm, seed + 1, f"seed {seed + 1}", None)]
+        plan += [(tm, seed + 1, f"seed {seed + 1}", None, None)]
     if method is not None and method != "subdeterminant":
         plan += [(tm.numeric_parameters(), seed, "by the subdeterminant method",
-                  "subdeterminant")]
+                  "subdeterminant", None)]
     attempts, locus, hints, what, report = [], None, [], "", None
     best = None        # (rank, locus, problems, complete): passed < undecided < failed
     rounds = 0
     timed_out = False
     queue = list(plan)
     while queue:
-        t, s, base, how = queue.pop(0)
+        t, s, base, how, grown = queue.pop(0)
         what = base if not hints else (
             f"{base}, with the {len(hints)} configuration{'' if len(hints) == 1 else 's'} "
             f"where the self-check found a component regular")
@@ -452,7 +457,11 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
             options = {"hints": tuple(hints)} if hints else {}
             if how is not None:
                 options["method"] = how
+            if grown is not None:
+                options["grown"] = grown
             locus = compute(t, s, **options)
+            if isinstance(locus, tuple):
+                locus, grown = locus
         except LocusTimeout:
             if best is None:
                 raise
@@ -502,7 +511,7 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
             # splits the leaves or keeps the exclusions that hold there
             rounds += 1
             hints += new
-            queue.insert(0, (t, s, base, how))
+            queue.insert(0, (t, s, base, how, grown))
         elif complete is None:
             break      # the numeric check passes and nothing decides more: keep this locus
     _, locus, problems, complete = best

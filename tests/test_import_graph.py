@@ -35,8 +35,10 @@ LAYERS = (
     # checks of a locus, and what a robot does near it
     ("rankloci.exact", "rankloci.certify", "rankloci.verify", "rankloci.augmented",
      "rankloci.directions", "rankloci.numeric.crosscheck", "rankloci.near"),
-    # the library's calls: the one pipeline from a model to a certified locus, and what the
-    # near-the-locus functions add to it
+    # the one pipeline from a model to a certified locus, stage by stage
+    ("rankloci.pipeline",),
+    # the library's calls: the pipeline's entry points, and what the near-the-locus functions
+    # add to it
     ("rankloci.api.arguments", "rankloci.api.deadline", "rankloci.api.models",
      "rankloci.api.progress", "rankloci.api.results", "rankloci.api.symbols",
      "rankloci.api.calls", "rankloci.api.near"),

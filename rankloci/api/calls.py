@@ -8,7 +8,6 @@ limits; here it runs in the caller's process, and progress goes to the
 
 from __future__ import annotations
 
-import dataclasses
 import time
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -115,14 +114,13 @@ def jacobian(model: ModelLike, *, task: str | Sequence[int] | None = None,
 
 def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None, verify=True,
                 progress=None, clock=time.perf_counter, should_stop=None, jobs=1):
-    """The locus of a task matrix of ``model``, self-checked, with its frame noted.
+    """The locus of a task matrix of ``model`` that the caller built: the pipeline
+    (:mod:`rankloci.pipeline`) from its J stage.
 
-    What ``rankloci locus`` computes once it has the matrix: the loci of J_aug
-    and J with J_aug's components classified
-    (:func:`~rankloci.augmented.augmented_locus`), the self-check with its
-    recomputations (:func:`~rankloci.verify.verified_locus`) unless ``verify``
-    is false, a note when the matrix is in another frame than the model's, and
-    the model's own notes (what reading its file changed).
+    What ``rankloci locus`` and a sweep compute once they have the matrix: the loci of J_aug
+    and J with J_aug's components classified (the engine stage), the certificate and the
+    self-check with its recomputations (the certify stage) unless ``verify`` is false, and the
+    notes of the model, of the matrix and of its frame (the result stage).
 
     Parameters
     ----------
@@ -149,64 +147,26 @@ def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None,
         Processes (:class:`~rankloci.parallel.Workers`); the locus is the same for any.
     """
     from ..parallel import Workers
-
-    with Workers(jobs) as workers:
-        return _model_locus(model, tm, method, task=task, extra=extra, seed=seed,
-                            timeout=timeout, verify=verify, progress=progress, clock=clock,
-                            should_stop=should_stop, workers=workers)
-
-
-def _model_locus(model, tm, method, *, task, extra, seed, timeout, verify, progress, clock,
-                 should_stop, workers):
-    from ..augmented import augmented_locus
-    from ..jacobians import task_matrix
-    from ..verify import verified_locus
+    from ..pipeline import Request, Run
+    from ..pipeline import model_locus as from_matrix
 
     stop = should_stop if should_stop is not None else stop_after(check_timeout(timeout))
-
-    # the trees grown by this call's computations: a recomputation with the self-check's
-    # hints resumes from its tree instead of growing it again
-    trees = {}
-
-    def compute(t, s, hints=(), method=None):
-        return augmented_locus(model, t, method or asked, seed=s, progress=progress,
-                               should_stop=stop, clock=clock, hints=hints, trees=trees,
-                               workers=workers)
-
-    asked = method
-
-    if verify:
-        # in tm's frame about tm's point: the model's own frame would be as good, but its
-        # symbolic Jacobian can take minutes (romeo_laas_small's 9-joint gripper chain, whose
-        # axes do not snap: over 5 minutes, against 1 s for the middle link's frame)
-        where = {} if tm.frame is None else {"frame": tm.frame, "point": tm.point}
-        reference = task_matrix(model, task=task, augment=extra, **where)
-        if progress:
-            progress("self-check: the locus is checked numerically before it is shown")
-        result = verified_locus(compute, tm, reference, seed=seed, progress=progress,
-                                should_stop=stop, method=method, workers=workers)[0]
-    else:
-        result = compute(tm, seed)
-    if tm.frame is not None and (tm.frame, tm.point) != (getattr(model, "frame", None), "tool"):
-        where = f"link frame {tm.frame}" if isinstance(tm.frame, int) else f"the {tm.frame} frame"
-        about = f", about the origin of link frame {tm.point}" if isinstance(tm.point, int) else ""
-        result = dataclasses.replace(result, notes=result.notes + (
-            f"J was computed in {where}{about} (same rank); symbolic lost directions are "
-            f"expressed there, the directions at the sample points in the model's frame",))
-    if tm.notes:
-        result = dataclasses.replace(result, notes=tuple(tm.notes) + result.notes)
-    if getattr(model, "notes", ()):
-        result = dataclasses.replace(result, notes=tuple(model.notes) + result.notes)
-    return result
+    request = Request(model, task=task, extra=tuple(extra), method=method, seed=seed,
+                      verify=bool(verify), frame=tm.frame)
+    with Workers(jobs) as workers:
+        run = Run(progress=progress, should_stop=stop, clock=clock, workers=workers)
+        return from_matrix(request, run, tm, method)
 
 
 def certified_locus(model, *, task=None, augment=(), method=None, seed=0, numeric=False,
                     verify=True, frame="auto", should_stop=None, progress=None, jobs=None):
     """The locus of a loaded model, through the one pipeline every command uses.
 
-    read (``model``) -> J (:func:`~rankloci.jacobians.task_matrix`) -> engine
-    (:func:`~rankloci.augmented.augmented_locus`) -> certificate and recomputation
-    (:func:`~rankloci.verify.verified_locus`) -> :class:`~rankloci.loci.Locus`.
+    The stages of :mod:`rankloci.pipeline`: read (``model`` and the options) -> J
+    (:func:`~rankloci.jacobians.task_matrix`) -> engine
+    (:func:`~rankloci.augmented.augmented_locus_and_tree`) -> certificate and recomputation
+    (:func:`~rankloci.verify.verified_locus`) -> result (:class:`~rankloci.loci.Locus`, its
+    notes assembled).
     ``rankloci locus``, ``check``, ``report``, ``ik``, ``manipulability``, sweeps and the
     Python API all get their locus here, so that the same model, seed and options give the
     same locus everywhere.  Within a process a result is kept (by model and options) and given
@@ -231,25 +191,22 @@ def certified_locus(model, *, task=None, augment=(), method=None, seed=0, numeri
     (Locus, TaskMatrix)
         The locus and the matrix it was computed from.
     """
-    from ..augmented import parse_augment
-    from ..jacobians import task_matrix
-    from ..methods import method_for
-    from ..model import RobotModel
-    from ..parallel import check_jobs
+    from ..parallel import Workers, check_jobs
+    from ..pipeline import Run, certify, matrices, read
+    from ..pipeline import result as result_stage
 
     jobs = check_jobs(jobs)
     key = (model, tuple(task) if isinstance(task, (list, tuple)) else task, tuple(augment),
            method, seed, bool(numeric), bool(verify), frame)
     if key in _PIPELINE:
         return _PIPELINE[key]
-    extra = parse_augment(model, augment)
-    tm = task_matrix(model, task=task, frame=frame if isinstance(model, RobotModel) else None,
-                     augment=extra, numeric=numeric)
-    chosen = method_for(tm.shape, method)
-    if progress:
-        progress(f"{tm.name}: {tm.shape[0]}x{tm.shape[1]} matrix, method {chosen}, seed {seed}")
-    result = model_locus(model, tm, chosen, task=task, extra=extra, seed=seed, verify=verify,
-                         progress=progress, should_stop=should_stop, jobs=jobs)
+    request = read(model, task=task, augment=augment, method=method, seed=seed,
+                   numeric=numeric, verify=verify, frame=frame)
+    with Workers(jobs) as workers:
+        run = Run(progress=progress, should_stop=should_stop, workers=workers)
+        stage = matrices(request, run)
+        result = result_stage(certify(stage, run))
+    tm = stage.tm
     if len(_PIPELINE) >= _MAX_CACHED:
         _PIPELINE.pop(next(iter(_PIPELINE)))
     _PIPELINE[key] = (result, tm)

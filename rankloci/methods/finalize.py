@@ -236,7 +236,7 @@ def _with_direction(ctx: Context, cand: _Candidate) -> Component:
     """The component, with its lost direction as expressions where they are small.
 
     Kept per leaf by ``ctx.symbolic_direction``: a computation resumed for the self-check's hints
-    (:func:`~rankloci.methods.compute_locus`, ``trees``) finalises the same leaves again, and
+    (:func:`~rankloci.methods.compute_locus`, ``grown``) finalises the same leaves again, and
     on a 9R snake the directions took half of each finalisation.
     """
     if cand.branch is None:

@@ -173,6 +173,30 @@ class Context:
         del self._notes[notes_kept:]
         self._listen(progress, should_stop)
 
+    def copy(self) -> "Context":
+        """An independent copy to take the computation up again in: the tree, the leaves,
+        the exclusions, the notes, the random streams and every cache whose entries depend on
+        them are copied, so that nothing done with the copy changes this context.  The ring,
+        the matrix and the memos of exact results (determinants, factors, labels, numeric
+        evaluators), which depend on nothing random, are shared."""
+        import copy
+
+        new = copy.copy(self)
+        new.rng = copy.deepcopy(self.rng)
+        new.tree = self.tree.copy()
+        new.leaves = list(self.leaves)
+        new._exclusions = {k: list(v) for k, v in self._exclusions.items()}
+        new._notes = list(self._notes)
+        new._directions = dict(self._directions)
+        new._closure_caches = dict(self._closure_caches)
+        fallback = None
+        if self.model_sampler is not None and self.model_sampler is not self.sampler:
+            fallback = self.model_sampler.copy(new.rng)
+        new.sampler = self.sampler.copy(new.rng, fallback=fallback)
+        new.model_sampler = fallback if fallback is not None else new.sampler
+        new.modular = self.modular.copy()
+        return new
+
     @property
     def full_rank(self) -> int:
         """min(rows, cols) of the matrix."""

@@ -66,6 +66,16 @@ class ModularProbe:
         self._codims: dict = {}
         self._prime = None
 
+    def copy(self) -> "ModularProbe":
+        """A copy with its own random stream and its own record of the points it found."""
+        import copy
+
+        new = copy.copy(self)
+        new.rng = copy.deepcopy(self.rng)
+        new._points = dict(self._points)
+        new._codims = dict(self._codims)
+        return new
+
     # --- primes and points ------------------------------------------------------------------
 
     def _new_prime(self) -> tuple[int, list[int]] | None:

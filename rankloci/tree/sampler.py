@@ -45,6 +45,21 @@ class BranchSampler:
     #: keys of branches with a point accepted by proof (see .certify) despite a tiny exclusion
     certified: set = field(default_factory=set)
 
+    def copy(self, rng: np.random.Generator, *, fallback: "BranchSampler | None" = None):
+        """This sampler drawing from ``rng``, with its own copies of the points it found and
+        ``fallback`` in place of its own."""
+        import copy
+
+        new = copy.copy(self)
+        new.rng = rng
+        new.cache = dict(self.cache)
+        new.closest = dict(self.closest)
+        new.fell_back = set(self.fell_back)
+        new.certified = set(self.certified)
+        new._sub_eval = dict(self._sub_eval)
+        new.fallback = fallback
+        return new
+
     @functools.cached_property
     def _fixed(self) -> np.ndarray:
         """A generator row with the parameter values and the surds, zeros elsewhere."""

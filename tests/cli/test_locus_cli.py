@@ -240,17 +240,17 @@ def test_a_locus_its_self_check_rejects_is_printed_incomplete_with_exit_1(monkey
 
     import rankloci.augmented as augmented
 
-    real = augmented.augmented_locus
+    real = augmented.augmented_locus_and_tree
 
     def losing(*args, **kwargs):
         # sin q1 = 0 with q2, q3 free: regular at its points, whatever else is found
-        locus = real(*args, **kwargs)
+        locus, tree = real(*args, **kwargs)
         q1, *rest = locus.variables
         wrong = dataclasses.replace(locus.components[0], equations=(sp.sin(q1),), solved={},
                                     free=tuple(rest), dimension=len(rest))
-        return dataclasses.replace(locus, components=(wrong,))
+        return dataclasses.replace(locus, components=(wrong,)), tree
 
-    monkeypatch.setattr(augmented, "augmented_locus", losing)
+    monkeypatch.setattr(augmented, "augmented_locus_and_tree", losing)
     code = main(["locus", "planar3r", "--format", "json", "--quiet"])
     out = capsys.readouterr()
     assert code == 1

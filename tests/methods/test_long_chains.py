@@ -28,7 +28,7 @@ from scipy.optimize import least_squares
 import locus_helpers as H
 from rankloci.io.toml_model import read_model
 from rankloci.jacobians import task_matrix
-from rankloci.methods import compute_locus
+from rankloci.methods import locus_and_tree
 from rankloci.numeric.equations import NumericMatrix, descend_to_singular
 from rankloci.tolerances import COVER_DISTANCE, COVER_RESIDUAL, PROBE_DESCENT_RTOL, RANK_RTOL
 from rankloci.verify import verified_locus
@@ -52,10 +52,9 @@ def snake():
     tm = task_matrix(model, frame="auto", numeric=True)
     reference = task_matrix(model, frame=tm.frame, point=tm.point)
 
-    trees = {}
-
-    def compute(t, seed, hints=()):
-        return compute_locus(t, "svm", rng=np.random.default_rng(seed), hints=hints, trees=trees)
+    def compute(t, seed, hints=(), grown=None):
+        return locus_and_tree(t, "svm", rng=np.random.default_rng(seed), hints=hints,
+                              grown=grown)
 
     locus, verification = verified_locus(compute, tm, reference)
     return tm, locus, verification
