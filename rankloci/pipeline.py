@@ -37,6 +37,8 @@ import time
 from dataclasses import dataclass, field
 from typing import Callable
 
+from .tolerances import RANK_RTOL
+
 __all__ = ["Run", "Request", "Matrices", "Engine", "Certified", "read", "matrices", "engine",
            "certify", "result", "model_locus"]
 
@@ -67,7 +69,8 @@ class Run:
 class Request:
     """The read stage: a loaded model and the options of its locus.
 
-    ``extra`` holds the parsed constraint rows of ``augment``.
+    ``extra`` holds the parsed constraint rows of ``augment``; ``rank_rtol`` is the rank
+    threshold of the numeric self-check (sigma_min <= rank_rtol * sigma_max).
     """
 
     model: object
@@ -79,6 +82,7 @@ class Request:
     numeric: bool = False
     verify: bool = True
     frame: object = "auto"
+    rank_rtol: float = RANK_RTOL
 
 
 @dataclass(frozen=True)
@@ -113,7 +117,7 @@ class Certified:
 
 
 def read(model, *, task=None, augment=(), method=None, seed=0, numeric=False, verify=True,
-         frame="auto") -> Request:
+         frame="auto", rank_rtol=RANK_RTOL) -> Request:
     """The read stage: ``model`` (a loaded :class:`~rankloci.model.RobotModel` or
     :class:`~rankloci.model.MatrixModel`) and its options, the constraint rows parsed."""
     from .augmented import parse_augment
@@ -121,7 +125,8 @@ def read(model, *, task=None, augment=(), method=None, seed=0, numeric=False, ve
     augment = tuple(augment)
     return Request(model, task=tuple(task) if isinstance(task, list) else task,
                    augment=augment, extra=parse_augment(model, augment), method=method,
-                   seed=seed, numeric=bool(numeric), verify=bool(verify), frame=frame)
+                   seed=seed, numeric=bool(numeric), verify=bool(verify), frame=frame,
+                   rank_rtol=float(rank_rtol))
 
 
 def matrices(request: Request, run: Run, tm=None, method: str | None = None) -> Matrices:
@@ -187,7 +192,8 @@ def certify(stage: Matrices, run: Run) -> Certified:
         run.progress("self-check: the locus is checked numerically before it is shown")
     locus, verification = verified_locus(
         compute, stage.tm, stage.reference, seed=stage.request.seed, progress=run.progress,
-        should_stop=run.should_stop, method=stage.method, workers=run.workers)
+        should_stop=run.should_stop, method=stage.method, workers=run.workers,
+        rank_rtol=stage.request.rank_rtol)
     return Certified(stage, locus, verification)
 
 

@@ -17,9 +17,25 @@ sigma_min/sigma_max ~ 1e-12.  RANK_RTOL = 1e-8 leaves four orders of
 magnitude above that, and random regular configurations of the built-in
 models have sigma_min/sigma_max of 1e-3 or more (see the off-locus checks),
 far above it.
+
+Which a user may tune
+---------------------
+Only RANK_RTOL, and only where it decides a numeric check: ``rank_rtol=`` of
+``rankloci.locus``, ``rankloci.check`` and ``rankloci.report`` (``--rank-rtol``
+of ``rankloci locus``, ``check`` and ``report``) sets the threshold of the
+self-check, of the cross-check (on the components: ON_LOCUS_RTOL; off the
+locus; at the completeness probe's minima: PROBE_SINGULAR_RTOL) and is
+recorded in their JSON.  The components themselves come from exact algebra and
+the certificate uses no tolerance, so no option changes them.  The other
+values here are not options: each is tied to the precision of a computation
+(double rounding, Newton's convergence, a prime's size) or to a budget whose
+change would change which branches are found, not to a property of a user's
+model.
 """
 
-#: sigma_min / sigma_max at or below which a matrix counts as rank deficient.
+#: sigma_min / sigma_max at or below which a matrix counts as rank deficient.  The default of
+#: the numeric checks' ``rank_rtol`` option (see above): a model whose data are rounded to a
+#: few digits may need it raised, one nearly singular by design lowered.
 RANK_RTOL = 1e-8
 
 #: ``Locus.contains(q)``: q is on a component when each of its equations, divided by the sum
@@ -267,7 +283,7 @@ ZERO_MATRIX_RTOL = 1e-12
 
 #: On-locus points must have sigma_min/sigma_max at most this: the package's RANK_RTOL, >= 3
 #: orders above the ~1e-12 that points accurate to ON_COMPONENT_RESIDUAL give (sigma_min is
-#: Lipschitz in q with a constant ~sigma_max).
+#: Lipschitz in q with a constant ~sigma_max).  ``rank_rtol`` of the checks replaces it.
 ON_LOCUS_RTOL = RANK_RTOL
 
 #: Off-locus configurations keep every component's largest scaled equation above this: 1e-2 is
@@ -275,7 +291,8 @@ ON_LOCUS_RTOL = RANK_RTOL
 #: six orders above RANK_RTOL, so a full-rank J is expected there.
 OFF_LOCUS_MIN_RESIDUAL = 1e-2
 
-#: A completeness-probe minimum counts as singular when sigma_min/sigma_max <= this (RANK_RTOL).
+#: A completeness-probe minimum counts as singular when sigma_min/sigma_max <= this (RANK_RTOL;
+#: ``rank_rtol`` of the checks replaces it).
 PROBE_SINGULAR_RTOL = RANK_RTOL
 
 #: Such a minimum is then followed by Newton steps on sigma_min/sigma_max

@@ -35,7 +35,8 @@ import sympy as sp
 
 from .errors import LocusTimeout
 from .loci import dimension_bound
-from .tolerances import CHECK_AHEAD_CODIMENSION, HINT_ROUNDS, SELF_CHECK_SAMPLES, SLICE_ROUNDS
+from .tolerances import (CHECK_AHEAD_CODIMENSION, HINT_ROUNDS, RANK_RTOL, SELF_CHECK_SAMPLES,
+                         SLICE_ROUNDS)
 
 __all__ = ["Verification", "dimension_bound", "dimension_findings", "verified_locus",
            "SELF_CHECK_SAMPLES"]
@@ -360,7 +361,8 @@ def _complete(cert, numeric_ok: bool):
 
 
 def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF_CHECK_SAMPLES,
-                   progress=None, should_stop=None, method=None, workers=None):
+                   progress=None, should_stop=None, method=None, workers=None,
+                   rank_rtol: float = RANK_RTOL):
     """The locus of ``tm``, certified, and recomputed when its certificate fails.
 
     Each computation is checked twice: numerically (:func:`~rankloci.numeric.crosscheck.
@@ -401,6 +403,9 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
         Where the numeric check runs beside the certificate, and the loci of the slices of
         the certificate's recovery side by side (default: one after another, here).  The
         result is the same.
+    rank_rtol : float
+        The numeric check's rank threshold on sigma_min/sigma_max
+        (:func:`~rankloci.numeric.crosscheck.cross_check`).
 
     Returns
     -------
@@ -477,7 +482,7 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
             cross_check, locus, reference.matrix, reference.variables, angles=reference.angles,
             parameters=reference.parameters, samples=samples, rng=np.random.default_rng(seed),
             seed=seed, progress=(lambda msg: progress(f"self-{msg}")) if here else None,
-            earlier=report if how is None else None)
+            earlier=report if how is None else None, rank_rtol=rank_rtol)
         if not here:
             progress("self-check: in a worker process, beside the certificate")
         locus, cert = _certified(locus, reference, seed, stop, progress, slice_compute)

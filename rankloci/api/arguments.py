@@ -17,7 +17,7 @@ from collections.abc import Mapping
 from ..errors import ArgumentError
 
 __all__ = ["check_arguments", "check_for_model", "check_seed", "check_timeout",
-           "check_samples"]
+           "check_samples", "check_rank_rtol"]
 
 _IDENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_]{0,31}\Z")
 
@@ -67,6 +67,25 @@ def check_samples(samples) -> int:
     if not _is_int(samples) or samples < 1:
         _fail("samples", samples, "an integer 1 or above")
     return int(samples)
+
+
+def check_rank_rtol(rank_rtol) -> float:
+    """A number strictly between 0 and 1: the relative rank threshold of the numeric checks
+    (J is rank deficient where sigma_min <= rank_rtol * sigma_max).
+
+    Examples
+    --------
+    >>> check_rank_rtol(1e-6)
+    1e-06
+    >>> check_rank_rtol(2)
+    Traceback (most recent call last):
+    ...
+    rankloci.errors.ArgumentError: rank_rtol= must be a number strictly between 0 and 1 (sigma_min/sigma_max), got 2
+    """
+    if not isinstance(rank_rtol, numbers.Real) or _is_bool(rank_rtol) \
+            or not math.isfinite(rank_rtol) or not 0 < rank_rtol < 1:
+        _fail("rank_rtol", rank_rtol, "a number strictly between 0 and 1 (sigma_min/sigma_max)")
+    return float(rank_rtol)
 
 
 def _check_names(argument, names):

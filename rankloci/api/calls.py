@@ -12,7 +12,9 @@ import time
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from .arguments import check_arguments, check_for_model, check_samples, check_timeout
+from ..tolerances import RANK_RTOL
+from .arguments import (check_arguments, check_for_model, check_rank_rtol, check_samples,
+                        check_timeout)
 from .deadline import stop_after
 from .models import as_model
 from .progress import log_progress
@@ -113,7 +115,8 @@ def jacobian(model: ModelLike, *, task: str | Sequence[int] | None = None,
 
 
 def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None, verify=True,
-                progress=None, clock=time.perf_counter, should_stop=None, jobs=1):
+                progress=None, clock=time.perf_counter, should_stop=None, jobs=1,
+                rank_rtol=RANK_RTOL):
     """The locus of a task matrix of ``model`` that the caller built: the pipeline
     (:mod:`rankloci.pipeline`) from its J stage.
 
@@ -145,6 +148,8 @@ def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None,
         Used instead of ``timeout`` when given.
     jobs : int
         Processes (:class:`~rankloci.parallel.Workers`); the locus is the same for any.
+    rank_rtol : float
+        Rank threshold of the numeric self-check (see :func:`locus`).
     """
     from ..parallel import Workers
     from ..pipeline import Request, Run
@@ -152,14 +157,15 @@ def model_locus(model, tm, method, *, task=None, extra=(), seed=0, timeout=None,
 
     stop = should_stop if should_stop is not None else stop_after(check_timeout(timeout))
     request = Request(model, task=task, extra=tuple(extra), method=method, seed=seed,
-                      verify=bool(verify), frame=tm.frame)
+                      verify=bool(verify), frame=tm.frame, rank_rtol=float(rank_rtol))
     with Workers(jobs) as workers:
         run = Run(progress=progress, should_stop=stop, clock=clock, workers=workers)
         return from_matrix(request, run, tm, method)
 
 
 def certified_locus(model, *, task=None, augment=(), method=None, seed=0, numeric=False,
-                    verify=True, frame="auto", should_stop=None, progress=None, jobs=None):
+                    verify=True, frame="auto", should_stop=None, progress=None, jobs=None,
+                    rank_rtol=RANK_RTOL):
     """The locus of a loaded model, through the one pipeline every command uses.
 
     The stages of :mod:`rankloci.pipeline`: read (``model`` and the options) -> J
@@ -175,7 +181,7 @@ def certified_locus(model, *, task=None, augment=(), method=None, seed=0, numeri
     Parameters
     ----------
     model : RobotModel or MatrixModel
-    task, augment, method, seed, numeric, verify, frame
+    task, augment, method, seed, numeric, verify, frame, rank_rtol
         As for :func:`locus`.
     should_stop : callable, optional
         Polled; True once the time is up (:class:`~rankloci.errors.LocusTimeout`).
@@ -197,11 +203,11 @@ def certified_locus(model, *, task=None, augment=(), method=None, seed=0, numeri
 
     jobs = check_jobs(jobs)
     key = (model, tuple(task) if isinstance(task, (list, tuple)) else task, tuple(augment),
-           method, seed, bool(numeric), bool(verify), frame)
+           method, seed, bool(numeric), bool(verify), frame, float(rank_rtol))
     if key in _PIPELINE:
         return _PIPELINE[key]
     request = read(model, task=task, augment=augment, method=method, seed=seed,
-                   numeric=numeric, verify=verify, frame=frame)
+                   numeric=numeric, verify=verify, frame=frame, rank_rtol=rank_rtol)
     with Workers(jobs) as workers:
         run = Run(progress=progress, should_stop=should_stop, workers=workers)
         stage = matrices(request, run)
@@ -221,7 +227,8 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
           parameters: ParameterValues | None = None, task: str | Sequence[int] | None = None,
           augment: Sequence[str] = (), method: str | None = None, timeout: float | None = None,
           seed: int = 0, numeric: bool = False, verify: bool = True, frame: str | int = "auto",
-          tip: str | None = None, base_link: str | None = None, jobs: int | None = None) -> Locus:
+          tip: str | None = None, base_link: str | None = None, jobs: int | None = None,
+          rank_rtol: float = RANK_RTOL) -> Locus:
     """The rank-deficiency locus of a model or a matrix (the command ``rankloci locus``).
 
     Parameters
@@ -265,6 +272,14 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
         beside the certificate, J's locus beside J_aug's, the slices of the certificate's
         recovery (:mod:`rankloci.parallel`).  Default: every core this process may use.
         The locus is the same for any ``jobs``.
+    rank_rtol : float
+        The numeric self-check's rank threshold: J is rank deficient at a point where
+        sigma_min <= ``rank_rtol`` * sigma_max (default
+        :data:`~rankloci.tolerances.RANK_RTOL`, 1e-8).  Raise it for a model whose data
+        are rounded (a configuration the check finds regular at 1e-7 is then singular),
+        lower it to tell nearly singular configurations from singular ones.  It decides
+        the self-check only: the components come from exact algebra, and the certificate
+        uses no tolerance.
 
     Returns
     -------
@@ -316,6 +331,7 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
     check_arguments(seed=seed, timeout=timeout, variables=variables, parameters=parameters,
                     task=task, augment=augment, method=method, numeric=numeric, verify=verify,
                     frame=frame, tip=tip, base_link=base_link)
+    rank_rtol = check_rank_rtol(rank_rtol)
     jobs = check_jobs(jobs)
     with time_limit(timeout, "the locus computation") as should_stop:
         m = load_model(model, tip=tip, base_link=base_link, variables=variables,
@@ -324,7 +340,8 @@ def locus(model: ModelLike, *, variables: Variables | None = None,
         parse_augment(m, augment, flag="augment")     # its errors in the API's words
         result = certified_locus(m, task=task, augment=augment, method=method, seed=seed,
                                  numeric=numeric, verify=verify, frame=frame,
-                                 should_stop=should_stop, progress=log_progress, jobs=jobs)[0]
+                                 should_stop=should_stop, progress=log_progress, jobs=jobs,
+                                 rank_rtol=rank_rtol)[0]
     note = task_note(result, m, task)
     if note:
         logging.getLogger(LOGGER_NAME).warning("%s: %s", m.name, note)
@@ -404,7 +421,7 @@ def _complex_only(locus, J):
 
 
 def check_model(model, given=None, *, samples=10, seed=0, numeric=False, should_stop=None,
-                progress=None, jobs=None) -> Check:
+                progress=None, jobs=None, rank_rtol=RANK_RTOL) -> Check:
     """What ``rankloci check`` computes: see :func:`check`."""
     import numpy as np
 
@@ -417,7 +434,7 @@ def check_model(model, given=None, *, samples=10, seed=0, numeric=False, should_
     if checked is None:
         tell(f"{model.name}: computing the locus (seed {seed})")
         checked = certified_locus(model, seed=seed, numeric=numeric, should_stop=should_stop,
-                                  progress=progress, jobs=jobs)[0]
+                                  progress=progress, jobs=jobs, rank_rtol=rank_rtol)[0]
     J = task_matrix(model)  # the model's own frame; parameters substituted by cross_check
     # (a locus file of schema /1, or one without "matrix", has no shape: 0x0)
     if given is not None and any(given.shape) and tuple(given.shape) != tuple(J.shape):
@@ -439,14 +456,15 @@ def check_model(model, given=None, *, samples=10, seed=0, numeric=False, should_
          f"seed {seed}")
     report = cross_check(checked, J.matrix, J.variables, angles=J.angles,
                          parameters=J.parameters, samples=samples,
-                         rng=np.random.default_rng(seed), seed=seed)
+                         rng=np.random.default_rng(seed), seed=seed, rank_rtol=rank_rtol)
     exact = singular_cross_check(task_matrix(model, frame="auto", numeric=True), checked,
                                  rng=np.random.default_rng(seed), parameters=J.parameters)
     return Check(report, exact, certificate)
 
 
 def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
-          variables=None, parameters=None, tip=None, base_link=None, jobs=None) -> Check:
+          variables=None, parameters=None, tip=None, base_link=None, jobs=None,
+          rank_rtol=RANK_RTOL) -> Check:
     """Check a locus numerically and exactly (the command ``rankloci check``).
 
     Parameters
@@ -466,6 +484,11 @@ def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
         See :func:`load_model`.
     jobs : int, optional
         Processes for the locus computation (see :func:`locus`); default every core.
+    rank_rtol : float
+        The numeric check's rank threshold: J is rank deficient at a point where
+        sigma_min <= ``rank_rtol`` * sigma_max (default
+        :data:`~rankloci.tolerances.RANK_RTOL`); recorded in
+        ``to_dict()["thresholds"]["RANK_RTOL"]``.
 
     Returns
     -------
@@ -487,6 +510,7 @@ def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
     check_samples(samples)
     check_arguments(seed=seed, numeric=numeric, timeout=timeout, variables=variables,
                     parameters=parameters, tip=tip, base_link=base_link)
+    rank_rtol = check_rank_rtol(rank_rtol)
     jobs = check_jobs(jobs)
     with time_limit(timeout, "the check") as should_stop:
         m = load_model(model, tip=tip, base_link=base_link, variables=variables,
@@ -494,7 +518,8 @@ def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
         if locus is not None:    # a locus in the caller's symbols: the model's own, by name
             locus = with_symbols(locus, {s.name: s for s in (*m.variables, *m.parameters)})
         return check_model(m, locus, samples=samples, seed=seed, numeric=numeric,
-                           should_stop=should_stop, progress=log_progress, jobs=jobs)
+                           should_stop=should_stop, progress=log_progress, jobs=jobs,
+                           rank_rtol=rank_rtol)
 
 
 def is_singular(model, q, *, locus=None, **options):

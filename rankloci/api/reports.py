@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import time
 
-from .arguments import check_arguments, check_samples
+from ..tolerances import RANK_RTOL
+from .arguments import check_arguments, check_rank_rtol, check_samples
 from .calls import load_model
 from .progress import log_progress
 
@@ -17,7 +18,7 @@ __all__ = ["report", "require_matplotlib"]
 
 def report(model, directory=None, *, formats=("md", "tex", "pdf"), seed=0, samples=10,
            numeric=False, timeout=None, tip=None, base_link=None, fragment=False, timings=True,
-           jobs=None):
+           jobs=None, rank_rtol=RANK_RTOL):
     """Build a report on a model and, given a directory, write it (``rankloci report``).
 
     Needs matplotlib (the ``report`` extra).
@@ -45,6 +46,9 @@ def report(model, directory=None, *, formats=("md", "tex", "pdf"), seed=0, sampl
         Include the timing table (``--no-timings`` leaves it out).
     jobs : int, optional
         Processes for the locus computation (see :func:`locus`); default every core.
+    rank_rtol : float
+        Rank threshold of the locus's self-check and of the numeric cross-check (see
+        :func:`check`).
 
     Returns
     -------
@@ -59,6 +63,7 @@ def report(model, directory=None, *, formats=("md", "tex", "pdf"), seed=0, sampl
 
     check_arguments(seed=seed, numeric=numeric, timeout=timeout, tip=tip, base_link=base_link)
     check_samples(samples)
+    rank_rtol = check_rank_rtol(rank_rtol)
     jobs = check_jobs(jobs)
     if isinstance(formats, str):
         formats = tuple(f.strip() for f in formats.split(",") if f.strip())
@@ -76,7 +81,7 @@ def report(model, directory=None, *, formats=("md", "tex", "pdf"), seed=0, sampl
     m = load_model(model, tip=tip, base_link=base_link)
     built = build_report(m, seed=seed, samples=samples, numeric=numeric, timeout=timeout,
                          clock=time.perf_counter, progress=log_progress, dot=shutil.which("dot"),
-                         model_notes=read_model_notes(m), jobs=jobs)
+                         model_notes=read_model_notes(m), jobs=jobs, rank_rtol=rank_rtol)
     if directory is None:
         return built, []
     latex = next(((kind, exe) for kind in ("latexmk", "pdflatex")

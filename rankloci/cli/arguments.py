@@ -12,7 +12,7 @@ from ..errors import UsageError
 from ..process_limits import MAX_MEMORY_MB, MAX_TIMEOUT_S
 
 __all__ = ["ArgumentParser", "frame_arg", "timeout_arg", "memory_arg", "seed_arg", "jobs_arg",
-           "task_arg"]
+           "task_arg", "rank_rtol_arg"]
 
 
 class ArgumentParser(argparse.ArgumentParser):
@@ -125,6 +125,30 @@ def jobs_arg(text: str) -> int:
     argparse.ArgumentTypeError: '0' is not an integer 1 or above
     """
     return _integer_at_least(text, 1)
+
+
+def rank_rtol_arg(text: str) -> float:
+    """A number strictly between 0 and 1, as ``--rank-rtol`` takes it.
+
+    Examples
+    --------
+    >>> rank_rtol_arg("1e-6")
+    1e-06
+    >>> rank_rtol_arg("0")
+    Traceback (most recent call last):
+    ...
+    argparse.ArgumentTypeError: '0' is not a number strictly between 0 and 1 (sigma_min/sigma_max)
+    """
+    import math
+
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and 0 < value < 1):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number strictly between 0 and 1 "
+                                         "(sigma_min/sigma_max)")
+    return value
 
 
 def task_arg(text: str):

@@ -173,7 +173,7 @@ def cmd_locus(args) -> int:
 
         locus = model_locus(model, tm, method, task=args.task, extra=extra, seed=args.seed,
                             verify=args.verify, progress=tell, should_stop=should_stop,
-                            jobs=check_jobs(args.jobs))
+                            jobs=check_jobs(args.jobs), rank_rtol=args.rank_rtol)
         return locus, tm.row_labels
 
     got = limited(args, work, progress, "the locus computation")
@@ -192,7 +192,8 @@ def cmd_locus(args) -> int:
 
     checks = within_limits(locus, model, rng=np.random.default_rng(args.seed))
     if args.format == "json":
-        print(locus_json(locus, within_limits=checks, rows=list(row_labels), seed=args.seed))
+        print(locus_json(locus, within_limits=checks, rows=list(row_labels), seed=args.seed,
+                         tolerances={"rank_rtol": args.rank_rtol}))
     elif args.format == "latex":
         print(locus_latex(locus))
     else:
@@ -260,7 +261,8 @@ def cmd_check(args) -> int:
         return check_model(model, locus, samples=args.samples, seed=args.seed,
                            numeric=args.numeric,
                            should_stop=command_deadline(args.timeout, getattr(args, "started", None)),
-                           progress=report_progress, jobs=args.jobs)
+                           progress=report_progress, jobs=args.jobs,
+                           rank_rtol=args.rank_rtol)
 
     try:
         result = run_limited(work, timeout=args.timeout, memory_mb=args.memory,
@@ -375,7 +377,7 @@ def cmd_report(args) -> int:
                                   numeric=args.numeric, timeout=args.timeout,
                                   clock=time.perf_counter, progress=tell,
                                   dot=dot, model_notes=read_model_notes(model), stamp=stamp,
-                                  jobs=args.jobs)
+                                  jobs=args.jobs, rank_rtol=args.rank_rtol)
             try:
                 paths = write_report(report, out, formats=formats, fragment=args.fragment,
                                      latex=latex, timings=not args.no_timings,

@@ -12,8 +12,9 @@ import argparse
 
 from ..errors import UsageError
 from ..process_limits import DEFAULT_MEMORY_MB
-from .arguments import (ArgumentParser, frame_arg, jobs_arg, memory_arg, seed_arg, task_arg,
-                        timeout_arg)
+from .arguments import (ArgumentParser, frame_arg, jobs_arg, memory_arg, rank_rtol_arg,
+                        seed_arg, task_arg, timeout_arg)
+from ..tolerances import RANK_RTOL
 
 __all__ = ["UsageError", "build_parser", "OLD_OPTIONS"]
 
@@ -42,6 +43,14 @@ def _numeric_flag(p, help_text):
     """``--numeric``, and its old spelling ``--numeric-parameters`` (hidden from the help)."""
     p.add_argument("--numeric", dest="numeric", action="store_true", help=help_text)
     p.add_argument("--numeric-parameters", dest="numeric", action=_OldSpelling)
+
+
+def _rank_rtol_option(p, what):
+    p.add_argument("--rank-rtol", dest="rank_rtol", type=rank_rtol_arg, default=RANK_RTOL,
+                   metavar="R",
+                   help=f"rank threshold of {what}: J is rank deficient at a point where "
+                        f"sigma_min <= R * sigma_max (default {RANK_RTOL:g}; strictly between "
+                        "0 and 1)")
 
 
 def _jobs_option(p):
@@ -197,6 +206,7 @@ def build_parser() -> ArgumentParser:
                         "values) that runs before the locus is shown, and the recomputation it "
                         "triggers when it fails")
     p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
+    _rank_rtol_option(p, "the numeric self-check")
     _jobs_option(p)
     p.set_defaults(frame_default="auto")
 
@@ -218,6 +228,7 @@ def build_parser() -> ArgumentParser:
     p.add_argument("--memory", type=memory_arg, default=DEFAULT_MEMORY_MB, metavar="MIB",
                    help=f"memory limit in MiB (default {DEFAULT_MEMORY_MB}; 0 = none)")
     p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
+    _rank_rtol_option(p, "the numeric check (and of the self-check of a locus it computes)")
     _jobs_option(p)
 
     p = sub.add_parser("report", help="write a report (Markdown, LaTeX, PDF, figures) on a model",
@@ -243,6 +254,7 @@ def build_parser() -> ArgumentParser:
                         "out the report is written without the locus and says so")
     p.add_argument("--memory", type=memory_arg, default=DEFAULT_MEMORY_MB, metavar="MIB",
                    help=f"memory limit in MiB (default {DEFAULT_MEMORY_MB}; 0 = none)")
+    _rank_rtol_option(p, "the numeric cross-check and of the locus's self-check")
     _jobs_option(p)
     p.add_argument("--no-timings", dest="no_timings", action="store_true",
                    help="leave out the timing table (then equal seeds give identical files)")

@@ -30,7 +30,7 @@ from ..expr import as_expression
 from ..tolerances import (COVER_RESIDUAL, MINOR_RTOL, OFF_LOCUS_MIN_RESIDUAL, ON_COMPONENT_RESIDUAL,
                           ON_LOCUS_RTOL, PRECISE_CHECK_DIGITS, PRECISE_CHECK_FLOOR, PRECISE_FALL,
                           PRECISE_STABLE_RTOL, PROBE_DESCENT_RTOL, PROBE_ESCAPE_ABS,
-                          PROBE_SINGULAR_RTOL, RANK_RTOL, ZERO_MATRIX_RTOL)
+                          RANK_RTOL, ZERO_MATRIX_RTOL)
 from .equations import (MAX_TRIES, Equations, NumericMatrix, descend_to_singular, minimise_ratio,
                         points_on)
 from .fsp import dependent_rows
@@ -59,13 +59,15 @@ class PointCheck:
     #: not tell, with the ratio at the higher precision; None where it was not asked
     precise: str | None = None
     precise_ratio: float | None = None
+    #: the rank threshold on sigma_min/sigma_max the check used (its ``rank_rtol``)
+    rtol: float = ON_LOCUS_RTOL
 
     @property
     def regular(self) -> bool:
         """Is J regular here: the extended-precision verdict, else the double ratio."""
         if self.precise is not None:
             return self.precise == "regular"
-        return self.sigma_ratio > ON_LOCUS_RTOL
+        return self.sigma_ratio > self.rtol
 
     def to_dict(self) -> dict:
         out = {"q": list(self.q), "sigma_ratio": self.sigma_ratio, "rank_drop": self.rank_drop,
@@ -153,10 +155,10 @@ def _settled(nm: NumericMatrix, eqs: Equations, p: PointCheck) -> PointCheck:
     more than its residual says (:meth:`Equations.refined`); its sigma ratio is that of the
     refined point, when that one is a point of the component (:meth:`Equations.settled`).
     """
-    if p.sigma_ratio <= ON_LOCUS_RTOL:
+    if p.sigma_ratio <= p.rtol:
         return p
     q = eqs.settled(np.array(p.q))
-    return p if q is None else _point(nm, q)
+    return p if q is None else _point(nm, q, p.rtol)
 
 
 def _decided(nm: NumericMatrix, eqs: Equations, p: PointCheck) -> PointCheck:
@@ -187,7 +189,7 @@ def _decided(nm: NumericMatrix, eqs: Equations, p: PointCheck) -> PointCheck:
     return replace(p, precise=verdict, precise_ratio=float(r_hi))
 
 
-def _point(nm: NumericMatrix, q) -> PointCheck:
+def _point(nm: NumericMatrix, q, rtol: float = ON_LOCUS_RTOL) -> PointCheck:
     J = nm(q)
     A = J.T if J.shape[0] > J.shape[1] else J
     top = np.linalg.svd(np.asarray(J, dtype=float), compute_uv=False)[:1]
@@ -195,11 +197,11 @@ def _point(nm: NumericMatrix, q) -> PointCheck:
         # J vanishes here up to rounding: rank 0, whatever the ratio of the residue
         return PointCheck(q=tuple(float(x) for x in q), sigma_ratio=0.0,
                           rank_drop=int(min(J.shape)), fsp_dependent=tuple(range(A.shape[0])),
-                          minor=0.0)
+                          minor=0.0, rtol=rtol)
     return PointCheck(q=tuple(float(x) for x in q), sigma_ratio=float(sigma_ratio(J)),
-                      rank_drop=int(numeric_rank_drop(J)),
+                      rank_drop=int(numeric_rank_drop(J, rtol)),
                       fsp_dependent=tuple(int(i) for i in dependent_rows(A)),
-                      minor=relative_max_minor(J))
+                      minor=relative_max_minor(J), rtol=rtol)
 
 
 def _findings_at(label: str, p: PointCheck, singular: bool) -> list:
@@ -218,8 +220,8 @@ def _findings_at(label: str, p: PointCheck, singular: bool) -> list:
 
 
 def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples: int = 10,
-                rng=None, seed=None, progress=None, earlier: CheckReport | None = None
-                ) -> CheckReport:
+                rng=None, seed=None, progress=None, earlier: CheckReport | None = None,
+                rank_rtol: float = RANK_RTOL) -> CheckReport:
     """Check `locus` numerically against the SVD of `matrix` (see the module docstring).
 
     Parameters
@@ -247,6 +249,12 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
         that passed there, with the same equations, exclusions and rank drop, keeps its
         points and verdict instead of being sampled again.  A locus recomputed after a
         failed check (:func:`rankloci.verify.verified_locus`) differs in a few leaves.
+    rank_rtol : float
+        J is rank deficient at a point when sigma_min <= ``rank_rtol`` * sigma_max: on the
+        components (:data:`~rankloci.tolerances.ON_LOCUS_RTOL`), at the configurations off
+        the locus, and at the minima of the completeness probe
+        (:data:`~rankloci.tolerances.PROBE_SINGULAR_RTOL`).  Default
+        :data:`~rankloci.tolerances.RANK_RTOL`; recorded in ``thresholds``.
 
     Examples
     --------
@@ -292,13 +300,13 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
         if same is not None:
             pts = list(same.points)
         else:
-            pts = [_decided(nm, eqs, _settled(nm, eqs, _point(nm, q)))
+            pts = [_decided(nm, eqs, _settled(nm, eqs, _point(nm, q, rank_rtol)))
                    for q in points_on(eqs, nm, rng, samples)]
         fails = tuple(p for p in pts if p.regular)
         for p in pts:
-            if p.sigma_ratio <= ON_LOCUS_RTOL and not p.regular:
+            if p.sigma_ratio <= rank_rtol and not p.regular:
                 findings += _findings_at(f"component {i}", p, True)
-            if p.sigma_ratio <= ON_LOCUS_RTOL and not p.regular and p.rank_drop != comp.rank_drop:
+            if p.sigma_ratio <= rank_rtol and not p.regular and p.rank_drop != comp.rank_drop:
                 findings.append(f"component {i}: numeric rank drop {p.rank_drop}, component says "
                                 f"{comp.rank_drop}")
         if not pts:
@@ -319,12 +327,12 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
     off = []
     for q in nm.random_q(rng, MAX_TRIES * samples):
         if all(e.residual(q) > OFF_LOCUS_MIN_RESIDUAL for e in all_eqs):
-            off.append(_point(nm, q))
+            off.append(_point(nm, q, rank_rtol))
             if len(off) == samples:
                 break
-    off_fails = tuple(p for p in off if p.sigma_ratio <= RANK_RTOL)
+    off_fails = tuple(p for p in off if p.sigma_ratio <= rank_rtol)
     for p in off:
-        if p.sigma_ratio > RANK_RTOL:
+        if p.sigma_ratio > rank_rtol:
             findings += _findings_at("off-locus", p, False)
 
     # completeness
@@ -340,7 +348,7 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
         if ran_off(q):
             escaped += 1        # the ratio tends to 0 at infinity: no singular point
             continue
-        if sigma_ratio(nm(q)) > PROBE_SINGULAR_RTOL:
+        if sigma_ratio(nm(q)) > rank_rtol:
             continue
         q, r = descend_to_singular(nm, q)
         if ran_off(q):
@@ -348,13 +356,13 @@ def cross_check(locus, matrix, variables, *, angles=(), parameters=None, samples
             continue
         if r > PROBE_DESCENT_RTOL:
             continue            # a positive local minimum: nearly, not exactly, singular
-        p = _point(nm, q)
+        p = _point(nm, q, rank_rtol)
         singular += 1
         findings += _findings_at("probe", p, True)
         if not any(e.residual(np.array(p.q)) <= COVER_RESIDUAL for e in all_eqs):
             uncovered.append(p)
 
-    thresholds = {"RANK_RTOL": RANK_RTOL, "ON_COMPONENT_RESIDUAL": ON_COMPONENT_RESIDUAL,
+    thresholds = {"RANK_RTOL": rank_rtol, "ON_COMPONENT_RESIDUAL": ON_COMPONENT_RESIDUAL,
                   "OFF_LOCUS_MIN_RESIDUAL": OFF_LOCUS_MIN_RESIDUAL,
                   "COVER_RESIDUAL": COVER_RESIDUAL, "MINOR_RTOL": MINOR_RTOL,
                   "PROBE_ESCAPE_ABS": PROBE_ESCAPE_ABS}

@@ -15,6 +15,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 import sympy as sp
 
+from ..tolerances import RANK_RTOL
+
 __all__ = ["Report", "ComponentView", "build_report", "component_views", "READING_POINTS",
            "SUMMARY_CHARS"]
 
@@ -164,7 +166,7 @@ class Report:
 def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = False,
                  timeout: float | None = None, clock=None, progress=None, dot: str | None = None,
                  exact: bool = True, model_notes: str = "", stamp: str = "",
-                 jobs: int | None = 1) -> Report:
+                 jobs: int | None = 1, rank_rtol: float = RANK_RTOL) -> Report:
     """Compute the content of a report on ``model``.
 
     Parameters
@@ -199,6 +201,10 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
     jobs : int, optional
         Processes for the locus (:func:`~rankloci.api.calls.certified_locus`); None: every
         core.  The report is the same for any.
+    rank_rtol : float
+        Rank threshold (sigma_min <= rank_rtol * sigma_max) of the locus's self-check and of
+        the numeric cross-check; the report's other figures and readings keep
+        :data:`~rankloci.tolerances.RANK_RTOL`.
 
     Examples
     --------
@@ -260,7 +266,7 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
         # the locus every command shows: certified, recomputed when its certificate fails
         locus = timed(f"locus ({method})", lambda: certified_locus(
             model, seed=seed, numeric=numeric, should_stop=stopper(), progress=progress,
-            jobs=jobs)[0])
+            jobs=jobs, rank_rtol=rank_rtol)[0])
     except LocusTimeout:
         timings.append((f"locus ({method})", float(timeout or 0.0)))
         status = (f"The locus computation ({method}) did not finish within {timeout:g} s "
@@ -288,7 +294,7 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
         say(f"{model.name}: cross-check, {samples} samples, seed {seed}")
         check = timed("numeric cross-check", lambda: cross_check(
             locus, model_tm.matrix, model_tm.variables, angles=model_tm.angles,
-            parameters=params, samples=samples, rng=rng(seed), seed=seed))
+            parameters=params, samples=samples, rng=rng(seed), seed=seed, rank_rtol=rank_rtol))
         if exact:
             from ..exact.singular import singular_cross_check
 
