@@ -30,7 +30,7 @@ def stages():
         request = pipeline.read(model, task="position", seed=0)
         matrices = pipeline.matrices(request, run)
         engine = pipeline.engine(matrices, run)
-        certified = pipeline.certify(matrices, run)
+        certified = pipeline.certify(engine, run)
     return model, request, matrices, engine, certified, pipeline.result(certified)
 
 

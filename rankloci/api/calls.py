@@ -198,7 +198,7 @@ def certified_locus(model, *, task=None, augment=(), method=None, seed=0, numeri
         The locus and the matrix it was computed from.
     """
     from ..parallel import Workers, check_jobs
-    from ..pipeline import Run, certify, matrices, read
+    from ..pipeline import Run, certify, engine, matrices, read
     from ..pipeline import result as result_stage
 
     jobs = check_jobs(jobs)
@@ -211,7 +211,7 @@ def certified_locus(model, *, task=None, augment=(), method=None, seed=0, numeri
     with Workers(jobs) as workers:
         run = Run(progress=progress, should_stop=should_stop, workers=workers)
         stage = matrices(request, run)
-        result = result_stage(certify(stage, run))
+        result = result_stage(certify(engine(stage, run), run))
     tm = stage.tm
     if len(_PIPELINE) >= _MAX_CACHED:
         _PIPELINE.pop(next(iter(_PIPELINE)))
