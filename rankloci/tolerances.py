@@ -26,7 +26,10 @@ of ``rankloci locus``, ``check`` and ``report``) sets the threshold of the
 self-check, of the cross-check (on the components: ON_LOCUS_RTOL; off the
 locus; at the completeness probe's minima: PROBE_SINGULAR_RTOL) and is
 recorded in their JSON.  The components themselves come from exact algebra and
-the certificate uses no tolerance, so no option changes them.  The other
+the certificate uses no tolerance, so no option changes them.  And
+LOCUS_CONTAINS_RTOL, the default of ``rtol=`` of ``Locus.contains`` and
+``rankloci.is_singular``: how close a measured configuration must be to a
+component to count as on it.  The other
 values here are not options: each is tied to the precision of a computation
 (double rounding, Newton's convergence, a prime's size) or to a budget whose
 change would change which branches are found, not to a property of a user's

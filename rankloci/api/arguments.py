@@ -17,7 +17,7 @@ from collections.abc import Mapping
 from ..errors import ArgumentError
 
 __all__ = ["check_arguments", "check_for_model", "check_seed", "check_timeout",
-           "check_samples", "check_rank_rtol"]
+           "check_samples", "check_rank_rtol", "check_contains_rtol"]
 
 _IDENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_]{0,31}\Z")
 
@@ -86,6 +86,25 @@ def check_rank_rtol(rank_rtol) -> float:
             or not math.isfinite(rank_rtol) or not 0 < rank_rtol < 1:
         _fail("rank_rtol", rank_rtol, "a number strictly between 0 and 1 (sigma_min/sigma_max)")
     return float(rank_rtol)
+
+
+def check_contains_rtol(rtol) -> float:
+    """A positive finite number: how small a component's scaled equations must be at a
+    configuration on it (:meth:`rankloci.loci.Locus.contains`).
+
+    Examples
+    --------
+    >>> check_contains_rtol(1e-6)
+    1e-06
+    >>> check_contains_rtol(-1)
+    Traceback (most recent call last):
+    ...
+    rankloci.errors.ArgumentError: rtol= must be a positive finite number (a scaled residual), got -1
+    """
+    if not isinstance(rtol, numbers.Real) or _is_bool(rtol) or not math.isfinite(rtol) \
+            or rtol <= 0:
+        _fail("rtol", rtol, "a positive finite number (a scaled residual)")
+    return float(rtol)
 
 
 def _check_names(argument, names):

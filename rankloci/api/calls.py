@@ -12,9 +12,9 @@ import time
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from ..tolerances import RANK_RTOL
-from .arguments import (check_arguments, check_for_model, check_rank_rtol, check_samples,
-                        check_timeout)
+from ..tolerances import LOCUS_CONTAINS_RTOL, RANK_RTOL
+from .arguments import (check_arguments, check_contains_rtol, check_for_model, check_rank_rtol,
+                        check_samples, check_timeout)
 from .deadline import stop_after
 from .models import as_model
 from .progress import log_progress
@@ -522,7 +522,7 @@ def check(model, locus=None, *, samples=10, seed=0, numeric=False, timeout=None,
                            rank_rtol=rank_rtol)
 
 
-def is_singular(model, q, *, locus=None, **options):
+def is_singular(model, q, *, locus=None, rtol=LOCUS_CONTAINS_RTOL, **options):
     """Is the configuration ``q`` on the locus of ``model``?
 
     Decided by the locus (:meth:`~rankloci.loci.Locus.contains`, which
@@ -538,6 +538,12 @@ def is_singular(model, q, *, locus=None, **options):
     locus : Locus, optional
         The locus of ``model``; computed with ``options`` (see :func:`locus`)
         when omitted, and then kept for later calls on the same model.
+    rtol : float
+        ``q`` is on a component when each of its equations, scaled by the sum of the absolute
+        values of its coefficients, is at most ``rtol`` there
+        (:meth:`~rankloci.loci.Locus.contains`; default
+        :data:`~rankloci.tolerances.LOCUS_CONTAINS_RTOL`).  Raise it for configurations
+        measured or rounded to a few digits.
 
     Examples
     --------
@@ -552,6 +558,7 @@ def is_singular(model, q, *, locus=None, **options):
     bool or numpy.ndarray
         One bool, or a boolean array of shape (N,) for an (N, n) array.
     """
+    rtol = check_contains_rtol(rtol)
     if locus is None:
         m = load_model(model, tip=options.pop("tip", None),
                        base_link=options.pop("base_link", None),
@@ -563,7 +570,7 @@ def is_singular(model, q, *, locus=None, **options):
                 _LOCI.pop(next(iter(_LOCI)))
             _LOCI[key] = globals()["locus"](m, **options)
         locus = _LOCI[key]
-    return locus.contains(q)
+    return locus.contains(q, rtol=rtol)
 
 
 #: Loci computed by :func:`is_singular`, by model and options (oldest dropped first).

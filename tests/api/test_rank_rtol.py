@@ -104,3 +104,13 @@ def test_the_command_line_refuses_bad_values(command, bad, capsys, tmp_path):
     assert code == 2
     assert len(err.strip().splitlines()) == 1 and "--rank-rtol" in err
     assert not (tmp_path / "out").exists()
+
+
+def test_is_singular_takes_the_containment_tolerance():
+    """q2 = 1e-6 is 1e-6 from the component sin q2 = 0 of planar2r (scaled residual ~1e-6):
+    off it at the default (1e-9), on it at rtol=1e-5."""
+    assert not rankloci.is_singular("planar2r", [0.3, 1e-6])
+    assert rankloci.is_singular("planar2r", [0.3, 1e-6], rtol=1e-5)
+    for bad in (0, -1.0, float("nan"), "1e-5"):
+        with pytest.raises(ArgumentError, match="rtol="):
+            rankloci.is_singular("planar2r", [0.3, 0.0], rtol=bad)
