@@ -380,10 +380,12 @@ def _check_section(report):
     if chk is None:
         return []
     out = [Heading(2, "Numeric cross-check", block_label(report, "check"))]
+    rtol = chk.thresholds.get("RANK_RTOL", RANK_RTOL)
+    option = f" --rank-rtol {rtol:g}" if rtol != RANK_RTOL else ""
     out.append(Para(f"As `rankloci check {report.name} --samples {report.samples} --seed "
-                    f"{report.seed}`: $J$ in the model's frame, parameters at their values, "
-                    f"decided by the SVD (rank deficient when {SIGMA} is at most "
-                    f"{chk.thresholds.get('RANK_RTOL', 1e-8):g}). On-locus: points solved onto "
+                    f"{report.seed}{option}`: $J$ in the model's frame, parameters at their "
+                    f"values, decided by the SVD (rank deficient when {SIGMA} is at most "
+                    f"{rtol:g}). On-locus: points solved onto "
                     "each component must be singular. Off-locus: random configurations away "
                     "from every component must be regular. Completeness: minima of "
                     f"{SIGMA} from random starts that are singular must lie on a "
