@@ -202,15 +202,19 @@ def certify(computed: Engine, run: Run) -> Certified:
     locus, verification = verified_locus(
         compute, stage.tm, stage.reference, seed=stage.request.seed, progress=run.progress,
         should_stop=run.should_stop, method=stage.method, workers=run.workers,
-        rank_rtol=stage.request.rank_rtol)
+        rank_rtol=stage.request.rank_rtol, with_notes=False)
     return Certified(stage, locus, verification)
 
 
 def result(stage: Certified):
-    """The result stage: the certified locus with the notes of the model, of its matrix and
-    of the frame J was computed in, in that order around the notes of the computation."""
+    """The result stage: the certified locus with every note, in this order: the model's
+    (what reading its file changed), its matrix's, the computation's (the engine's and the
+    certificate's recovery), the checks' verdict
+    (:attr:`~rankloci.verify.Verification.notes`), and the frame J was computed in."""
     model, tm = stage.matrices.request.model, stage.matrices.tm
-    notes = tuple(getattr(model, "notes", ())) + tuple(tm.notes or ()) + stage.locus.notes
+    checks = stage.verification.notes if stage.verification is not None else ()
+    notes = (tuple(getattr(model, "notes", ())) + tuple(tm.notes or ()) + stage.locus.notes
+             + tuple(checks))
     if tm.frame is not None and (tm.frame, tm.point) != (getattr(model, "frame", None), "tool"):
         where = f"link frame {tm.frame}" if isinstance(tm.frame, int) else f"the {tm.frame} frame"
         about = f", about the origin of link frame {tm.point}" if isinstance(tm.point, int) else ""

@@ -54,11 +54,15 @@ class Verification:
         Each computation tried, in order, and its verdict.
     problems : tuple of str
         What the check of the returned locus found (empty when complete).
+    notes : tuple of str
+        What the locus's notes say of the checks: the dimension bound, the verdict of a
+        locus that is not certified, and the computations tried when there were several.
     """
 
     complete: bool
     attempts: tuple = ()
     problems: tuple = ()
+    notes: tuple = ()
 
     def to_dict(self) -> dict:
         return {"complete": self.complete, "attempts": list(self.attempts),
@@ -362,7 +366,7 @@ def _complete(cert, numeric_ok: bool):
 
 def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF_CHECK_SAMPLES,
                    progress=None, should_stop=None, method=None, workers=None,
-                   rank_rtol: float = RANK_RTOL):
+                   rank_rtol: float = RANK_RTOL, with_notes: bool = True):
     """The locus of ``tm``, certified, and recomputed when its certificate fails.
 
     Each computation is checked twice: numerically (:func:`~rankloci.numeric.crosscheck.
@@ -406,6 +410,9 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
     rank_rtol : float
         The numeric check's rank threshold on sigma_min/sigma_max
         (:func:`~rankloci.numeric.crosscheck.cross_check`).
+    with_notes : bool
+        Add ``Verification.notes`` to the locus's notes (the pipeline's result stage adds
+        them itself, with the other notes).
 
     Returns
     -------
@@ -536,6 +543,6 @@ def verified_locus(compute, tm, reference, *, seed: int = 0, samples: int = SELF
                       p.startswith("certificate:") for p in problems) else ""),)
     if len(attempts) > 1:
         notes += ("computations: " + "; ".join(attempts),)
-    verification = Verification(complete is True, tuple(attempts), tuple(problems))
-    return dataclasses.replace(locus, notes=locus.notes + notes,
+    verification = Verification(complete is True, tuple(attempts), tuple(problems), notes)
+    return dataclasses.replace(locus, notes=locus.notes + (notes if with_notes else ()),
                                complete=complete), verification

@@ -15,6 +15,7 @@ from rankloci import pipeline
 from rankloci.api.calls import certified_locus
 from rankloci.io import load_model
 from rankloci.parallel import Workers
+from rankloci.verify import Verification
 
 
 def _equations(locus):
@@ -57,8 +58,10 @@ def test_the_result_stage_assembles_the_notes_in_order(stages):
     model = dataclasses.replace(request.model, notes=("from the model file",))
     tm = dataclasses.replace(matrices.tm, notes=("from the matrix",), frame=2, point="tool")
     locus = dataclasses.replace(certified.locus, notes=("from the computation",))
+    checks = Verification(False, notes=("from the checks",))
     stage = pipeline.Certified(pipeline.Matrices(dataclasses.replace(request, model=model), tm,
-                                                 matrices.method), locus)
+                                                 matrices.method), locus, checks)
     notes = pipeline.result(stage).notes
-    assert notes[:3] == ("from the model file", "from the matrix", "from the computation")
-    assert len(notes) == 4 and notes[3].startswith("J was computed in link frame 2")
+    assert notes[:4] == ("from the model file", "from the matrix", "from the computation",
+                         "from the checks")
+    assert len(notes) == 5 and notes[4].startswith("J was computed in link frame 2")
