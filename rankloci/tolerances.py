@@ -793,3 +793,16 @@ REAL_POINTS_MAX_MINORS = 20
 #: Newton polytope of a factor (the size of its Gram matrix).
 REAL_POINTS_MAX_ENTRY_TERMS = 120
 REAL_POINTS_MAX_GRAM = 40
+
+# --- the geometry of a pose (geometry.py) --------------------------------------------------------
+
+#: Two unit axis directions count as parallel, and distances as zero relative to the size of
+#: the arm, below this.  Points on a component are accurate to 1e-10 (ROOT_XTOL); random
+#: configurations keep these quantities of order 1e-2 and above, so 1e-7 separates them
+#: with five orders of margin on either side.
+GEOMETRY_RTOL = 1e-7
+
+#: Random configurations whose geometric facts are facts of the design (they are never the
+#: reading of a component): a fact that holds at five random configurations holds at all of
+#: them but on a set of probability zero.
+RANDOM_POINTS = 5

@@ -26,7 +26,7 @@ LAYERS = (
      "rankloci.exact.certificate"),
     # models and their matrices, read from files or built by adapters; numerics on them
     ("rankloci.model", "rankloci.io", "rankloci.kinematics", "rankloci.jacobians",
-     "rankloci.adapters", "rankloci.limits", "rankloci.numeric"),
+     "rankloci.adapters", "rankloci.limits", "rankloci.numeric", "rankloci.geometry"),
     # the result types
     ("rankloci.loci",),
     # the engine: the branch tree, then the methods that grow it

@@ -27,9 +27,9 @@ import numpy as np
 
 from ..model import RobotModel
 from .blocks import plural, signed
-from .geometry import (RANDOM_POINTS, dependent_joints, design_points, distance_to_line,
-                       facts_at, meeting_point, random_configuration)
-from .reading import GEOMETRY_RTOL, axis_lines
+from ..geometry import (axis_lines, dependent_joints, design_points, distance_to_line, facts_at,
+                        meeting_point, random_configuration)
+from ..tolerances import GEOMETRY_RTOL, RANDOM_POINTS
 
 __all__ = ["Reading", "component_reading", "FACTOR_POINTS"]
 

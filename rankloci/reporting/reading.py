@@ -1,8 +1,7 @@
 """Plain-language readings of a lost direction, verified numerically, and the joint axes.
 
-:func:`axis_lines` gives the joint axes at a configuration (the geometric
-readings of :mod:`~rankloci.reporting.interpret` are made of them).  The lost
-direction is read here:
+The joint axes the geometric readings are made of are in
+:mod:`rankloci.geometry`.  The lost direction is read here:
 
 - **the lost direction**: ``u^T J = 0`` at the sample point, read as "the
   task point cannot translate along ...", "the end-effector cannot rotate
@@ -16,57 +15,16 @@ sample point within the tolerances below.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
-from ..expr import as_expression
-from ..model import RobotModel
 from .blocks import signed
 
-__all__ = ["AxisLine", "axis_lines", "direction_readings", "lost_motion", "GEOMETRY_RTOL",
-           "DIRECTION_RTOL"]
-
-#: Two unit axis directions count as parallel, and distances as zero relative to the size of
-#: the arm, below this.  Points on a component are accurate to 1e-10 (ROOT_XTOL); random
-#: configurations keep these quantities of order 1e-2 and above, so 1e-7 separates them
-#: with five orders of margin on either side.
-GEOMETRY_RTOL = 1e-7
+__all__ = ["direction_readings", "lost_motion", "DIRECTION_RTOL"]
 
 #: ``|u^T J| <= DIRECTION_RTOL * sigma_max(J)`` verifies a lost direction at the sample
 #: point: rank decisions use RANK_RTOL = 1e-8 on sigma_min/sigma_max, and the direction is
 #: printed to 3 decimals, so 1e-6 is checked on the unrounded vector.
 DIRECTION_RTOL = 1e-6
-
-
-@dataclass(frozen=True)
-class AxisLine:
-    """A joint axis in the world frame at one configuration."""
-
-    joint: int          # 1-based
-    kind: str           # "revolute" or "prismatic"
-    point: np.ndarray   # a point of the axis (the joint frame's origin)
-    direction: np.ndarray  # unit vector
-
-
-def axis_lines(model: RobotModel, q: dict, params=None):
-    """Joint axes and the task point at configuration ``q`` (variable name -> value).
-
-    Returns ``(lines, task_point)``, both in the world frame.
-    """
-    from ..kinematics import numeric_frames
-
-    params = dict(model.parameters if params is None else params)
-    qs = {v: float(q[str(v)]) for v in model.variables}
-    poses = numeric_frames(model, qs, params)
-    values = {k: float(v) for k, v in params.items()}
-    lines = []
-    for i, j in enumerate(model.joints):
-        T = poses[3 * i + 2]
-        axis = np.array([float(as_expression(a).subs(values)) for a in j.axis])
-        d = T[:3, :3] @ axis
-        lines.append(AxisLine(i + 1, j.kind, T[:3, 3].copy(), d / np.linalg.norm(d)))
-    return lines, poses[-1][:3, 3].copy()
 
 
 # --- lost directions ---------------------------------------------------------------------------

@@ -13,7 +13,7 @@ import report_helpers as RH
 from rankloci.io import load_model
 from rankloci.reporting import figures as F
 from rankloci.reporting.analysis import PathData
-from rankloci.reporting.robot import robot_pose
+from rankloci.geometry import robot_pose
 
 PACKAGE = Path(F.__file__).resolve().parents[1]
 

@@ -1,26 +1,71 @@
-"""Geometric facts about an arm's joint axes at one configuration, and dependent columns.
+"""The geometry of an arm at one configuration: joint axes, the facts they make, the pose.
 
-:func:`facts_at` lists what holds at a configuration: axes collinear,
-parallel, perpendicular or meeting, and the task point or a design point (where
-consecutive axes meet at every configuration, :func:`design_points`) on an
-axis or in a plane.  :mod:`~rankloci.reporting.interpret` keeps the facts that
-hold on a component and at no random configuration.  :func:`dependent_joints`
-finds the smallest set of dependent columns of J.  numpy only.
+:func:`axis_lines` gives the joint axes and the task point in the world frame;
+:func:`facts_at` lists what holds among them at a configuration (axes
+collinear, parallel, perpendicular or meeting; the task point, or a design
+point where consecutive axes meet at every configuration
+(:func:`design_points`), on an axis or in a plane).  The readings of a
+component keep the facts that hold on it and at no random configuration
+(:func:`rankloci.reading.component_facts`).  :func:`dependent_joints` finds the
+smallest set of dependent columns of J, and :func:`robot_pose` the chain of
+frame origins that a figure draws.  numpy only; distances are relative to the
+size of the arm (:func:`arm_scale`) and decided with
+:data:`~rankloci.tolerances.GEOMETRY_RTOL`.
+
+Examples
+--------
+>>> from rankloci.io import load_model
+>>> from rankloci.geometry import facts_at
+>>> arm = load_model("planar2r")
+>>> sorted(facts_at(arm, {"q1": 0.0, "q2": 0.0}, None), key=str)   # stretched out
+[('coplanar', 'P', frozenset({1, 2})), ('parallel', 1, 2)]
+>>> sorted(facts_at(arm, {"q1": 0.0, "q2": 1.0}, None), key=str)
+[('parallel', 1, 2)]
 """
 
 from __future__ import annotations
 
 import itertools
+from dataclasses import dataclass
 
 import numpy as np
 
-from .reading import GEOMETRY_RTOL, axis_lines
+from .expr import as_expression
+from .kinematics import numeric_frames
+from .model import RobotModel
+from .tolerances import GEOMETRY_RTOL, RANDOM_POINTS, RANK_RTOL
 
-__all__ = ["facts_at", "design_points", "dependent_joints", "meeting_point", "parallel",
-           "distance_to_line", "arm_scale", "random_configuration", "RANDOM_POINTS"]
+__all__ = ["AxisLine", "axis_lines", "facts_at", "design_points", "dependent_joints",
+           "meeting_point", "parallel", "distance_to_line", "arm_scale", "random_configuration",
+           "RobotPose", "robot_pose"]
 
-#: Random configurations whose facts are design facts (they are never a reading).
-RANDOM_POINTS = 5
+
+@dataclass(frozen=True)
+class AxisLine:
+    """A joint axis in the world frame at one configuration."""
+
+    joint: int          # 1-based
+    kind: str           # "revolute" or "prismatic"
+    point: np.ndarray   # a point of the axis (the joint frame's origin)
+    direction: np.ndarray  # unit vector
+
+
+def axis_lines(model: RobotModel, q: dict, params=None):
+    """Joint axes and the task point at configuration ``q`` (variable name -> value).
+
+    Returns ``(lines, task_point)``, both in the world frame.
+    """
+    params = dict(model.parameters if params is None else params)
+    qs = {v: float(q[str(v)]) for v in model.variables}
+    poses = numeric_frames(model, qs, params)
+    values = {k: float(v) for k, v in params.items()}
+    lines = []
+    for i, j in enumerate(model.joints):
+        T = poses[3 * i + 2]
+        axis = np.array([float(as_expression(a).subs(values)) for a in j.axis])
+        d = T[:3, :3] @ axis
+        lines.append(AxisLine(i + 1, j.kind, T[:3, 3].copy(), d / np.linalg.norm(d)))
+    return lines, poses[-1][:3, 3].copy()
 
 
 def parallel(u, v) -> bool:
@@ -180,8 +225,6 @@ def dependent_joints(matrices, labels, columns=None) -> tuple:
     >>> dependent_joints([J], ["1", "2", "3"])
     ('1', '2')
     """
-    from ..tolerances import RANK_RTOL
-
     Js = [np.asarray(J, dtype=float) for J in matrices]
     m, n = Js[0].shape
     pool = list(range(n)) if columns is None else list(columns)
@@ -192,3 +235,53 @@ def dependent_joints(matrices, labels, columns=None) -> tuple:
                    for J, top in zip(Js, tops)):
                 return tuple(labels[c] for c in cols)
     return ()
+
+
+@dataclass(frozen=True)
+class RobotPose:
+    """The arm at one configuration (world frame)."""
+
+    chain: np.ndarray             # (k, 3): base, every frame origin along the chain, task point
+    axis_points: tuple            # a point of each joint axis
+    axis_directions: tuple        # the unit direction of each joint axis
+    kinds: tuple                  # "revolute" or "prismatic" per joint
+    tool: np.ndarray              # the task point
+    scale: float                  # the largest distance between two points of the chain
+    tool_frame: np.ndarray | None = None  # (3, 3): the last frame's axes as columns
+
+    @property
+    def planar(self) -> bool:
+        """Does the arm lie in the plane z = 0 with every revolute axis along z?"""
+        tol = 1e-9 * self.scale
+        flat = bool(np.all(np.abs(np.asarray(self.chain)[:, 2]) <= tol))
+        return flat and all(abs(abs(float(d[2])) - 1.0) <= 1e-9 if k == "revolute"
+                            else abs(float(d[2])) <= 1e-9
+                            for d, k in zip(self.axis_directions, self.kinds))
+
+
+def robot_pose(model, q: dict, params=None) -> RobotPose:
+    """The :class:`RobotPose` of ``model`` at ``q`` (variable name -> value).
+
+    Examples
+    --------
+    >>> from rankloci.io import load_model
+    >>> pose = robot_pose(load_model("planar2r"), {"q1": 0.0, "q2": 0.0})
+    >>> [float(x) for x in pose.tool], pose.scale
+    ([2.0, 0.0, 0.0], 2.0)
+    """
+    lines, tool = axis_lines(model, q, params)
+    qs = {v: float(q[str(v)]) for v in model.variables}
+    poses = numeric_frames(model, qs, dict(model.parameters if params is None else params))
+    chain = [poses[0][:3, 3]]
+    for T in poses[1:]:
+        p = T[:3, 3]
+        if np.linalg.norm(p - chain[-1]) > 1e-12:
+            chain.append(p)
+    if np.linalg.norm(tool - chain[-1]) > 1e-12:
+        chain.append(tool)
+    chain = np.array(chain)
+    diffs = chain[:, None, :] - chain[None, :, :]
+    scale = max(float(np.max(np.linalg.norm(diffs, axis=-1))), 1e-9)
+    return RobotPose(chain, tuple(ln.point for ln in lines), tuple(ln.direction for ln in lines),
+                     tuple(ln.kind for ln in lines), np.asarray(tool, dtype=float), scale,
+                     np.array(poses[-1][:3, :3], dtype=float))
