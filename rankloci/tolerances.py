@@ -806,3 +806,25 @@ GEOMETRY_RTOL = 1e-7
 #: reading of a component): a fact that holds at five random configurations holds at all of
 #: them but on a set of probability zero.
 RANDOM_POINTS = 5
+
+# --- slices and paths of sigma_min/sigma_max (numeric/landscape.py) ------------------------------
+
+#: Grid points per axis of a slice: 181 puts a node every 2 degrees on [-pi, pi].
+SLICE_GRID = 181
+
+#: Points along a path through a component.
+PATH_POINTS = 401
+
+#: A local minimum of sigma_min/sigma_max along a path is refined (and kept if it reaches
+#: ON_LOCUS_RTOL) only when it is at most this: a grid point next to a crossing lies within
+#: one step (1/200 of the path) of it, where the ratio is of order 1e-3, while the minima of
+#: near misses of a regular path stay of order 0.1 and above.
+ZERO_CANDIDATE_RATIO = 0.05
+
+#: How far (rad or m) a joint the equations use is moved to probe the ratio off the locus.
+PROBE_STEP = 0.5
+
+#: Joint-space length of half a path through a component, and the share of it across the
+#: component (along its normal space): about 1 rad of travel across, either side.
+PATH_LENGTH = 1.2
+PATH_NORMAL_SHARE = 0.8

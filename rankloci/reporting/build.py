@@ -556,7 +556,7 @@ def _reading(model, comp, eqs, labels, nm, params, rng):
     """The :class:`~rankloci.reporting.interpret.Reading` of one component (or None)."""
     from ..model import RobotModel
     from ..numeric.equations import points_on
-    from .analysis import component_equations, component_points
+    from ..numeric.landscape import component_equations, component_points
     from .interpret import FACTOR_POINTS, component_reading
 
     if not isinstance(model, RobotModel):

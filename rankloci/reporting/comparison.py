@@ -10,7 +10,8 @@ import sympy as sp
 from ..expr import as_expression
 from ..numeric.equations import NumericMatrix
 from ..tolerances import COVER_RESIDUAL, RANK_RTOL
-from .analysis import component_equations, component_points, model_components, sigma_ratios
+from ..numeric.landscape import (component_equations, component_points, model_components,
+                                 sigma_ratios)
 
 __all__ = ["Comparison", "Disagreement", "compare_loci", "equation_sets"]
 

@@ -98,7 +98,7 @@ def _unit(v) -> np.ndarray:
 
 def _away(eqs, q0, rng) -> np.ndarray:
     """A unit joint-space direction across the component at ``q0`` (its first normal)."""
-    from .analysis import normal_directions
+    from ..numeric.landscape import normal_directions
 
     normals = normal_directions(eqs, q0)
     if len(normals):
@@ -119,7 +119,7 @@ def near_data(model, locus, nm, params, seed: int, stem: str) -> NearData | None
     from ..near.manipulability import ellipsoid
     from ..near.nearest import ComponentDistance
     from ..near.path import Kinematics
-    from . import analysis as A
+    from ..numeric import landscape as A
     from .figure_files import FigureFile
     from .figures import figure_png
 
