@@ -828,3 +828,14 @@ PROBE_STEP = 0.5
 #: component (along its normal space): about 1 rad of travel across, either side.
 PATH_LENGTH = 1.2
 PATH_NORMAL_SHARE = 0.8
+
+# --- the reading of a lost direction (directions.py) -------------------------------------------
+
+#: ``|u^T J| <= DIRECTION_RTOL * sigma_max(J)`` verifies a lost direction at the sample
+#: point: rank decisions use RANK_RTOL = 1e-8 on sigma_min/sigma_max, and the direction is
+#: printed to 3 decimals, so 1e-6 is checked on the unrounded vector.
+DIRECTION_RTOL = 1e-6
+
+#: A part of a unit lost direction (its linear, angular or constraint rows) shorter than this
+#: counts as zero: directions are read to 3 decimals.
+DIRECTION_PART_MIN = 1e-3
