@@ -37,7 +37,9 @@ from .tolerances import GEOMETRY_RTOL, RANDOM_POINTS, RANK_RTOL
 
 __all__ = ["AxisLine", "axis_lines", "facts_at", "design_points", "dependent_joints",
            "meeting_point", "parallel", "distance_to_line", "arm_scale", "random_configuration",
-           "RobotPose", "robot_pose"]
+           "RobotPose", "robot_pose", "ComponentFacts", "component_facts", "design_facts",
+           "common_facts", "columns_fill_rows", "lost_rotation_axis", "design_point",
+           "point_axis_distances", "equal_distances", "centres_distance", "dependence_left"]
 
 
 @dataclass(frozen=True)
@@ -285,3 +287,229 @@ def robot_pose(model, q: dict, params=None) -> RobotPose:
     return RobotPose(chain, tuple(ln.point for ln in lines), tuple(ln.direction for ln in lines),
                      tuple(ln.kind for ln in lines), np.asarray(tool, dtype=float), scale,
                      np.array(poses[-1][:3, :3], dtype=float))
+
+
+# --- the facts of a component ------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class ComponentFacts:
+    """The geometric facts that hold on a component and at no random configuration.
+
+    Attributes
+    ----------
+    whole : frozenset
+        The facts (keys of :func:`facts_at`) that hold at every point of the
+        component and at no random configuration.
+    factors : tuple of (int, frozenset)
+        For a component of several equations: for each (0-based index), the
+        facts that hold wherever that equation alone vanishes (empty when it
+        has no points); ``()`` for a component of one equation.
+    design : frozenset
+        The facts of the design: those that hold at a random configuration.
+    meets : tuple of tuple of int
+        The consecutive axes that meet at every configuration
+        (:func:`design_points`).
+    dependent : tuple of str
+        The smallest set of joints (1-based, as strings) whose columns of J are
+        dependent at every point, or ``()`` (none smaller than J, or no J given).
+    dependent_fills_rows : bool
+        Those columns are at least as many as the rows they reach: their
+        dependence restates the locus (:func:`columns_fill_rows`).
+    points : int
+        How many points of the component the facts were checked on.
+    """
+
+    whole: frozenset
+    factors: tuple
+    design: frozenset
+    meets: tuple
+    dependent: tuple = ()
+    dependent_fills_rows: bool = False
+    points: int = 0
+
+
+def design_facts(model, params, rng) -> tuple:
+    """``(meets, design)``: the design points (:func:`design_points`) and the facts that hold
+    at :data:`~rankloci.tolerances.RANDOM_POINTS` random configurations."""
+    meets = design_points(model, params, rng)
+    design = set()
+    for _ in range(RANDOM_POINTS):
+        design |= facts_at(model, random_configuration(model, rng), params, meets)
+    return meets, frozenset(design)
+
+
+def common_facts(model, qs, params, meets, design=frozenset()) -> frozenset:
+    """The facts that hold at every configuration of ``qs`` and are not in ``design``."""
+    common = None
+    for q in qs:
+        f = facts_at(model, q, params, meets)
+        common = f if common is None else common & f
+    return frozenset((common or set()) - design)
+
+
+def columns_fill_rows(matrices, cols) -> bool:
+    """Are ``cols`` at least as many as the rows they reach (a dependence that says nothing)?
+
+    Where the other columns alone fill the remaining rows (a locked joint's row of an
+    augmented J), the columns ``cols`` are dependent exactly where J is singular: naming
+    them restates the locus.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> J = np.array([[1.0, 2.0, 0.0], [1.0, 2.0, 1.0], [1.0, 2.0, 5.0]])
+    >>> columns_fill_rows([J], [0, 1])
+    False
+    >>> J = np.array([[1.0, 2.0, 0.0], [2.0, 4.0, 0.0], [0.0, 0.0, 1.0]])
+    >>> columns_fill_rows([J], [0, 1])   # the last row is the third joint's alone
+    True
+    """
+    J = np.asarray(matrices[0], dtype=float)
+    top = float(np.linalg.svd(J, compute_uv=False)[0])
+    rows = [r for r in range(J.shape[0])
+            if max(float(np.max(np.abs(np.asarray(M, dtype=float)[r, cols]))) for M in matrices)
+            > RANK_RTOL * top]
+    return len(cols) >= len(rows)
+
+
+def component_facts(model, points, factor_points=(), rng=None, params=None,
+                    matrix=None) -> ComponentFacts:
+    """The geometric facts of one component of ``model``'s locus.
+
+    Parameters
+    ----------
+    model : RobotModel
+    points : sequence of dict
+        Points of the component (variable name -> value); the first is its sample.
+    factor_points : sequence of sequence of dict
+        For each of the component's equations, points where it alone vanishes
+        (the other joints free); read only when there are several.
+    rng : numpy.random.Generator
+        Draws the random configurations whose facts are design facts.
+    params : dict, optional
+        Parameter values (default: the model's).
+    matrix : callable, optional
+        J at a point (dict -> array, columns in joint order); with it, the
+        smallest set of joints whose columns are dependent at every point.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankloci.io import load_model
+    >>> puma = load_model("puma560")
+    >>> q = {"q1": 0.3, "q2": 0.2, "q3": -0.4, "q4": 0.5, "q5": 0.0, "q6": 0.1}
+    >>> f = component_facts(puma, [q, dict(q, q1=1.0, q4=-1.2)], rng=np.random.default_rng(0))
+    >>> ("collinear", 4, 6) in f.whole     # the wrist: axes 4 and 6 in one line
+    True
+    >>> ("collinear", 4, 6) in f.design
+    False
+    """
+    if rng is None:
+        raise ValueError("component_facts needs rng, a numpy.random.Generator")
+    meets, design = design_facts(model, params, rng)
+    whole = common_facts(model, points, params, meets, design)
+    dependent, fills = (), False
+    if matrix is not None:
+        Js = [matrix(q) for q in points]
+        dependent = dependent_joints(Js, [str(k + 1) for k in range(len(model.joints))])
+        fills = bool(dependent) and columns_fill_rows(Js, [int(c) - 1 for c in dependent])
+    factors = ()
+    if len(factor_points) > 1:
+        factors = tuple((k, common_facts(model, qs, params, meets, design) if qs else frozenset())
+                        for k, qs in enumerate(factor_points))
+    return ComponentFacts(whole, factors, design, meets, dependent, fills, len(points))
+
+
+def lost_rotation_axis(model, q: dict, params, joints) -> tuple:
+    """The axis about which the revolute joints of ``joints`` cannot rotate the end-effector.
+
+    When their axes (at least three) have a common normal at ``q``: that normal
+    (unit, base frame, its largest coordinate positive); else ``()``.
+
+    Examples
+    --------
+    >>> from rankloci.io import load_model
+    >>> puma = load_model("puma560")
+    >>> q = {"q1": 0.3, "q2": 0.2, "q3": -0.4, "q4": 0.5, "q5": 0.0, "q6": 0.1}
+    >>> len(lost_rotation_axis(puma, q, None, [4, 5, 6]))
+    3
+    >>> lost_rotation_axis(puma, dict(q, q5=1.0), None, [4, 5, 6])
+    ()
+    """
+    lines, _ = axis_lines(model, q, params)
+    span = [lines[j - 1].direction for j in range(joints[0], joints[-1] + 1)
+            if lines[j - 1].kind == "revolute"]
+    if len(span) < 3:
+        return ()
+    _, s, vt = np.linalg.svd(np.array(span))
+    if s[-1] > GEOMETRY_RTOL * s[0]:
+        return ()
+    n = vt[-1] * (1 if vt[-1][np.argmax(np.abs(vt[-1]))] > 0 else -1)
+    return tuple(float(x) for x in n)
+
+
+def design_point(lines, axes):
+    """The point where the two axes ``axes`` (1-based, a pair of :func:`design_points`) meet."""
+    m = meeting_point(lines[axes[0] - 1], lines[axes[1] - 1])
+    return 0.5 * (m[0] + m[1])
+
+
+def point_axis_distances(model, points, params, x, axis) -> list:
+    """The distance, at each configuration of ``points``, from ``x`` to axis ``axis``.
+
+    ``x`` is ``"P"`` (the task point) or a pair of axes that meet by design.
+    """
+    dists = []
+    for q in points:
+        lines, tool = axis_lines(model, q, params)
+        p = tool if x == "P" else design_point(lines, x)
+        dists.append(distance_to_line(p, lines[axis - 1]))
+    return dists
+
+
+def equal_distances(values) -> bool:
+    """Are the non-negative ``values`` equal to :data:`~rankloci.tolerances.GEOMETRY_RTOL`
+    of the largest?"""
+    top = max(values)
+    return top > 0 and top - min(values) <= GEOMETRY_RTOL * top
+
+
+def centres_distance(model, q: dict, params, pair) -> tuple | None:
+    """``(axis, distance)`` when two design points are equally far from the one other axis.
+
+    ``pair`` holds two design points (each a pair of axes that meet by design).
+    When exactly one revolute axis passes through neither and both points lie
+    at one distance from it (to :data:`~rankloci.tolerances.GEOMETRY_RTOL`),
+    turning that joint can bring them together: its number and the distance;
+    else None.
+    """
+    lines, _ = axis_lines(model, q, params)
+    through = set(pair[0]) | set(pair[1])
+    rest = [ln for ln in lines if ln.kind == "revolute" and ln.joint not in through]
+    if len(rest) != 1:
+        return None
+    axis = rest[0]
+    dists = [distance_to_line(design_point(lines, x), axis) for x in pair]
+    if abs(dists[0] - dists[1]) > GEOMETRY_RTOL * max(max(dists), 1e-12):
+        return None
+    return axis.joint, dists[0]
+
+
+def dependence_left(matrix, points, factor_points, explained, n_joints: int) -> tuple:
+    """``(dropped, rest)``: what the columns of J still lose where explained factors do not.
+
+    Each factor of ``explained`` (indices into ``factor_points``, with points)
+    makes one column depend on the others (the last of its smallest dependent
+    set, ``dropped`` lists those joints, 1-based); ``rest`` is the smallest set
+    of the remaining joints whose columns are dependent at every one of
+    ``points`` (labels as strings, ``()`` if none).
+    """
+    cols = [str(k + 1) for k in range(n_joints)]
+    keep = set(range(n_joints))
+    for k in explained:
+        if factor_points[k]:
+            d = dependent_joints([matrix(q) for q in factor_points[k]], cols)
+            keep -= {int(d[-1]) - 1} if d else set()
+    rest = dependent_joints([matrix(q) for q in points], cols, sorted(keep))
+    dropped = tuple(sorted(set(range(1, n_joints + 1)) - {c + 1 for c in keep}))
+    return dropped, rest
