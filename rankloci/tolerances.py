@@ -839,3 +839,14 @@ DIRECTION_RTOL = 1e-6
 #: A part of a unit lost direction (its linear, angular or constraint rows) shorter than this
 #: counts as zero: directions are read to 3 decimals.
 DIRECTION_PART_MIN = 1e-3
+
+# --- directions across a component (near/across.py) ----------------------------------------------
+
+#: A singular value of the angular rows of J above this times the largest counts in their
+#: rank: those rows are exact trigonometric entries, whose null directions show singular
+#: values at rounding level (1e-16), far below 1e-9.
+ORIENTATION_NULL_RTOL = 1e-9
+
+#: A direction across a component is bent to keep the orientation only when at least this
+#: share of it is left: a shorter remainder points mostly along the component.
+ACROSS_KEEP_SHARE = 0.1

@@ -90,22 +90,6 @@ class NearData:
     figures: tuple
 
 
-def _unit(v) -> np.ndarray:
-    v = np.asarray(v, dtype=float)
-    n = float(np.linalg.norm(v))
-    return v / n if n > 0 else v
-
-
-def _away(eqs, q0, rng) -> np.ndarray:
-    """A unit joint-space direction across the component at ``q0`` (its first normal)."""
-    from ..numeric.landscape import normal_directions
-
-    normals = normal_directions(eqs, q0)
-    if len(normals):
-        return _unit(normals[0])
-    return _unit(rng.standard_normal(len(q0)))  # pragma: no cover - equations without gradient
-
-
 def near_data(model, locus, nm, params, seed: int, stem: str) -> NearData | None:
     """Manipulability at a regular pose and near each component, and a path through one.
 
@@ -116,6 +100,7 @@ def near_data(model, locus, nm, params, seed: int, stem: str) -> NearData | None
     from ..model import RobotModel
     from ..api.near import joint_rates, manipulability
     from ..near.figures import path_figure
+    from ..near.across import across_keeping_orientation, direction_across
     from ..near.manipulability import ellipsoid
     from ..near.nearest import ComponentDistance
     from ..near.path import Kinematics
@@ -145,7 +130,7 @@ def near_data(model, locus, nm, params, seed: int, stem: str) -> NearData | None
     starts = {}
     for idx, c in comps[:MAX_NEAR_COMPONENTS]:
         q0 = np.array([c.sample[v.name] for v in nm.variables], dtype=float)
-        d = _away(A.component_equations(c, nm, params), q0, rng)
+        d = direction_across(A.component_equations(c, nm, params), q0, rng)
         q = q0 + NEAR_OFFSET * d
         k = idx - 1  # model_components numbers locus.components from 1
         poses.append(pose(idx, q, float(cd.distance(k, q)[0])))
@@ -165,7 +150,7 @@ def near_data(model, locus, nm, params, seed: int, stem: str) -> NearData | None
         # a line in task space from q0 + PATH_OFFSET e to q0 + miss e and as far beyond,
         # e across the component with the orientation kept to first order: the joints pass
         # about miss from the component, where the rates peak
-        e = _across_keeping_orientation(kin, q0, d)
+        e = across_keeping_orientation(kin, q0, d)
         start = q0 + PATH_OFFSET * e
         x0, x1 = kin.position(start), kin.position(q0 + miss * e)
         rates = joint_rates(model, start, [x0, x1, 2 * x1 - x0], norm="inf", steps=PATH_STEPS)
@@ -230,20 +215,6 @@ def near_manipulability_figure(model, poses, *, three: bool = True):
                 axis.set_major_locator(MaxNLocator(3))
             _fixed_legend(ax, fontsize=NEAR_FONT_PT - 1, loc="upper left")
     return fig
-
-
-def _across_keeping_orientation(kin, q0, d) -> np.ndarray:
-    """The unit joint direction nearest to ``d`` that leaves the orientation unchanged at
-    ``q0`` to first order (``d`` itself when the task has no angular rows or none is left)."""
-    ang = [i for i, r in enumerate(kin.rows) if r >= 3]
-    if not ang:
-        return _unit(d)
-    Jw = kin.jacobian(q0)[ang]
-    _, s, vt = np.linalg.svd(Jw)
-    rank = int(np.sum(s > 1e-9 * max(float(s[0]), 1e-300))) if s.size else 0
-    null = vt[rank:]
-    e = null.T @ (null @ np.asarray(d, dtype=float))
-    return _unit(e) if np.linalg.norm(e) > 0.1 * np.linalg.norm(d) else _unit(d)
 
 
 def _fixed_legend(ax, **where):
