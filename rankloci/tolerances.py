@@ -446,6 +446,10 @@ VIEW_ON_LOCUS_RTOL = RANK_RTOL
 #: wrong exponent or a missing factor changes the ratio by order one between points.
 DET_FACTOR_RTOL = 1e-8
 
+#: Random configurations at which such a factorisation is fitted and checked: twelve ratios
+#: that agree to DET_FACTOR_RTOL leave no room for a wrong exponent by chance.
+DET_POINTS = 12
+
 # --- proved points next to numeric ones (tree/certify.py) ----------------------------------------
 
 #: Working precision of the ball arithmetic: coefficients of several hundred digits are exact

@@ -319,7 +319,7 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
     if (locus is not None and getattr(locus, "base", None) is None and model_tm.shape[0]
             == model_tm.shape[1] and main
             and all(len(v.component.equations) == 1 for v in main)):
-        from .determinant import factored_determinant
+        from ..numeric.factored_det import factored_determinant
 
         kinds = ["revolute" if v in model_tm.angles else "prismatic" for v in model_tm.variables]
         forms = [v.folded[0] if len(v.folded) == 1 else v.component.equations[0] for v in main]
