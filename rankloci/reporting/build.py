@@ -389,6 +389,7 @@ def _samples_within_strokes(model, locus, nm, rng):
 
     from ..limits import DEFAULT_STROKE, joint_strokes, within_limits
     from ..model import RobotModel
+    from ..numeric.svd import null_directions
 
     if not isinstance(model, RobotModel):
         return locus, ""
@@ -403,7 +404,7 @@ def _samples_within_strokes(model, locus, nm, rng):
             q = np.array([check.sample[n] for n in names], dtype=float)
             changes = dict(sample=dict(check.sample))
             if check.how != "sample point":   # whole turns of an angle leave J as it was
-                changes["direction_at_sample"] = _null_directions(nm(q), comp.rank_drop, tall)
+                changes["direction_at_sample"] = null_directions(nm(q), comp.rank_drop, tall)
                 moved.append(check.component)
             comp = dataclasses.replace(comp, **changes)
         comps.append(comp)
@@ -421,13 +422,6 @@ def _numbered(word, numbers):
     from .blocks import numbered
 
     return numbered(word, numbers)
-
-
-def _null_directions(J, drop: int, tall: bool) -> tuple:
-    """The ``drop`` unit null vectors of J: left ones, or right ones for a tall J."""
-    U, _, Vt = np.linalg.svd(J)
-    vecs = Vt[-drop:] if tall else U[:, -drop:].T
-    return tuple(tuple(float(x) for x in v) for v in vecs)
 
 
 def component_views(model, locus, *, seed: int = 0) -> tuple:
