@@ -30,15 +30,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..expr import as_expression
-from ..tolerances import (ON_LOCUS_RTOL, PATH_LENGTH, PATH_NORMAL_SHARE, PATH_POINTS,
-                          PROBE_STEP, REGULAR_MIN_RATIO, SENSITIVITY_MIN, SLICE_GRID,
-                          ZERO_CANDIDATE_RATIO)
+from ..tolerances import (FOLLOWER_RTOL, ON_LOCUS_RTOL, PATH_LENGTH, PATH_NORMAL_SHARE,
+                          PATH_POINTS, PROBE_STEP, REGULAR_MIN_RATIO, SENSITIVITY_MIN,
+                          SLICE_GRID, ZERO_CANDIDATE_RATIO)
 from .equations import Equations, NumericMatrix, points_on
 
 __all__ = ["SliceData", "PathData", "slice_grid", "slice_joints", "path_through",
            "model_components", "sigma_ratios", "component_points", "component_equations",
            "equation_weights", "regular_point", "normal_directions", "manipulability",
-           "ratio_grid"]
+           "ratio_grid", "dependent_variables"]
 
 def model_components(locus):
     """(1-based index, component) of the components that exist for the model's values."""
@@ -466,3 +466,37 @@ def path_through(nm: NumericMatrix, point, rng, *, component: int, length: float
     ratio = sigma_ratios(Js)
     zeros = _zeros_along(nm, point, d, t, ratio)
     return PathData(component, point, d, t, manipulability(Js), ratio, zeros)
+
+
+# --- the variables a component ties -----------------------------------------------------------
+
+def dependent_variables(equations, variables, params, sample, candidates) -> list:
+    """The variables among ``candidates`` that the ``equations`` tie to the others at ``sample``.
+
+    As many as the rank of the equations' gradient at the sample point (indices
+    into ``variables``, whose values ``sample`` holds), chosen by a QR
+    factorization with column pivoting (the best-conditioned set): moving the
+    other variables, these follow to stay on the component.  Parameters are
+    replaced by ``params`` first.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> q1, q2, q3 = sp.symbols("q1 q2 q3")
+    >>> dependent_variables([sp.sin(q2 + q3)], [q1, q2, q3], {}, [0.0, 0.1, -0.1], [0, 1, 2])
+    [1]
+    """
+    import scipy.linalg
+    import sympy as sp
+
+    eqs = [sp.sympify(e, strict=True).subs(params) for e in equations]
+    if not eqs or not candidates:
+        return []
+    at = {v: sample[k] for k, v in enumerate(variables)}
+    G = np.array([[float(sp.diff(e, variables[k]).subs(at)) for k in candidates] for e in eqs])
+    _, R, order = scipy.linalg.qr(G, pivoting=True, mode="economic")
+    diag = np.abs(np.diag(R))
+    if diag.size == 0 or diag[0] == 0:
+        return []
+    rank = int(np.sum(diag > FOLLOWER_RTOL * diag[0]))
+    return sorted(candidates[k] for k in order[:rank])
