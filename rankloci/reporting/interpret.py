@@ -142,6 +142,12 @@ def _sentences(facts, meets, context=None, design=frozenset()) -> list:
     stated as if it were a property of the component.
     """
     context = facts if context is None else context
+    return (_structure_sentences(facts, meets, context, design)
+            or _parallel_sentences(facts, meets, design) or _meeting_sentences(facts))
+
+
+def _structure_sentences(facts, meets, context, design) -> list:
+    """Points that coincide, collinear axes, slides, points on axes and planes of axes."""
     out = []
     for f in sorted((f for f in facts if f[0] == "coincide"), key=str):
         out.append(("coincide", (f[1], f[2]),
@@ -180,8 +186,12 @@ def _sentences(facts, meets, context=None, design=frozenset()) -> list:
             out.append(("coplanar", (f[1], tuple(axes)),
                         f"axes {_and(axes)} are parallel and {_point_name(f[1], meets)} lies in "
                         "their plane"))
-    if out:
-        return out
+    return out
+
+
+def _parallel_sentences(facts, meets, design) -> list:
+    """Parallel axes, and the first plane through an axis that a point lies in."""
+    out = []
     pairs = sorted(f[1:] for f in facts if f[0] == "parallel")
     for g in _groups(pairs):
         named = _new_parallel_axes(g, design)
@@ -196,8 +206,12 @@ def _sentences(facts, meets, context=None, design=frozenset()) -> list:
                     f"{_point_name(x, meets)} lies in the plane through axis {a} parallel to "
                     f"{word} {_and(bs)}"))
         break
-    if out:
-        return out
+    return out
+
+
+def _meeting_sentences(facts) -> list:
+    """Perpendicular axes and axes that meet: the weakest facts."""
+    out = []
     for kind, verb in (("perpendicular", "are perpendicular"), ("intersect", "meet")):
         for a, b in sorted(f[1:] for f in facts if f[0] == kind):
             out.append((kind, (a, b), f"axes {a} and {b} {verb}"))
