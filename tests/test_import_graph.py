@@ -34,7 +34,7 @@ LAYERS = (
     ("rankloci.methods",),
     # checks of a locus, and what a robot does near it
     ("rankloci.exact", "rankloci.certify", "rankloci.verify", "rankloci.augmented",
-     "rankloci.directions", "rankloci.numeric.crosscheck", "rankloci.near"),
+     "rankloci.directions", "rankloci.numeric.crosscheck", "rankloci.near", "rankloci.compare"),
     # the library's calls: the one pipeline from a model to a certified locus, and what the
     # near-the-locus functions add to it
     ("rankloci.api.arguments", "rankloci.api.deadline", "rankloci.api.models",

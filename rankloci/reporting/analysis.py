@@ -1,7 +1,7 @@
 """The numbers behind the report's figures, as the drawing code reads them.
 
 They are computed in :mod:`rankloci.numeric.landscape`; this module names them
-for the figures.  The comparison of two methods' loci is in :mod:`.comparison`,
+for the figures.  The comparison of two methods' loci is in :mod:`rankloci.compare`,
 the branch tree cut down for drawing in :mod:`.tree_summary`.
 """
 

@@ -216,7 +216,7 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
     from ..methods import compute_locus, method_for
     from ..numeric.crosscheck import cross_check
     from ..numeric.equations import NumericMatrix
-    from .comparison import compare_loci
+    from ..compare import compare_loci
     from .tree_summary import tree_summary
     from .escape import file_stem
     from .figure_files import report_figures
