@@ -854,3 +854,24 @@ ORIENTATION_NULL_RTOL = 1e-9
 #: A direction across a component is bent to keep the orientation only when at least this
 #: share of it is left: a shorter remainder points mostly along the component.
 ACROSS_KEEP_SHARE = 0.1
+
+# --- a robot near its locus (api/near_study.py) --------------------------------------------------
+
+#: Joint-space distance (rad, or m along a prismatic joint) from a component's sample point to
+#: the pose "near" it: close enough that sigma_min/sigma_max is of order 1e-2, far enough
+#: that the ellipsoid is still drawn.
+NEAR_OFFSET = 0.05
+#: Joint-space distance (rad, or m along a prismatic joint) from a component's sample point to
+#: the start of the path: the rates there are those of a regular pose.
+PATH_OFFSET = 0.4
+#: Poses near at most this many components (the first ones).
+MAX_NEAR_COMPONENTS = 4
+#: Arms with more joints get the polytope of the position rows only (2^n vertices).
+FULL_POLYTOPE_JOINTS = 7
+#: A rate peak counts as the path's crossing when it lies within this much of the path
+#: parameter (0..1) from the point closest to the locus.
+PEAK_WINDOW = 0.05
+#: A peak counts when the largest rate is at least this many times the rate at the start.
+PEAK_RATIO = 3.0
+#: Steps of the path through a component.
+PATH_STEPS = 120

@@ -39,7 +39,8 @@ LAYERS = (
     # near-the-locus functions add to it
     ("rankloci.api.arguments", "rankloci.api.deadline", "rankloci.api.models",
      "rankloci.api.progress", "rankloci.api.results", "rankloci.api.symbols",
-     "rankloci.api.calls", "rankloci.api.near", "rankloci.api.geometry"),
+     "rankloci.api.calls", "rankloci.api.near", "rankloci.api.geometry",
+     "rankloci.api.near_study"),
     # renderers of what the calls return
     ("rankloci.render_text", "rankloci.reporting", "rankloci.near.figures"),
     # the library's interface (the report call included), then the command line and sweeps
