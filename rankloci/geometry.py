@@ -6,7 +6,7 @@ collinear, parallel, perpendicular or meeting; the task point, or a design
 point where consecutive axes meet at every configuration
 (:func:`design_points`), on an axis or in a plane).  The readings of a
 component keep the facts that hold on it and at no random configuration
-(:func:`rankloci.reading.component_facts`).  :func:`dependent_joints` finds the
+(:func:`component_facts`).  :func:`dependent_joints` finds the
 smallest set of dependent columns of J, and :func:`robot_pose` the chain of
 frame origins that a figure draws.  numpy only; distances are relative to the
 size of the arm (:func:`arm_scale`) and decided with
