@@ -875,3 +875,12 @@ PEAK_WINDOW = 0.05
 PEAK_RATIO = 3.0
 #: Steps of the path through a component.
 PATH_STEPS = 120
+
+# --- the reading of a component (geometry.py, api/geometry.py) ---------------------------------
+
+#: Extra points per component on which geometric readings are confirmed, and points sampled
+#: on each factor's hypersurface: a fact of the axes that holds at four points of a component
+#: (its sample and three solved onto it at random) and at no random configuration holds on
+#: all of it but on a set of probability zero.
+READING_POINTS = 3
+FACTOR_POINTS = 3

@@ -15,11 +15,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 import sympy as sp
 
+from ..tolerances import READING_POINTS
+
 __all__ = ["Report", "ComponentView", "build_report", "component_views", "READING_POINTS",
            "SUMMARY_CHARS"]
-
-#: Extra points per component on which geometric readings are confirmed.
-READING_POINTS = 3
 
 #: A direction reading longer than this is left out of the summary tables.
 SUMMARY_CHARS = 110

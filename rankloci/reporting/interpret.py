@@ -24,15 +24,13 @@ import itertools
 from dataclasses import dataclass
 
 
-from ..model import RobotModel
-from .blocks import plural, signed
 from ..geometry import (ComponentFacts, centres_distance, component_facts, dependence_left,
                         equal_distances, lost_rotation_axis, point_axis_distances)
+from ..model import RobotModel
+from ..tolerances import FACTOR_POINTS
+from .blocks import plural, signed
 
 __all__ = ["Reading", "component_reading", "FACTOR_POINTS"]
-
-#: Points sampled on each factor's hypersurface, and on the component besides its sample.
-FACTOR_POINTS = 3
 
 
 @dataclass(frozen=True)
