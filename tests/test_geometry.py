@@ -110,3 +110,33 @@ def test_pose_geometry_refuses_what_is_not_a_pose_of_a_robot():
     with pytest.raises(ValueError, match="robot model"):
         rankloci.pose_geometry(rankloci.api.matrix_model([["cos(x)", "1"]], variables=["x"]),
                                [0.1])
+
+
+@pytest.fixture(scope="module")
+def puma_locus():
+    return rankloci.locus("puma560", numeric=True)
+
+
+def test_component_geometry_reads_the_puma_560s_three_singularities(puma_locus):
+    facts = {i: rankloci.component_geometry("puma560", puma_locus, i, seed=SEED)
+             for i in range(1, len(puma_locus.components) + 1)}
+    by_equation = {str(c.equations[0]): i for i, c in enumerate(puma_locus.components, 1)}
+    wrist = facts[by_equation["sin(q5)"]]
+    assert ("collinear", 4, 6) in wrist.facts.whole and wrist.facts.points == 4
+    shoulder = [g for g in facts.values() if ("in-plane", "P", 1, 2) in g.facts.whole]
+    elbow = [g for g in facts.values() if ("coplanar", "P", frozenset({2, 3})) in g.facts.whole]
+    assert len(shoulder) == 1 and len(elbow) == 1 and shoulder[0] is not elbow[0]
+    # each lost direction is a left null vector of J at the sample point
+    for g in facts.values():
+        assert len(g.lost) == puma_locus.components[g.index - 1].rank_drop
+        assert not g.facts.whole & g.facts.design
+
+
+def test_component_geometry_refuses_a_bad_index_or_another_models_locus(puma_locus):
+    for index in (0, 4, True, 1.0):
+        with pytest.raises(ValueError, match="index"):
+            rankloci.component_geometry("puma560", puma_locus, index)
+    with pytest.raises(ValueError, match="not a locus of planar2r"):
+        rankloci.component_geometry("planar2r", puma_locus, 1)
+    with pytest.raises(ValueError, match="must be a Locus"):
+        rankloci.component_geometry("puma560", "sin(q5)", 1)

@@ -3,7 +3,9 @@
 :func:`pose_geometry` says what a notebook user asks of a pose: where the
 joint axes are, which of them are parallel, collinear or meet there (beyond
 what the design makes true everywhere), and, where J loses rank, what the
-end-effector cannot do.  It takes a model as :func:`rankloci.load_model`
+end-effector cannot do.  :func:`component_geometry` says it of a component of
+a locus: the facts that hold at every point checked on it, and what its lost
+directions take from the end-effector.  It takes a model as :func:`rankloci.load_model`
 does and returns a frozen result; nothing is printed or written.
 """
 
@@ -13,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["PoseGeometry", "pose_geometry"]
+__all__ = ["PoseGeometry", "pose_geometry", "ComponentGeometry", "component_geometry"]
 
 #: The names of the six task rows, in the order of ``model.task``'s indices.
 _ROW_NAMES = ("vx", "vy", "vz", "wx", "wy", "wz")
@@ -88,13 +90,9 @@ def pose_geometry(model, q, *, seed: int = 0, tip: str | None = None,
     from ..directions import lost_direction
     from ..geometry import axis_lines, design_facts, facts_at
     from ..near.path import Kinematics
-    from ..model import RobotModel
     from ..numeric.svd import null_directions, numeric_rank_drop
-    from .calls import load_model
 
-    model = load_model(model, tip=tip, base_link=base_link)
-    if not isinstance(model, RobotModel):
-        raise ValueError(f"model must be a robot model, got {type(model).__name__}")
+    model = _robot_model(model, tip, base_link)
     kin = Kinematics(model)
     q = np.asarray(q, dtype=float)
     if q.shape != (kin.n,):
@@ -113,3 +111,128 @@ def pose_geometry(model, q, *, seed: int = 0, tip: str | None = None,
                  if d is not None)
     return PoseGeometry(q, tuple(lines), tool, frozenset(facts_at(model, at, None, meets)),
                         design, drop, lost)
+
+
+def _robot_model(model, tip, base_link):
+    from ..model import RobotModel
+    from .calls import load_model
+
+    model = load_model(model, tip=tip, base_link=base_link)
+    if not isinstance(model, RobotModel):
+        raise ValueError(f"model must be a robot model, got {type(model).__name__}")
+    return model
+
+
+@dataclass(frozen=True)
+class ComponentGeometry:
+    """The geometry of one component of a robot's locus.
+
+    Attributes
+    ----------
+    index : int
+        The component's number (1-based, as in ``locus.components``).
+    facts : ComponentFacts
+        The facts that hold at every point checked and at no random
+        configuration, per equation when there are several
+        (:class:`rankloci.geometry.ComponentFacts`).
+    lost : tuple of LostDirection
+        What each lost direction at the sample point takes from the end-effector
+        (:class:`rankloci.directions.LostDirection`).
+    """
+
+    index: int
+    facts: object
+    lost: tuple
+
+
+@dataclass(frozen=True)
+class _Equations:
+    """Some of a component's equations, as :func:`component_equations` reads a component."""
+
+    equations: tuple
+    excluding: tuple = ()
+
+
+def component_geometry(model, locus, index: int, *, seed: int = 0, tip: str | None = None,
+                       base_link: str | None = None) -> ComponentGeometry:
+    """The geometric facts of component ``index`` of ``locus`` and what it takes from the arm.
+
+    The facts are checked at the component's sample point and at
+    :data:`~rankloci.tolerances.READING_POINTS` more points solved onto it; for a
+    component of several equations, each equation's facts at
+    :data:`~rankloci.tolerances.FACTOR_POINTS` points where it alone vanishes.
+    They are those of the report's reading of the component.
+
+    Parameters
+    ----------
+    model : str, path or RobotModel
+        The robot whose locus ``locus`` is.
+    locus : Locus
+        What :func:`rankloci.locus` returned for ``model``.
+    index : int
+        1-based, as in ``locus.components``.
+    seed : int
+        Seed of the points on the component and of the random configurations.
+    tip, base_link : str, optional
+        For a URDF file or a Pinocchio model: the chain (:func:`rankloci.load_model`).
+
+    Examples
+    --------
+    >>> import rankloci
+    >>> L = rankloci.locus("planar2r")
+    >>> g = rankloci.component_geometry("planar2r", L, 1)
+    >>> sorted(g.facts.whole, key=str)    # the task point in the plane of both axes
+    [('coplanar', 'P', frozenset({1, 2}))]
+    >>> g.lost[0].kind
+    'translation'
+    """
+    import sympy as sp
+
+    from ..directions import lost_direction
+    from ..expr import as_expression
+    from ..geometry import component_facts
+    from ..jacobians import task_matrix
+    from ..loci import Locus
+    from ..numeric.equations import NumericMatrix, points_on
+    from ..numeric.landscape import component_equations, component_points
+    from ..tolerances import FACTOR_POINTS, READING_POINTS
+
+    model = _robot_model(model, tip, base_link)
+    if not isinstance(locus, Locus):
+        raise ValueError(f"locus must be a Locus, got {type(locus).__name__}")
+    n = len(locus.components)
+    if isinstance(index, bool) or not isinstance(index, int) or not 1 <= index <= n:
+        raise ValueError(f"index must be a component number from 1 to {n}, got {index!r}")
+    comp = locus.components[index - 1]
+    tm = task_matrix(model)
+    params = dict(tm.parameters)
+    nm = NumericMatrix(sp.Matrix(tm.matrix).subs(params), tm.variables, tm.angles)
+    names = [v.name for v in nm.variables]
+    known = set(names) | {str(p) for p in params}
+    strange = {str(s) for e in comp.equations for s in as_expression(e).free_symbols} - known
+    missing = set(names) - set(comp.sample)
+    if strange or missing:
+        raise ValueError(f"locus is not a locus of {model.name}: "
+                         + (f"its equations use {sorted(strange)}" if strange
+                            else f"its sample point has no value for {sorted(missing)}"))
+    rng = np.random.default_rng(seed)
+
+    def as_dict(q):
+        return {k: float(x) for k, x in zip(names, q)}
+
+    eqs = [e for e in comp.equations if e not in comp.parameter_conditions] or list(
+        comp.equations)
+    pts = [as_dict(q) for q in component_points(comp, nm, params, rng, READING_POINTS)]
+    factor_points = []
+    if len(eqs) > 1:
+        for e in eqs:
+            single = component_equations(_Equations((e,)), nm, params)
+            factor_points.append([as_dict(q) for q in points_on(single, nm, rng, FACTOR_POINTS)])
+    facts = component_facts(model, pts, factor_points, rng,
+                             matrix=lambda d: nm(np.array([d[k] for k in names])))
+    J = nm(np.array([comp.sample[k] for k in names], dtype=float))
+    tall = tm.shape[0] > tm.shape[1]
+    lost = tuple(d for d in (lost_direction(J, u, tm.row_labels, tall=tall,
+                                            variables=tm.variables)
+                             for u in comp.direction_at_sample) if d is not None)
+    return ComponentGeometry(index, facts, lost)
