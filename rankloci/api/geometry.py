@@ -145,14 +145,6 @@ class ComponentGeometry:
     lost: tuple
 
 
-@dataclass(frozen=True)
-class _Equations:
-    """Some of a component's equations, as :func:`component_equations` reads a component."""
-
-    equations: tuple
-    excluding: tuple = ()
-
-
 def component_geometry(model, locus, index: int, *, seed: int = 0, tip: str | None = None,
                        base_link: str | None = None) -> ComponentGeometry:
     """The geometric facts of component ``index`` of ``locus`` and what it takes from the arm.
@@ -193,9 +185,8 @@ def component_geometry(model, locus, index: int, *, seed: int = 0, tip: str | No
     from ..geometry import component_facts
     from ..jacobians import task_matrix
     from ..loci import Locus
-    from ..numeric.equations import NumericMatrix, points_on
-    from ..numeric.landscape import component_equations, component_points
-    from ..tolerances import FACTOR_POINTS, READING_POINTS
+    from ..numeric.equations import NumericMatrix
+    from ..numeric.landscape import reading_points
 
     model = _robot_model(model, tip, base_link)
     if not isinstance(locus, Locus):
@@ -216,18 +207,9 @@ def component_geometry(model, locus, index: int, *, seed: int = 0, tip: str | No
                          + (f"its equations use {sorted(strange)}" if strange
                             else f"its sample point has no value for {sorted(missing)}"))
     rng = np.random.default_rng(seed)
-
-    def as_dict(q):
-        return {k: float(x) for k, x in zip(names, q)}
-
     eqs = [e for e in comp.equations if e not in comp.parameter_conditions] or list(
         comp.equations)
-    pts = [as_dict(q) for q in component_points(comp, nm, params, rng, READING_POINTS)]
-    factor_points = []
-    if len(eqs) > 1:
-        for e in eqs:
-            single = component_equations(_Equations((e,)), nm, params)
-            factor_points.append([as_dict(q) for q in points_on(single, nm, rng, FACTOR_POINTS)])
+    pts, factor_points = reading_points(comp, eqs, nm, params, rng)
     facts = component_facts(model, pts, factor_points, rng,
                              matrix=lambda d: nm(np.array([d[k] for k in names])))
     J = nm(np.array([comp.sample[k] for k in names], dtype=float))

@@ -30,15 +30,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..expr import as_expression
-from ..tolerances import (FOLLOWER_RTOL, ON_LOCUS_RTOL, PATH_LENGTH, PATH_NORMAL_SHARE,
-                          PATH_POINTS, PROBE_STEP, REGULAR_MIN_RATIO, SENSITIVITY_MIN,
-                          SLICE_GRID, ZERO_CANDIDATE_RATIO)
+from ..tolerances import (FACTOR_POINTS, FOLLOWER_RTOL, ON_LOCUS_RTOL, PATH_LENGTH,
+                          PATH_NORMAL_SHARE, PATH_POINTS, PROBE_STEP, READING_POINTS,
+                          REGULAR_MIN_RATIO, SENSITIVITY_MIN, SLICE_GRID, ZERO_CANDIDATE_RATIO)
 from .equations import Equations, NumericMatrix, points_on
 
 __all__ = ["SliceData", "PathData", "slice_grid", "slice_joints", "path_through",
            "model_components", "sigma_ratios", "component_points", "component_equations",
            "equation_weights", "regular_point", "normal_directions", "manipulability",
-           "ratio_grid", "dependent_variables"]
+           "ratio_grid", "dependent_variables", "reading_points"]
 
 def model_components(locus):
     """(1-based index, component) of the components that exist for the model's values."""
@@ -500,3 +500,37 @@ def dependent_variables(equations, variables, params, sample, candidates) -> lis
         return []
     rank = int(np.sum(diag > FOLLOWER_RTOL * diag[0]))
     return sorted(candidates[k] for k in order[:rank])
+
+
+# --- the points a reading is checked at -------------------------------------------------------
+
+@dataclass(frozen=True)
+class _SomeEquations:
+    """A stand-in component with only some of the equations (points on a factor alone)."""
+
+    equations: tuple
+    excluding: tuple = ()
+
+
+def reading_points(comp, equations, nm: NumericMatrix, parameters, rng) -> tuple:
+    """``(points, factor_points)``: where the geometric reading of ``comp`` is checked.
+
+    ``points`` are the component's sample point and
+    :data:`~rankloci.tolerances.READING_POINTS` more solved onto it
+    (:func:`component_points`); for several ``equations`` (the component's,
+    parameter conditions aside), ``factor_points`` holds for each
+    :data:`~rankloci.tolerances.FACTOR_POINTS` points where it alone vanishes,
+    else it is empty.  Each point is a dict, variable name -> value.
+    """
+    names = [v.name for v in nm.variables]
+
+    def as_dict(q):
+        return {n: float(x) for n, x in zip(names, q)}
+
+    pts = component_points(comp, nm, parameters, rng, READING_POINTS)
+    factor_points = []
+    if len(equations) > 1:
+        for e in equations:
+            single = component_equations(_SomeEquations((e,)), nm, parameters)
+            factor_points.append([as_dict(q) for q in points_on(single, nm, rng, FACTOR_POINTS)])
+    return [as_dict(q) for q in pts], factor_points

@@ -548,30 +548,12 @@ def _equation_label(k: int, e) -> str:
 def _reading(model, comp, eqs, labels, nm, params, rng):
     """The :class:`~rankloci.reporting.interpret.Reading` of one component (or None)."""
     from ..model import RobotModel
-    from ..numeric.equations import points_on
-    from ..numeric.landscape import component_equations, component_points
-    from .interpret import FACTOR_POINTS, component_reading
+    from ..numeric.landscape import reading_points
+    from .interpret import component_reading
 
     if not isinstance(model, RobotModel):
         return None
     names = [v.name for v in nm.variables]
-
-    def as_dict(q):
-        return {n: float(x) for n, x in zip(names, q)}
-
-    pts = component_points(comp, nm, params, rng, READING_POINTS)
-    factor_points = []
-    if len(eqs) > 1:
-        for e in eqs:
-            single = component_equations(_OneEquation((e,)), nm, params)
-            factor_points.append([as_dict(q) for q in points_on(single, nm, rng, FACTOR_POINTS)])
-    return component_reading(model, eqs, labels, [as_dict(q) for q in pts], factor_points, rng,
-                             params, matrix=lambda d: nm(np.array([d[n] for n in names])))
-
-
-@dataclass(frozen=True)
-class _OneEquation:
-    """A stand-in component with only some of the equations (points on a factor alone)."""
-
-    equations: tuple
-    excluding: tuple = ()
+    pts, factor_points = reading_points(comp, eqs, nm, params, rng)
+    return component_reading(model, eqs, labels, pts, factor_points, rng, params,
+                             matrix=lambda d: nm(np.array([d[n] for n in names])))
