@@ -10,6 +10,10 @@ starts fast.
 - :func:`min_inf_norm`, :func:`manipulability`, :func:`joint_rates`,
   :func:`nearest_component`: what a robot does near its locus (:mod:`rankloci.near`);
 - :func:`within_limits`: which components meet the joint-limit box (:mod:`rankloci.limits`);
+- :func:`pose_geometry`, :func:`component_geometry`: the joint axes at a
+  configuration or on a component, which of them are parallel, collinear or
+  meet there, and what the end-effector cannot do (:mod:`rankloci.geometry`,
+  :mod:`rankloci.directions`);
 - :func:`from_rtb`, :func:`from_pinocchio`: models from Robotics Toolbox for
   Python and Pinocchio (:mod:`rankloci.adapters`);
 - :class:`Locus`, :class:`Component`, :class:`Outcome`: the result types;
@@ -49,14 +53,15 @@ _EXPORTS = {
     "LocusError": "rankloci.errors", "LocusTimeout": "rankloci.errors",
     "min_inf_norm": "rankloci.near.min_inf_norm", "manipulability": "rankloci.api.near",
     "joint_rates": "rankloci.api.near", "nearest_component": "rankloci.api.near",
-    "within_limits": "rankloci.limits",
+    "within_limits": "rankloci.limits", "pose_geometry": "rankloci.api.geometry",
+    "component_geometry": "rankloci.api.geometry",
 }
 
 #: Submodules reachable as attributes without importing them first.
 _SUBMODULES = ("adapters", "algebra", "api", "augmented", "certify", "cli", "directions", "errors",
-               "exact", "expr", "extras", "io", "jacobians", "kinematics", "limits", "loci",
-               "methods", "model", "near", "numeric", "process_limits", "render_text", "reporting",
-               "sweep", "tolerances", "tree", "verify", "version")
+               "exact", "expr", "extras", "geometry", "io", "jacobians", "kinematics", "limits",
+               "loci", "methods", "model", "near", "numeric", "process_limits", "render_text",
+               "reporting", "sweep", "tolerances", "tree", "verify", "version")
 
 __all__ = ["__version__", *_EXPORTS]
 

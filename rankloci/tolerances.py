@@ -466,6 +466,10 @@ VIEW_ON_LOCUS_RTOL = RANK_RTOL
 #: wrong exponent or a missing factor changes the ratio by order one between points.
 DET_FACTOR_RTOL = 1e-8
 
+#: Random configurations at which such a factorisation is fitted and checked: twelve ratios
+#: that agree to DET_FACTOR_RTOL leave no room for a wrong exponent by chance.
+DET_POINTS = 12
+
 # --- proved points next to numeric ones (tree/certify.py) ----------------------------------------
 
 #: Working precision of the ball arithmetic: coefficients of several hundred digits are exact
@@ -813,3 +817,90 @@ REAL_POINTS_MAX_MINORS = 20
 #: Newton polytope of a factor (the size of its Gram matrix).
 REAL_POINTS_MAX_ENTRY_TERMS = 120
 REAL_POINTS_MAX_GRAM = 40
+
+# --- the geometry of a pose (geometry.py) --------------------------------------------------------
+
+#: Two unit axis directions count as parallel, and distances as zero relative to the size of
+#: the arm, below this.  Points on a component are accurate to 1e-10 (ROOT_XTOL); random
+#: configurations keep these quantities of order 1e-2 and above, so 1e-7 separates them
+#: with five orders of margin on either side.
+GEOMETRY_RTOL = 1e-7
+
+#: Random configurations whose geometric facts are facts of the design (they are never the
+#: reading of a component): a fact that holds at five random configurations holds at all of
+#: them but on a set of probability zero.
+RANDOM_POINTS = 5
+
+# --- slices and paths of sigma_min/sigma_max (numeric/landscape.py) ------------------------------
+
+#: Grid points per axis of a slice: 181 puts a node every 2 degrees on [-pi, pi].
+SLICE_GRID = 181
+
+#: Points along a path through a component.
+PATH_POINTS = 401
+
+#: A local minimum of sigma_min/sigma_max along a path is refined (and kept if it reaches
+#: ON_LOCUS_RTOL) only when it is at most this: a grid point next to a crossing lies within
+#: one step (1/200 of the path) of it, where the ratio is of order 1e-3, while the minima of
+#: near misses of a regular path stay of order 0.1 and above.
+ZERO_CANDIDATE_RATIO = 0.05
+
+#: How far (rad or m) a joint the equations use is moved to probe the ratio off the locus.
+PROBE_STEP = 0.5
+
+#: Joint-space length of half a path through a component, and the share of it across the
+#: component (along its normal space): about 1 rad of travel across, either side.
+PATH_LENGTH = 1.2
+PATH_NORMAL_SHARE = 0.8
+
+# --- the reading of a lost direction (directions.py) -------------------------------------------
+
+#: ``|u^T J| <= DIRECTION_RTOL * sigma_max(J)`` verifies a lost direction at the sample
+#: point: rank decisions use RANK_RTOL = 1e-8 on sigma_min/sigma_max, and the direction is
+#: printed to 3 decimals, so 1e-6 is checked on the unrounded vector.
+DIRECTION_RTOL = 1e-6
+
+#: A part of a unit lost direction (its linear, angular or constraint rows) shorter than this
+#: counts as zero: directions are read to 3 decimals.
+DIRECTION_PART_MIN = 1e-3
+
+# --- directions across a component (near/across.py) ----------------------------------------------
+
+#: A singular value of the angular rows of J above this times the largest counts in their
+#: rank: those rows are exact trigonometric entries, whose null directions show singular
+#: values at rounding level (1e-16), far below 1e-9.
+ORIENTATION_NULL_RTOL = 1e-9
+
+#: A direction across a component is bent to keep the orientation only when at least this
+#: share of it is left: a shorter remainder points mostly along the component.
+ACROSS_KEEP_SHARE = 0.1
+
+# --- a robot near its locus (api/near_study.py) --------------------------------------------------
+
+#: Joint-space distance (rad, or m along a prismatic joint) from a component's sample point to
+#: the pose "near" it: close enough that sigma_min/sigma_max is of order 1e-2, far enough
+#: that the ellipsoid is still drawn.
+NEAR_OFFSET = 0.05
+#: Joint-space distance (rad, or m along a prismatic joint) from a component's sample point to
+#: the start of the path: the rates there are those of a regular pose.
+PATH_OFFSET = 0.4
+#: Poses near at most this many components (the first ones).
+MAX_NEAR_COMPONENTS = 4
+#: Arms with more joints get the polytope of the position rows only (2^n vertices).
+FULL_POLYTOPE_JOINTS = 7
+#: A rate peak counts as the path's crossing when it lies within this much of the path
+#: parameter (0..1) from the point closest to the locus.
+PEAK_WINDOW = 0.05
+#: A peak counts when the largest rate is at least this many times the rate at the start.
+PEAK_RATIO = 3.0
+#: Steps of the path through a component.
+PATH_STEPS = 120
+
+# --- the reading of a component (geometry.py, api/geometry.py) ---------------------------------
+
+#: Extra points per component on which geometric readings are confirmed, and points sampled
+#: on each factor's hypersurface: a fact of the axes that holds at four points of a component
+#: (its sample and three solved onto it at random) and at no random configuration holds on
+#: all of it but on a set of probability zero.
+READING_POINTS = 3
+FACTOR_POINTS = 3

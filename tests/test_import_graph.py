@@ -26,7 +26,7 @@ LAYERS = (
      "rankloci.exact.certificate"),
     # models and their matrices, read from files or built by adapters; numerics on them
     ("rankloci.model", "rankloci.io", "rankloci.kinematics", "rankloci.jacobians",
-     "rankloci.adapters", "rankloci.limits", "rankloci.numeric"),
+     "rankloci.adapters", "rankloci.limits", "rankloci.numeric", "rankloci.geometry"),
     # the result types
     ("rankloci.loci",),
     # the engine: the branch tree, then the methods that grow it
@@ -34,14 +34,15 @@ LAYERS = (
     ("rankloci.methods",),
     # checks of a locus, and what a robot does near it
     ("rankloci.exact", "rankloci.certify", "rankloci.verify", "rankloci.augmented",
-     "rankloci.directions", "rankloci.numeric.crosscheck", "rankloci.near"),
+     "rankloci.directions", "rankloci.numeric.crosscheck", "rankloci.near", "rankloci.compare"),
     # the one pipeline from a model to a certified locus, stage by stage
     ("rankloci.pipeline",),
     # the library's calls: the pipeline's entry points, and what the near-the-locus functions
     # add to it
     ("rankloci.api.arguments", "rankloci.api.deadline", "rankloci.api.models",
      "rankloci.api.progress", "rankloci.api.results", "rankloci.api.symbols",
-     "rankloci.api.calls", "rankloci.api.near"),
+     "rankloci.api.calls", "rankloci.api.near", "rankloci.api.geometry",
+     "rankloci.api.near_study"),
     # renderers of what the calls return
     ("rankloci.render_text", "rankloci.reporting", "rankloci.near.figures"),
     # the library's interface (the report call included), then the command line and sweeps

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..tolerances import GRAM_SCREEN, RANK_RTOL
 
-__all__ = ["sigma_ratio", "numeric_rank_drop", "rank_deficient", "GRAM_SCREEN"]
+__all__ = ["sigma_ratio", "numeric_rank_drop", "rank_deficient", "null_directions", "GRAM_SCREEN"]
 
 
 def sigma_ratio(J) -> np.ndarray:
@@ -68,3 +68,21 @@ def rank_deficient(J, rtol: float = RANK_RTOL) -> np.ndarray:
     if np.any(unsure):
         out[unsure] = numeric_rank_drop(J[unsure], rtol) > 0
     return out
+
+
+def null_directions(J, drop: int, tall: bool = False) -> tuple:
+    """The ``drop`` unit null vectors of J from its SVD: left ones, or right ones for a tall J.
+
+    The singular vectors of the ``drop`` smallest singular values, as tuples of floats.
+
+    Examples
+    --------
+    >>> [abs(x) for x in null_directions(np.array([[1.0, 0.0], [0.0, 0.0]]), 1)[0]]
+    [0.0, 1.0]
+    >>> u = null_directions(np.array([[1.0, 1.0], [1.0, 1.0], [1.0, 1.0]]), 1, tall=True)[0]
+    >>> round(u[0] + u[1], 12), round(abs(u[0]), 6)
+    (0.0, 0.707107)
+    """
+    U, _, Vt = np.linalg.svd(J)
+    vecs = Vt[-drop:] if tall else U[:, -drop:].T
+    return tuple(tuple(float(x) for x in v) for v in vecs)

@@ -8,16 +8,21 @@ one HTML page with an interactive view of the arm.
 its PDF.  :func:`read_model_notes` reads the free-text notes of a model file,
 which the model object does not keep.
 
-The modules, in the order of the data:
+The package renders: the numbers it shows come from the library
+(:mod:`rankloci.geometry` for the axes of a pose and the facts of a component,
+:mod:`rankloci.directions` for a lost direction, :mod:`rankloci.numeric.landscape`
+for slices and paths, :mod:`rankloci.numeric.factored_det` for det J), and
+``tests/test_report_renders.py`` keeps linear algebra out of it.  The modules,
+in the order of the data:
 
 - :mod:`~rankloci.reporting.build`: :func:`build_report` and :class:`Report`;
-- :mod:`~rankloci.reporting.analysis`: the numbers behind figures and comparisons;
-- :mod:`~rankloci.reporting.reading`: plain-language readings of lost directions, verified
-  numerically; :mod:`~rankloci.reporting.geometry` and :mod:`~rankloci.reporting.interpret`: the
-  geometric facts at a configuration and one complete reading of each component;
-- :mod:`~rankloci.reporting.figure_files`, :mod:`~rankloci.reporting.figures` and
-  :mod:`~rankloci.reporting.robot`: which figures, with which captions; the plotting
-  functions (each takes ``ax=`` and returns the Axes it drew on) and their PNG bytes;
+- :mod:`~rankloci.reporting.reading`: lost directions in words;
+  :mod:`~rankloci.reporting.interpret`: one complete reading of each component, from the
+  facts to sentences to the name of the classical case;
+- :mod:`~rankloci.reporting.figure_files`, :mod:`~rankloci.reporting.figures`,
+  :mod:`~rankloci.reporting.analysis` and :mod:`~rankloci.reporting.robot`: which figures,
+  with which captions; the plotting functions (each takes ``ax=`` and returns the Axes it
+  drew on) and their PNG bytes; the library's numbers as the drawing code names them;
 - :mod:`~rankloci.reporting.content` and :mod:`~rankloci.reporting.findings`: the
   report as blocks (:mod:`~rankloci.reporting.blocks`);
 - :mod:`~rankloci.reporting.mathfmt`, :mod:`~rankloci.reporting.matrixfmt` and

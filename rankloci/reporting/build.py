@@ -15,13 +15,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 import sympy as sp
 
-from ..tolerances import RANK_RTOL
+from ..tolerances import RANK_RTOL, READING_POINTS
 
 __all__ = ["Report", "ComponentView", "build_report", "component_views", "READING_POINTS",
            "SUMMARY_CHARS"]
-
-#: Extra points per component on which geometric readings are confirmed.
-READING_POINTS = 3
 
 #: A direction reading longer than this is left out of the summary tables.
 SUMMARY_CHARS = 110
@@ -222,7 +219,7 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
     from ..methods import compute_locus, method_for
     from ..numeric.crosscheck import cross_check
     from ..numeric.equations import NumericMatrix
-    from .comparison import compare_loci
+    from ..compare import compare_loci
     from .tree_summary import tree_summary
     from .escape import file_stem
     from .figure_files import report_figures
@@ -325,7 +322,7 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
     if (locus is not None and getattr(locus, "base", None) is None and model_tm.shape[0]
             == model_tm.shape[1] and main
             and all(len(v.component.equations) == 1 for v in main)):
-        from .determinant import factored_determinant
+        from ..numeric.factored_det import factored_determinant
 
         kinds = ["revolute" if v in model_tm.angles else "prismatic" for v in model_tm.variables]
         forms = [v.folded[0] if len(v.folded) == 1 else v.component.equations[0] for v in main]
@@ -395,6 +392,7 @@ def _samples_within_strokes(model, locus, nm, rng):
 
     from ..limits import DEFAULT_STROKE, joint_strokes, within_limits
     from ..model import RobotModel
+    from ..numeric.svd import null_directions
 
     if not isinstance(model, RobotModel):
         return locus, ""
@@ -409,7 +407,7 @@ def _samples_within_strokes(model, locus, nm, rng):
             q = np.array([check.sample[n] for n in names], dtype=float)
             changes = dict(sample=dict(check.sample))
             if check.how != "sample point":   # whole turns of an angle leave J as it was
-                changes["direction_at_sample"] = _null_directions(nm(q), comp.rank_drop, tall)
+                changes["direction_at_sample"] = null_directions(nm(q), comp.rank_drop, tall)
                 moved.append(check.component)
             comp = dataclasses.replace(comp, **changes)
         comps.append(comp)
@@ -427,13 +425,6 @@ def _numbered(word, numbers):
     from .blocks import numbered
 
     return numbered(word, numbers)
-
-
-def _null_directions(J, drop: int, tall: bool) -> tuple:
-    """The ``drop`` unit null vectors of J: left ones, or right ones for a tall J."""
-    U, _, Vt = np.linalg.svd(J)
-    vecs = Vt[-drop:] if tall else U[:, -drop:].T
-    return tuple(tuple(float(x) for x in v) for v in vecs)
 
 
 def component_views(model, locus, *, seed: int = 0) -> tuple:
@@ -561,30 +552,12 @@ def _equation_label(k: int, e) -> str:
 def _reading(model, comp, eqs, labels, nm, params, rng):
     """The :class:`~rankloci.reporting.interpret.Reading` of one component (or None)."""
     from ..model import RobotModel
-    from ..numeric.equations import points_on
-    from .analysis import component_equations, component_points
-    from .interpret import FACTOR_POINTS, component_reading
+    from ..numeric.landscape import reading_points
+    from .interpret import component_reading
 
     if not isinstance(model, RobotModel):
         return None
     names = [v.name for v in nm.variables]
-
-    def as_dict(q):
-        return {n: float(x) for n, x in zip(names, q)}
-
-    pts = component_points(comp, nm, params, rng, READING_POINTS)
-    factor_points = []
-    if len(eqs) > 1:
-        for e in eqs:
-            single = component_equations(_OneEquation((e,)), nm, params)
-            factor_points.append([as_dict(q) for q in points_on(single, nm, rng, FACTOR_POINTS)])
-    return component_reading(model, eqs, labels, [as_dict(q) for q in pts], factor_points, rng,
-                             params, matrix=lambda d: nm(np.array([d[n] for n in names])))
-
-
-@dataclass(frozen=True)
-class _OneEquation:
-    """A stand-in component with only some of the equations (points on a factor alone)."""
-
-    equations: tuple
-    excluding: tuple = ()
+    pts, factor_points = reading_points(comp, eqs, nm, params, rng)
+    return component_reading(model, eqs, labels, pts, factor_points, rng, params,
+                             matrix=lambda d: nm(np.array([d[n] for n in names])))

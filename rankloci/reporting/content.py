@@ -172,7 +172,7 @@ def comparison_headline(cmp) -> str:
 
     Examples
     --------
-    >>> from rankloci.reporting.comparison import Comparison, Disagreement
+    >>> from rankloci.compare import Comparison, Disagreement
     >>> d = Disagreement("subdeterminant", "svm", 2, ("q1 = 0",), 5, ((0.0, 1.0),), (0.3,))
     >>> cmp = Comparison(("svm", "subdeterminant"), False, False, ("",), disagreements=(d,))
     >>> print(comparison_headline(cmp))  # doctest: +NORMALIZE_WHITESPACE

@@ -538,7 +538,7 @@ def disagreement_verdict(d) -> str:
 
     Examples
     --------
-    >>> from rankloci.reporting.comparison import Disagreement
+    >>> from rankloci.compare import Disagreement
     >>> d = Disagreement("subdeterminant", "svm", 2, ("q1 = 0",), 5, ((0.0, 1.0),), (0.3,))
     >>> print(disagreement_verdict(d))  # doctest: +NORMALIZE_WHITESPACE
     The subdeterminant component 2 contains regular points: sigma ratio 3.0e-01 at

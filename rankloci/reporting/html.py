@@ -30,7 +30,7 @@ from importlib import resources
 
 import sympy as sp
 
-from ..tolerances import FOLLOWER_RTOL, VIEW_ON_LOCUS_RTOL
+from ..tolerances import VIEW_ON_LOCUS_RTOL
 from .blocks import Appendix, Bullets, Code, Figure, Heading, Marker, Math, Para, Table
 from .content import report_blocks
 from .escape import MD_REF, html_id, rich_html
@@ -293,26 +293,11 @@ def view_data(report) -> dict:
 
 
 def _followers(c, variables, params, sample, candidates) -> list:
-    """The variables among ``candidates`` that follow the sliders on component ``c``.
+    """The variables among ``candidates`` that follow the sliders on component ``c``
+    (:func:`~rankloci.numeric.landscape.dependent_variables`)."""
+    from ..numeric.landscape import dependent_variables
 
-    As many as the rank of the equations' gradient at the sample point, chosen by a
-    QR factorization with column pivoting (the best-conditioned set): the others
-    become sliders too, so that a component of dimension d gets d sliders.
-    """
-    import numpy as np
-    import scipy.linalg
-
-    eqs = [sp.sympify(e, strict=True).subs(params) for e in c.equations]
-    if not eqs or not candidates:
-        return []
-    at = {v: sample[k] for k, v in enumerate(variables)}
-    G = np.array([[float(sp.diff(e, variables[k]).subs(at)) for k in candidates] for e in eqs])
-    _, R, order = scipy.linalg.qr(G, pivoting=True, mode="economic")
-    diag = np.abs(np.diag(R))
-    if diag.size == 0 or diag[0] == 0:
-        return []
-    rank = int(np.sum(diag > FOLLOWER_RTOL * diag[0]))
-    return sorted(candidates[k] for k in order[:rank])
+    return dependent_variables(c.equations, variables, params, sample, candidates)
 
 
 def _scales(c, params) -> list:

@@ -23,18 +23,14 @@ from __future__ import annotations
 import itertools
 from dataclasses import dataclass
 
-import numpy as np
 
+from ..geometry import (ComponentFacts, centres_distance, component_facts, dependence_left,
+                        equal_distances, lost_rotation_axis, point_axis_distances)
 from ..model import RobotModel
+from ..tolerances import FACTOR_POINTS
 from .blocks import plural, signed
-from .geometry import (RANDOM_POINTS, dependent_joints, design_points, distance_to_line,
-                       facts_at, meeting_point, random_configuration)
-from .reading import GEOMETRY_RTOL, axis_lines
 
 __all__ = ["Reading", "component_reading", "FACTOR_POINTS"]
-
-#: Points sampled on each factor's hypersurface, and on the component besides its sample.
-FACTOR_POINTS = 3
 
 
 @dataclass(frozen=True)
@@ -144,6 +140,12 @@ def _sentences(facts, meets, context=None, design=frozenset()) -> list:
     stated as if it were a property of the component.
     """
     context = facts if context is None else context
+    return (_structure_sentences(facts, meets, context, design)
+            or _parallel_sentences(facts, meets, design) or _meeting_sentences(facts))
+
+
+def _structure_sentences(facts, meets, context, design) -> list:
+    """Points that coincide, collinear axes, slides, points on axes and planes of axes."""
     out = []
     for f in sorted((f for f in facts if f[0] == "coincide"), key=str):
         out.append(("coincide", (f[1], f[2]),
@@ -182,8 +184,12 @@ def _sentences(facts, meets, context=None, design=frozenset()) -> list:
             out.append(("coplanar", (f[1], tuple(axes)),
                         f"axes {_and(axes)} are parallel and {_point_name(f[1], meets)} lies in "
                         "their plane"))
-    if out:
-        return out
+    return out
+
+
+def _parallel_sentences(facts, meets, design) -> list:
+    """Parallel axes, and the first plane through an axis that a point lies in."""
+    out = []
     pairs = sorted(f[1:] for f in facts if f[0] == "parallel")
     for g in _groups(pairs):
         named = _new_parallel_axes(g, design)
@@ -198,20 +204,16 @@ def _sentences(facts, meets, context=None, design=frozenset()) -> list:
                     f"{_point_name(x, meets)} lies in the plane through axis {a} parallel to "
                     f"{word} {_and(bs)}"))
         break
-    if out:
-        return out
+    return out
+
+
+def _meeting_sentences(facts) -> list:
+    """Perpendicular axes and axes that meet: the weakest facts."""
+    out = []
     for kind, verb in (("perpendicular", "are perpendicular"), ("intersect", "meet")):
         for a, b in sorted(f[1:] for f in facts if f[0] == kind):
             out.append((kind, (a, b), f"axes {a} and {b} {verb}"))
     return out
-
-
-def _common(model, qs, params, meets, random_facts):
-    common = None
-    for q in qs:
-        f = facts_at(model, q, params, meets)
-        common = f if common is None else common & f
-    return (common or set()) - random_facts
 
 
 def _arm_position(model, joint) -> tuple[int, int]:
@@ -283,24 +285,14 @@ def _boom_at_zero(model, equations) -> int:
 def _centres_remark(model, points, params, used) -> str:
     """Why two design points can coincide, and what that costs the rank."""
     what = next((w for kind, w, _ in used if kind == "coincide"), None)
-    if what is None:
+    found = None if what is None else centres_distance(model, points[0], params, what)
+    if found is None:
         return ""
-    lines, _ = axis_lines(model, points[0], params)
-    through = set(what[0]) | set(what[1])
-    rest = [ln for ln in lines if ln.kind == "revolute" and ln.joint not in through]
-    if len(rest) != 1:
-        return ""
-    axis = rest[0]
-    dists = []
-    for x in what:
-        m = meeting_point(lines[x[0] - 1], lines[x[1] - 1])
-        dists.append(distance_to_line(0.5 * (m[0] + m[1]), axis))
-    if abs(dists[0] - dists[1]) > GEOMETRY_RTOL * max(max(dists), 1e-12):
-        return ""
-    return (f"both points lie {dists[0]:.4g} length units from axis {axis.joint} (equal link "
-            f"lengths on either side of joint {axis.joint}), so turning joint {axis.joint} can "
-            f"bring them together; then every axis but {axis.joint} passes through one point, "
-            f"those joints give only rotations about it, and with joint {axis.joint} the rank of "
+    axis, distance = found
+    return (f"both points lie {distance:.4g} length units from axis {axis} (equal link "
+            f"lengths on either side of joint {axis}), so turning joint {axis} can "
+            f"bring them together; then every axis but {axis} passes through one point, "
+            f"those joints give only rotations about it, and with joint {axis} the rank of "
             "J is at most 4")
 
 
@@ -310,37 +302,23 @@ _GLOSS = {
 }
 
 
-def _lost_rotation(model, q, params, group) -> str:
-    """The rotation that the joints from the first to the last of collinear ``group`` lose."""
-    lines, _ = axis_lines(model, q, params)
-    span = [lines[j - 1].direction for j in range(group[0], group[-1] + 1)
-            if lines[j - 1].kind == "revolute"]
-    if len(span) < 3:
+def _lost_rotation(model, q, params, group) -> tuple:
+    """The rotation that the joints from the first to the last of collinear ``group`` lose,
+    in words, and its axis."""
+    n = lost_rotation_axis(model, q, params, group)
+    if not n:
         return "", ()
-    _, s, vt = np.linalg.svd(np.array(span))
-    if s[-1] > GEOMETRY_RTOL * s[0]:
-        return "", ()
-    n = vt[-1] * (1 if vt[-1][np.argmax(np.abs(vt[-1]))] > 0 else -1)
     joints = f"joints {group[0]} to {group[-1]}"
     return (f"{joints} together cannot rotate the end-effector about the common normal "
             f"[{', '.join(signed(x, 3) for x in n)}] (base frame) of their axes at the sample "
-            "point; the other joints give that rotation only together with a translation",
-            tuple(float(x) for x in n))
+            "point; the other joints give that rotation only together with a translation", n)
 
 
 def _offset_remark(model, points, params, x, axis) -> str:
     """Why a point in a plane through ``axis`` is the general form of the point on ``axis``."""
-    dists = []
-    for q in points:
-        lines, tool = axis_lines(model, q, params)
-        p = tool if x == "P" else None
-        if p is None:
-            m = meeting_point(lines[x[0] - 1], lines[x[1] - 1])
-            p = 0.5 * (m[0] + m[1])
-        dists.append(distance_to_line(p, lines[axis - 1]))
-    scale = max(dists)
-    # the same distance at every point (to GEOMETRY_RTOL of it): an offset of the design
-    if scale <= 0 or max(dists) - min(dists) > GEOMETRY_RTOL * scale:
+    dists = point_axis_distances(model, points, params, x, axis)
+    # the same distance at every point: an offset of the design
+    if not equal_distances(dists):
         return ""
     return (f"{_point_name(x, ())} keeps a distance of {dists[0]:.4g} length units from axis "
             f"{axis} at every point of the component (a lateral offset of the design), so it "
@@ -393,155 +371,193 @@ def component_reading(model, equations, labels, points, factor_points, rng, para
     """
     if not isinstance(model, RobotModel) or not points:
         return None
-    meets = design_points(model, params, rng)
-    random_facts = set()
-    for _ in range(RANDOM_POINTS):
-        random_facts |= facts_at(model, random_configuration(model, rng), params, meets)
-    whole = _common(model, points, params, meets, random_facts)
-    dependent, whole_arm = "", ""
-    if matrix is not None:
-        cols = dependent_joints([matrix(q) for q in points],
-                                [str(k + 1) for k in range(len(model.joints))])
-        if cols and not _fills_rows([matrix(q) for q in points], [int(c) - 1 for c in cols]):
-            dependent = (f"the columns of joints {_and(cols)} of J are linearly dependent "
-                         f"(checked at {len(points)} points)")
-        elif cols:
-            # naming these columns would restate the locus; what is said is that no fewer do
-            whole_arm = (f"no fact about the axes holds at all {len(points)} points checked, "
-                         f"and no set of fewer than {len(cols)} joints has dependent columns: "
-                         "a singularity of the arm as a whole, not of its shoulder, elbow or "
-                         "wrist alone")
-    if not whole:
-        if whole_arm and not dependent:
-            text = whole_arm[0].upper() + whole_arm[1:]
-            return Reading("", text, (), "", "", len(points), (), (), text)
-        if not dependent:
-            return None
-        text = dependent[0].upper() + dependent[1:]
-        return Reading("", text, (), dependent, "", len(points), tuple(int(c) for c in cols),
-                       (), text)
-    per = []
-    if len(equations) > 1:
-        per = [(k, _common(model, qs, params, meets, random_facts) if qs else set())
-               for k, qs in enumerate(factor_points)]
-    said = set()
-    for _, f in per:
-        said |= {t for _, _, t in _sentences(f, meets, design=random_facts)}
-    whole_s = _sentences(whole, meets, design=random_facts)
-    together = [x for x in _sentences(whole - set().union(*(f for _, f in per)), meets, whole,
-                                    design=random_facts)
-                if x[2] not in said] if per else []
-    factors, names, used, brief = [], [], [], []
-    for k, f in per:
-        s = _sentences(f, meets, design=random_facts)[:2]
-        if s:
-            factors.append((k, "; ".join(t for _, _, t in s)))
-            brief.append(f"where {_holds(labels[k])}, {s[0][2]}")
-            names.append(_name(model, s[0][0], s[0][1], meets))
-            used += s
-    joint = together[:2] if per else whole_s[:2]
-    used += joint
-    if joint:
-        first = _name(model, joint[0][0], joint[0][1], meets)
-        brief.append(("together, " if brief else "") + joint[0][2])
-        # all links aligned says everything the factors say; other names add up
-        names = [first] if first == "all links aligned" else names + [first]
-    unexplained = [k for k, f in per if not _sentences(f, meets, design=random_facts)]
-    if unexplained and not joint:
-        names = []  # a factor nothing explains: the classical name of the others would mislead
-    names = [n for n in names if n]
-    boom = _boom_at_zero(model, equations)
-    if boom:
-        names = ["boom singularity"] + names
-    name = ""
-    if names:
-        uniq = sorted(dict.fromkeys(n.replace(" singularity", "") for n in names),
-                      key=lambda n: _ORDER.index(n) if n in _ORDER else len(_ORDER))
-        name = names[0] if len(uniq) == 1 else f"{_and(uniq)} singularities at once"
-    joint_text = "; ".join(t for _, _, t in joint)
-    if per:
-        parts = [f"where {_holds(labels[k])}, {text}" for k, text in factors]
-        missing = [labels[k] for k, f in per if not _sentences(f, meets, design=random_facts)]
-        if joint_text:
-            parts.append(("together, " if parts else "") + joint_text)
-        if missing:
-            why = ""
-            if matrix is not None:
-                cols = [str(k + 1) for k in range(len(model.joints))]
-                keep = set(range(len(cols)))
-                for k, f in per:
-                    if _sentences(f, meets, design=random_facts) and factor_points[k]:
-                        d = dependent_joints([matrix(q) for q in factor_points[k]], cols)
-                        keep -= {int(d[-1]) - 1} if d else set()
-                rest = dependent_joints([matrix(q) for q in points], cols, sorted(keep))
-                if rest and len(keep) < len(cols):
-                    dropped = _and(sorted(set(range(1, len(cols) + 1)) - {c + 1 for c in keep}))
-                    told = _and([labels[k] for k, f in per if k not in unexplained])
-                    why = (f"; {told} already {'makes' if len(per) - len(missing) == 1 else 'make'}"
-                           f" the column of joint {dropped} depend on the others, and "
-                           f"{_and(missing)} is where the columns of "
-                           f"joints {_and(rest)} become dependent too (checked at "
-                           f"{len(points)} points)")
-                elif dependent:
-                    why = f"; at the points of the component, {dependent}"
-            parts.append(f"{_and(missing)} alone gives no fact about the axes: it acts only "
-                         f"together with the other {plural('equation', len(equations) - 1)}"
-                         + why)
-            brief.append(f"{_and(missing)} acts only with the others")
-        body = "; ".join(parts)
-    else:
-        body = joint_text
-    extra = []
-    for kind, what, _ in used:
-        if kind == "in-plane" and _name(model, kind, what, meets) == "shoulder singularity":
-            remark = _offset_remark(model, points, params, what[0], what[1])
-            if remark:
-                extra.append(remark)
-                break
-    lost, lost_axis = "", ()
-    rev = [k + 1 for k, j in enumerate(model.joints) if j.kind == "revolute"]
-    for kind, what, _ in used:
-        if kind == "collinear":
-            lost, lost_axis = _lost_rotation(model, points[0], params, list(what))
-        elif kind == "parallel" and "wrist" in name and len(rev) >= 3:
-            lost, lost_axis = _lost_rotation(model, points[0], params, rev[-3:])
-        if lost:
-            break
+    facts = component_facts(model, points, factor_points, rng, params, matrix)
+    dependent, whole_arm = _dependence_notes(facts)
+    if not facts.whole:
+        return _reading_without_facts(facts, dependent, whole_arm)
+    w = _wording(facts)
+    name, boom = _case_name(model, equations, w)
+    body = _body(model, equations, labels, points, factor_points, matrix, facts, w, dependent)
+    extra = _offset_remarks(model, points, params, w.used)
+    lost, lost_axis = _lost(model, points[0], params, w.used, name)
     gloss = _GLOSS.get(name, "")
     if boom and name == "boom singularity":
         gloss = f"the boom, joint {boom}, at zero extension"
     elif boom:
         extra.insert(0, f"the boom, joint {boom}, is at zero extension")
     if name == "wrist centre on the shoulder":
-        remark = _centres_remark(model, points, params, used)
+        remark = _centres_remark(model, points, params, w.used)
         if remark:
             extra.append(remark)
     head = (name[0].upper() + name[1:] + (f" ({gloss})" if gloss else "") + ": ") if name else ""
     text = head + (body if head else body[0].upper() + body[1:])
     text = ". ".join([text] + [e[0].upper() + e[1:] for e in extra])
-    short = "; ".join(brief) if per else (joint[0][2] if joint else body)
-    if name == "all links aligned" and joint:
-        short = joint[0][2]  # the one fact that says it all
+    short = _short(labels, facts, w, name, body)
     short = head + (short if head else short[0].upper() + short[1:])
-    return Reading(name, text, tuple(factors), joint_text, lost, len(points), _named_axes(used),
-                   lost_axis, short)
+    return Reading(name, text, tuple(w.factors), w.joint_text, lost, len(points),
+                   _named_axes(w.used), lost_axis, short)
 
 
-def _fills_rows(matrices, cols) -> bool:
-    """Are ``cols`` at least as many as the rows they reach (a dependence that says nothing)?
+# --- the steps of a reading: facts -> sentences -> names -> text --------------------------------
 
-    Where the other columns alone fill the remaining rows (a locked joint's row of an
-    augmented J), the columns ``cols`` are dependent exactly where J is singular: naming
-    them restates the locus.
+def _dependence_notes(facts: ComponentFacts) -> tuple[str, str]:
+    """What the dependent columns of J say: ``(dependent, whole_arm)``, each "" or a clause.
+
+    When the smallest dependent set fills the rows it reaches, naming it would restate the
+    locus: what is said instead is that no fewer joints have dependent columns.
     """
-    from ..tolerances import RANK_RTOL
+    cols, n = facts.dependent, facts.points
+    if cols and not facts.dependent_fills_rows:
+        return (f"the columns of joints {_and(cols)} of J are linearly dependent "
+                f"(checked at {n} points)"), ""
+    if cols:
+        return "", (f"no fact about the axes holds at all {n} points checked, "
+                    f"and no set of fewer than {len(cols)} joints has dependent columns: "
+                    "a singularity of the arm as a whole, not of its shoulder, elbow or "
+                    "wrist alone")
+    return "", ""
 
-    J = np.asarray(matrices[0], dtype=float)
-    top = float(np.linalg.svd(J, compute_uv=False)[0])
-    rows = [r for r in range(J.shape[0])
-            if max(float(np.max(np.abs(np.asarray(M, dtype=float)[r, cols]))) for M in matrices)
-            > RANK_RTOL * top]
-    return len(cols) >= len(rows)
+
+def _reading_without_facts(facts: ComponentFacts, dependent: str, whole_arm: str):
+    """The reading of a component on which no geometric fact holds (or None)."""
+    if whole_arm and not dependent:
+        text = whole_arm[0].upper() + whole_arm[1:]
+        return Reading("", text, (), "", "", facts.points, (), (), text)
+    if not dependent:
+        return None
+    text = dependent[0].upper() + dependent[1:]
+    return Reading("", text, (), dependent, "", facts.points,
+                   tuple(int(c) for c in facts.dependent), (), text)
+
+
+@dataclass(frozen=True)
+class _Wording:
+    """The sentences a reading is made of (each sentence is (kind, what, text))."""
+
+    factors: list          # (factor index, its sentences joined) for each explained factor
+    firsts: list           # the first sentence of each explained factor, in the same order
+    joint: list            # at most two sentences of what holds on the whole component
+    used: list             # every sentence the reading states
+    unexplained: list      # the factors no fact explains
+
+    @property
+    def joint_text(self) -> str:
+        return "; ".join(t for _, _, t in self.joint)
+
+
+def _wording(facts: ComponentFacts) -> _Wording:
+    """The sentences of each factor and of the whole component, most telling first."""
+    meets, design, per = facts.meets, facts.design, facts.factors
+    said = set()
+    for _, f in per:
+        said |= {t for _, _, t in _sentences(f, meets, design=design)}
+    if per:
+        joint = [x for x in _sentences(facts.whole - set().union(*(f for _, f in per)), meets,
+                                       facts.whole, design=design)
+                 if x[2] not in said][:2]
+    else:
+        joint = _sentences(facts.whole, meets, design=design)[:2]
+    factors, firsts, used, unexplained = [], [], [], []
+    for k, f in per:
+        s = _sentences(f, meets, design=design)[:2]
+        if s:
+            factors.append((k, "; ".join(t for _, _, t in s)))
+            firsts.append(s[0])
+            used += s
+        else:
+            unexplained.append(k)
+    return _Wording(factors, firsts, joint, used + joint, unexplained)
+
+
+def _case_name(model, equations, w: _Wording) -> tuple[str, int]:
+    """``(name, boom)``: the classical case the sentences make, and the prismatic joint (or
+    0) that an equation fixes at zero length."""
+    names = [_name(model, kind, what, ()) for kind, what, _ in w.firsts]
+    if w.joint:
+        first = _name(model, w.joint[0][0], w.joint[0][1], ())
+        # all links aligned says everything the factors say; other names add up
+        names = [first] if first == "all links aligned" else names + [first]
+    if w.unexplained and not w.joint:
+        names = []  # a factor nothing explains: the classical name of the others would mislead
+    names = [n for n in names if n]
+    boom = _boom_at_zero(model, equations)
+    if boom:
+        names = ["boom singularity"] + names
+    if not names:
+        return "", boom
+    uniq = sorted(dict.fromkeys(n.replace(" singularity", "") for n in names),
+                  key=lambda n: _ORDER.index(n) if n in _ORDER else len(_ORDER))
+    return (names[0] if len(uniq) == 1 else f"{_and(uniq)} singularities at once"), boom
+
+
+def _body(model, equations, labels, points, factor_points, matrix, facts, w: _Wording,
+          dependent: str) -> str:
+    """The sentence covering every factor, then what they do only together."""
+    if not facts.factors:
+        return w.joint_text
+    parts = [f"where {_holds(labels[k])}, {text}" for k, text in w.factors]
+    if w.joint_text:
+        parts.append(("together, " if parts else "") + w.joint_text)
+    if w.unexplained:
+        missing = [labels[k] for k in w.unexplained]
+        why = ""
+        if matrix is not None:
+            explained = [k for k, _ in w.factors]
+            dropped, rest = dependence_left(matrix, points, factor_points, explained,
+                                            len(model.joints))
+            if rest and dropped:
+                told = _and([labels[k] for k, _ in facts.factors if k not in w.unexplained])
+                why = (f"; {told} already "
+                       f"{'makes' if len(facts.factors) - len(missing) == 1 else 'make'}"
+                       f" the column of joint {_and(dropped)} depend on the others, and "
+                       f"{_and(missing)} is where the columns of "
+                       f"joints {_and(rest)} become dependent too (checked at "
+                       f"{len(points)} points)")
+            elif dependent:
+                why = f"; at the points of the component, {dependent}"
+        parts.append(f"{_and(missing)} alone gives no fact about the axes: it acts only "
+                     f"together with the other {plural('equation', len(equations) - 1)}"
+                     + why)
+    return "; ".join(parts)
+
+
+def _short(labels, facts, w: _Wording, name: str, body: str) -> str:
+    """The name's companion in a summary table: the first fact of each factor."""
+    if name == "all links aligned" and w.joint:
+        return w.joint[0][2]  # the one fact that says it all
+    if not facts.factors:
+        return w.joint[0][2] if w.joint else body
+    brief = [f"where {_holds(labels[k])}, {first[2]}"
+             for (k, _), first in zip(w.factors, w.firsts)]
+    if w.joint:
+        brief.append(("together, " if brief else "") + w.joint[0][2])
+    if w.unexplained:
+        brief.append(f"{_and([labels[k] for k in w.unexplained])} acts only with the others")
+    return "; ".join(brief)
+
+
+def _offset_remarks(model, points, params, used) -> list:
+    """The remark on the first plane through the first axis that names a shoulder case."""
+    for kind, what, _ in used:
+        if kind == "in-plane" and _name(model, kind, what, ()) == "shoulder singularity":
+            remark = _offset_remark(model, points, params, what[0], what[1])
+            if remark:
+                return [remark]
+    return []
+
+
+def _lost(model, q, params, used, name) -> tuple:
+    """The rotation the joints of the first collinear (or wrist-parallel) group lose."""
+    rev = [k + 1 for k, j in enumerate(model.joints) if j.kind == "revolute"]
+    for kind, what, _ in used:
+        lost = ("", ())
+        if kind == "collinear":
+            lost = _lost_rotation(model, q, params, list(what))
+        elif kind == "parallel" and "wrist" in name and len(rev) >= 3:
+            lost = _lost_rotation(model, q, params, rev[-3:])
+        if lost[0]:
+            return lost
+    return "", ()
 
 
 def _holds(label: str) -> str:

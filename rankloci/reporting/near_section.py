@@ -1,10 +1,10 @@
 """The report's section on motion near the locus: :func:`near_data` and :func:`near_blocks`.
 
-For a robot model with position rows in its task, :func:`near_data` evaluates the
-functions of :mod:`rankloci.near` at a regular pose and near each component
-(manipulability ellipsoid and polytope, distance to the component) and along one
-task-space line through a component (minimum infinity-norm joint rates), and draws
-their figures; :func:`near_blocks` turns the result into blocks of
+For a robot model with position rows in its task, :func:`near_data` draws what
+:func:`rankloci.api.near_study.near_study` finds at a regular pose and near each
+component (manipulability ellipsoid and polytope, distance to the component) and
+along one task-space line through a component (minimum infinity-norm joint
+rates); :func:`near_blocks` turns the result into blocks of
 :mod:`~rankloci.reporting.blocks`.  Nothing is written to disk here.
 """
 
@@ -12,23 +12,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numpy as np
-
+from ..api.near_study import NearPath, NearPose
+from ..tolerances import (FULL_POLYTOPE_JOINTS, MAX_NEAR_COMPONENTS, NEAR_OFFSET, PATH_OFFSET,
+                          PATH_STEPS)
 from .blocks import SIGMA, Figure, Heading, Para, Table, block_label, numbered
 
 __all__ = ["NearPose", "NearPath", "NearData", "near_data", "near_blocks", "NEAR_OFFSET",
            "PATH_OFFSET", "MAX_NEAR_COMPONENTS", "FULL_POLYTOPE_JOINTS"]
 
-#: Joint-space distance (rad, or m along a prismatic joint) from a component's sample point to
-#: the pose "near" it.
-NEAR_OFFSET = 0.05
-#: Joint-space distance (rad, or m along a prismatic joint) from a component's sample point to
-#: the start of the path.
-PATH_OFFSET = 0.4
-#: Poses near at most this many components (the first ones).
-MAX_NEAR_COMPONENTS = 4
-#: Arms with more joints get the polytope of the position rows only (2^n vertices).
-FULL_POLYTOPE_JOINTS = 7
 #: Panels of the near-manipulability figure in one row.
 NEAR_COLUMNS = 3
 #: The 3-D panels of that figure draw their cube at this fraction of the panel: at full size
@@ -39,45 +30,6 @@ NEAR_CUBE_ZOOM = 0.85
 #: half size (0.85 of a 6.3-inch line), so 13 pt titles and 12 pt legends and ticks read as
 #: 6 pt and more.
 NEAR_FONT_PT = 13
-#: Joint-space distances at which the path is aimed past the component (it would stop on it:
-#: the rates are unbounded there); the path that peaks at its crossing and goes on is kept.
-PATH_MISS = (0.08, 0.02)
-#: A rate peak counts as the path's crossing when it lies within this much of the path
-#: parameter (0..1) from the point closest to the locus.
-PEAK_WINDOW = 0.05
-#: A peak counts when the largest rate is at least this many times the rate at the start.
-PEAK_RATIO = 3.0
-#: Steps of the path through a component.
-PATH_STEPS = 120
-
-
-@dataclass(frozen=True)
-class NearPose:
-    """The manipulability at one pose: ``component`` 0 for the regular pose, else 1-based."""
-
-    component: int
-    q: np.ndarray
-    distance: float       # joint-space distance to the component (nan for the regular pose)
-    sigma_ratio: float
-    w: float
-    radii: np.ndarray
-    volume: float
-
-
-@dataclass(frozen=True)
-class NearPath:
-    """Minimum infinity-norm rates along a line through a component, at its closest approach."""
-
-    component: int
-    start: np.ndarray
-    t: float
-    rate_max: float
-    rate_max_start: float
-    index: float
-    sigma_ratio: float
-    distance: float
-    stopped: str
-    miss: float = 0.0     # how far from the sample point (joint space) the line is aimed
 
 
 @dataclass(frozen=True)
@@ -90,22 +42,6 @@ class NearData:
     figures: tuple
 
 
-def _unit(v) -> np.ndarray:
-    v = np.asarray(v, dtype=float)
-    n = float(np.linalg.norm(v))
-    return v / n if n > 0 else v
-
-
-def _away(eqs, q0, rng) -> np.ndarray:
-    """A unit joint-space direction across the component at ``q0`` (its first normal)."""
-    from .analysis import normal_directions
-
-    normals = normal_directions(eqs, q0)
-    if len(normals):
-        return _unit(normals[0])
-    return _unit(rng.standard_normal(len(q0)))  # pragma: no cover - equations without gradient
-
-
 def near_data(model, locus, nm, params, seed: int, stem: str) -> NearData | None:
     """Manipulability at a regular pose and near each component, and a path through one.
 
@@ -113,88 +49,35 @@ def near_data(model, locus, nm, params, seed: int, stem: str) -> NearData | None
     model's frame with the parameters at ``params``.  Returns None for a model that is
     not a robot or whose task has no position rows.
     """
+    from ..api.near_study import near_study
     from ..model import RobotModel
-    from ..api.near import joint_rates, manipulability
     from ..near.figures import path_figure
-    from ..near.manipulability import ellipsoid
-    from ..near.nearest import ComponentDistance
-    from ..near.path import Kinematics
-    from . import analysis as A
     from .figure_files import FigureFile
     from .figures import figure_png
 
     if not isinstance(model, RobotModel) or not any(r < 3 for r in model.task):
         return None
-    rng = np.random.default_rng(seed)
-    kin = Kinematics(model)
-    position = model.dof > FULL_POLYTOPE_JOINTS
-    comps = A.model_components(locus) if locus is not None else []
-    cd = ComponentDistance(locus, nm.angles) if comps else None
-
-    def pose(k, q, distance):
-        if position:  # the ellipsoid of all task rows, the polytope of the position rows
-            E = ellipsoid(kin.jacobian(q))
-            poly = manipulability(model, q, position_only=True)
-        else:
-            poly = manipulability(model, q)
-            E = poly.ellipsoid
-        return NearPose(k, q, distance, float(E.sigma_ratio), float(E.w),
-                        np.asarray(E.radii, dtype=float), float(poly.polytope.volume))
-
-    poses = [pose(0, A.regular_point(nm, rng), float("nan"))]
-    starts = {}
-    for idx, c in comps[:MAX_NEAR_COMPONENTS]:
-        q0 = np.array([c.sample[v.name] for v in nm.variables], dtype=float)
-        d = _away(A.component_equations(c, nm, params), q0, rng)
-        q = q0 + NEAR_OFFSET * d
-        k = idx - 1  # model_components numbers locus.components from 1
-        poses.append(pose(idx, q, float(cd.distance(k, q)[0])))
-        starts[idx] = (q0, d, k)
+    study = near_study(model, locus, nm, params, seed)
+    poses, path = study.poses, study.path
+    position_rows = [r for r in model.task if r < 3]
 
     # figure: the position rows' ellipsoid and polytope at each pose
     figs = []
-    if len(kin.position_rows) in (2, 3):
-        fig = near_manipulability_figure(model, poses, three=len(kin.position_rows) == 3)
+    if len(position_rows) in (2, 3):
+        fig = near_manipulability_figure(model, poses, three=len(position_rows) == 3)
         figs.append(FigureFile(f"{stem}-near-manipulability.png", figure_png(fig),
                                _pose_caption(poses, distance_unit(model)), "near-manipulability",
                                f"{stem}: manipulability ellipsoids and polytopes",
                                tuple(p.component for p in poses[1:])))
-
-    path, got, best = None, None, None
-    for (idx, (q0, d, k)), miss in ((item, m) for item in starts.items() for m in PATH_MISS):
-        # a line in task space from q0 + PATH_OFFSET e to q0 + miss e and as far beyond,
-        # e across the component with the orientation kept to first order: the joints pass
-        # about miss from the component, where the rates peak
-        e = _across_keeping_orientation(kin, q0, d)
-        start = q0 + PATH_OFFSET * e
-        x0, x1 = kin.position(start), kin.position(q0 + miss * e)
-        rates = joint_rates(model, start, [x0, x1, 2 * x1 - x0], norm="inf", steps=PATH_STEPS)
-        if len(rates.t) < 2:
-            continue
-        size = np.abs(rates.rates_inf).max(axis=1)
-        j = int(np.argmin(rates.sigma_ratio))
-        peak = int(np.argmax(size))
-        # a peak where the path comes closest to the locus, on a path that goes on past it (at
-        # the workspace boundary it cannot), the higher over the start the better
-        ratio = float(size[peak] / max(size[0], 1e-12))
-        score = (bool(abs(rates.t[peak] - rates.t[j]) <= PEAK_WINDOW and ratio >= PEAK_RATIO),
-                 not rates.stopped, ratio)
-        if best is None or score > best[0]:
-            best = (score, idx, k, start, rates, j, miss)
-    if best is not None:
-        _, idx, k, start, got, j, miss = best
-        dist = cd.distance(k, got.q[j])[0]
-        path = NearPath(idx, start, float(got.t[j]), float(np.abs(got.rates_inf[j]).max()),
-                        float(np.abs(got.rates_inf[0]).max()), float(got.index[j]),
-                        float(got.sigma_ratio[j]), float(dist), got.stopped, miss)
-        fig = path_figure(got)[0].figure
+    if path is not None:
+        fig = path_figure(study.rates)[0].figure
         for ax in fig.axes:
             _fixed_legend(ax, fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
         figs.append(FigureFile(f"{stem}-near-path.png", figure_png(fig),
                                _path_caption(path), "near-path",
-                               f"{stem}: minimum infinity-norm rates through component {idx}",
-                               (idx,)))
-    return NearData(tuple(poses), path, "position" if position else "task", tuple(figs))
+                               f"{stem}: minimum infinity-norm rates through component "
+                               f"{path.component}", (path.component,)))
+    return NearData(poses, path, study.polytope_rows, tuple(figs))
 
 
 def near_manipulability_figure(model, poses, *, three: bool = True):
@@ -230,20 +113,6 @@ def near_manipulability_figure(model, poses, *, three: bool = True):
                 axis.set_major_locator(MaxNLocator(3))
             _fixed_legend(ax, fontsize=NEAR_FONT_PT - 1, loc="upper left")
     return fig
-
-
-def _across_keeping_orientation(kin, q0, d) -> np.ndarray:
-    """The unit joint direction nearest to ``d`` that leaves the orientation unchanged at
-    ``q0`` to first order (``d`` itself when the task has no angular rows or none is left)."""
-    ang = [i for i, r in enumerate(kin.rows) if r >= 3]
-    if not ang:
-        return _unit(d)
-    Jw = kin.jacobian(q0)[ang]
-    _, s, vt = np.linalg.svd(Jw)
-    rank = int(np.sum(s > 1e-9 * max(float(s[0]), 1e-300))) if s.size else 0
-    null = vt[rank:]
-    e = null.T @ (null @ np.asarray(d, dtype=float))
-    return _unit(e) if np.linalg.norm(e) > 0.1 * np.linalg.norm(d) else _unit(d)
 
 
 def _fixed_legend(ax, **where):

@@ -1,81 +1,30 @@
-"""Plain-language readings of a lost direction, verified numerically, and the joint axes.
+"""Plain-language readings of a lost direction.
 
-:func:`axis_lines` gives the joint axes at a configuration (the geometric
-readings of :mod:`~rankloci.reporting.interpret` are made of them).  The lost
-direction is read here:
-
-- **the lost direction**: ``u^T J = 0`` at the sample point, read as "the
-  task point cannot translate along ...", "the end-effector cannot rotate
-  about ..." or, for a mixed direction, the linear relation every achievable
-  velocity obeys (equivalently, a wrench the structure resists with zero
-  joint torques).
-
-A statement is returned only when it holds numerically at the component's
-sample point within the tolerances below.
+:func:`rankloci.directions.lost_direction` checks that a vector is lost at the
+sample point and says what it takes from the end-effector; this module puts
+that in words: "the task point cannot translate along ...", "the end-effector
+cannot rotate about ..." or, for a mixed direction, the linear relation every
+achievable velocity obeys (equivalently, a wrench the structure resists with
+zero joint torques).  Nothing is said of a vector that is not lost.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
-from ..expr import as_expression
-from ..model import RobotModel
+from ..directions import ANGULAR_ROWS, LINEAR_ROWS, lost_direction
+from ..tolerances import DIRECTION_PART_MIN
 from .blocks import signed
 
-__all__ = ["AxisLine", "axis_lines", "direction_readings", "lost_motion", "GEOMETRY_RTOL",
-           "DIRECTION_RTOL"]
-
-#: Two unit axis directions count as parallel, and distances as zero relative to the size of
-#: the arm, below this.  Points on a component are accurate to 1e-10 (ROOT_XTOL); random
-#: configurations keep these quantities of order 1e-2 and above, so 1e-7 separates them
-#: with five orders of margin on either side.
-GEOMETRY_RTOL = 1e-7
-
-#: ``|u^T J| <= DIRECTION_RTOL * sigma_max(J)`` verifies a lost direction at the sample
-#: point: rank decisions use RANK_RTOL = 1e-8 on sigma_min/sigma_max, and the direction is
-#: printed to 3 decimals, so 1e-6 is checked on the unrounded vector.
-DIRECTION_RTOL = 1e-6
-
-
-@dataclass(frozen=True)
-class AxisLine:
-    """A joint axis in the world frame at one configuration."""
-
-    joint: int          # 1-based
-    kind: str           # "revolute" or "prismatic"
-    point: np.ndarray   # a point of the axis (the joint frame's origin)
-    direction: np.ndarray  # unit vector
-
-
-def axis_lines(model: RobotModel, q: dict, params=None):
-    """Joint axes and the task point at configuration ``q`` (variable name -> value).
-
-    Returns ``(lines, task_point)``, both in the world frame.
-    """
-    from ..kinematics import numeric_frames
-
-    params = dict(model.parameters if params is None else params)
-    qs = {v: float(q[str(v)]) for v in model.variables}
-    poses = numeric_frames(model, qs, params)
-    values = {k: float(v) for k, v in params.items()}
-    lines = []
-    for i, j in enumerate(model.joints):
-        T = poses[3 * i + 2]
-        axis = np.array([float(as_expression(a).subs(values)) for a in j.axis])
-        d = T[:3, :3] @ axis
-        lines.append(AxisLine(i + 1, j.kind, T[:3, 3].copy(), d / np.linalg.norm(d)))
-    return lines, poses[-1][:3, 3].copy()
-
-
-# --- lost directions ---------------------------------------------------------------------------
-
-_LINEAR, _ANGULAR = ("vx", "vy", "vz"), ("wx", "wy", "wz")
+__all__ = ["direction_readings", "lost_motion"]
 
 
 def _vec(values, digits=3) -> str:
     return "[" + ", ".join(signed(x, digits) for x in values) + "]"
+
+
+def _rate(lab) -> str:
+    return lab if lab in LINEAR_ROWS + ANGULAR_ROWS else f"d({lab})/dt"
 
 
 def direction_readings(J, u, row_labels, *, tall: bool = False, frame: str = "base",
@@ -94,7 +43,8 @@ def direction_readings(J, u, row_labels, *, tall: bool = False, frame: str = "ba
         Name of the frame the rows are expressed in (for the wording).
 
     Returns the empty list when ``u`` is not a null vector of ``J`` to
-    :data:`DIRECTION_RTOL` (nothing is claimed then).
+    :data:`~rankloci.tolerances.DIRECTION_RTOL` (nothing is claimed then); the
+    reading itself is :func:`rankloci.directions.lost_direction`.
 
     Examples
     --------
@@ -103,53 +53,36 @@ def direction_readings(J, u, row_labels, *, tall: bool = False, frame: str = "ba
     >>> direction_readings(J, [1.0, 0.0], ["vx", "vy"])
     ['the task point cannot translate along [+1.000, 0] over (x, y) in the base frame']
     """
-    J = np.asarray(J, dtype=float)
-    u = np.asarray(u, dtype=float)
-    smax = float(np.linalg.svd(J, compute_uv=False)[0]) if J.size else 0.0
-    if smax == 0.0 or np.linalg.norm(u) == 0.0:
+    d = lost_direction(J, u, row_labels, tall=tall, variables=variables)
+    if d is None:
         return []
-    u = u / np.linalg.norm(u)
-    residual = np.linalg.norm((J @ u) if tall else (u @ J))
-    if residual > DIRECTION_RTOL * smax:
-        return []
-    if tall:
+    u = d.vector
+    if d.kind == "self-motion":
         names = ", ".join(str(v) for v in variables) if variables else "the joint variables"
         return [f"the joint velocity {_vec(u)} over ({names}) moves nothing: J q' = 0 there, a "
                 "self-motion of the joints that the task does not see"]
     labels = list(row_labels)
-    lin = np.array([u[labels.index(r)] if r in labels else 0.0 for r in _LINEAR])
-    ang = np.array([u[labels.index(r)] if r in labels else 0.0 for r in _ANGULAR])
-    others = [(lab, x) for lab, x in zip(labels, u) if lab not in _LINEAR + _ANGULAR]
-    small = 1e-3  # directions are read to 3 decimals
-    n_lin, n_ang = np.linalg.norm(lin), np.linalg.norm(ang)
-    n_other = float(np.sqrt(sum(x * x for _, x in others)))
-    missing_lin = [r[1] for r in _LINEAR if r not in labels]
-    missing_ang = [r[1] for r in _ANGULAR if r not in labels]
-    out = []
-    if n_other <= small and n_ang <= small and n_lin > small:
-        present = [r for r in _LINEAR if r in labels]
-        vec = np.array([u[labels.index(r)] for r in present]) / n_lin
-        out.append(f"the task point cannot translate along {_vec(vec)}"
-                   f"{_rows_note(present, missing_lin, frame)}")
-    elif n_other <= small and n_lin <= small and n_ang > small:
-        present = [r for r in _ANGULAR if r in labels]
-        vec = np.array([u[labels.index(r)] for r in present]) / n_ang
-        out.append(f"the end-effector cannot rotate about {_vec(vec)}"
-                   f"{_rows_note(present, missing_ang, frame)}")
-    elif n_other <= small:
-        out.append(f"every end-effector velocity (v, w) the joints can produce has a.v + b.w = 0, "
-                   f"a = {_vec(lin)}, b = {_vec(ang)} ({frame} frame, v at the task point): "
-                   "the force a with the moment b about the task point needs no joint torque "
-                   "to be held")
-    else:
-        def rate(lab):
-            return lab if lab in _LINEAR + _ANGULAR else f"d({lab})/dt"
-
-        terms = " ".join(f"{signed(x, 3)} {rate(lab)}" for lab, x in zip(labels, u)
-                         if abs(x) > small)
-        out.append(f"the task velocity and the constraint rate are tied: {terms} = 0 for every "
-                   "joint velocity")
-    return out
+    missing_lin = [r[1] for r in LINEAR_ROWS if r not in labels]
+    missing_ang = [r[1] for r in ANGULAR_ROWS if r not in labels]
+    if d.kind == "translation":
+        present = [r for r in LINEAR_ROWS if r in labels]
+        vec = np.array([u[labels.index(r)] for r in present]) / d.linear_norm
+        return [f"the task point cannot translate along {_vec(vec)}"
+                f"{_rows_note(present, missing_lin, frame)}"]
+    if d.kind == "rotation":
+        present = [r for r in ANGULAR_ROWS if r in labels]
+        vec = np.array([u[labels.index(r)] for r in present]) / d.angular_norm
+        return [f"the end-effector cannot rotate about {_vec(vec)}"
+                f"{_rows_note(present, missing_ang, frame)}"]
+    if d.kind == "wrench":
+        return [f"every end-effector velocity (v, w) the joints can produce has a.v + b.w = 0, "
+                f"a = {_vec(d.linear)}, b = {_vec(d.angular)} ({frame} frame, v at the task "
+                "point): the force a with the moment b about the task point needs no joint "
+                "torque to be held"]
+    terms = " ".join(f"{signed(x, 3)} {_rate(lab)}" for lab, x in zip(labels, u)
+                     if abs(x) > DIRECTION_PART_MIN)
+    return [f"the task velocity and the constraint rate are tied: {terms} = 0 for every "
+            "joint velocity"]
 
 
 def _rows_note(present, missing, frame) -> str:
@@ -162,12 +95,12 @@ def _rows_note(present, missing, frame) -> str:
 def lost_motion(J, u, row_labels, *, tall: bool = False, variables=()) -> str:
     """The motion lost along the null vector ``u`` of ``J``, in a few words for a table.
 
-    The same classification as :func:`direction_readings` (and the same
-    check: ``""`` when ``u`` is not a null vector of ``J``), without the
-    explanation: what the end-effector cannot do.  No translation along a
-    direction, no rotation about an axis, or, for a direction with both parts,
-    no velocity (v, w) with a.v + b.w != 0: that direction is a wrench (force a,
-    moment b), not a motion, and is labelled so.  Else a combination of task and
+    The same reading as :func:`direction_readings` (and the same check:
+    ``""`` when ``u`` is not a null vector of ``J``), without the explanation:
+    what the end-effector cannot do.  No translation along a direction, no
+    rotation about an axis, or, for a direction with both parts, no velocity
+    (v, w) with a.v + b.w != 0: that direction is a wrench (force a, moment b),
+    not a motion, and is labelled so.  Else a combination of task and
     constraint rates.  Numbers have two decimals (the component's subsection
     gives the direction to three); a value that rounds to zero is written 0.
 
@@ -183,42 +116,24 @@ def lost_motion(J, u, row_labels, *, tall: bool = False, variables=()) -> str:
     no motion with a.v + b.w != 0; as a wrench, force a = [+0.58, +0.58, 0] with moment
     b = [0, 0, -0.58] needs no joint torque
     """
-    J = np.asarray(J, dtype=float)
-    u = np.asarray(u, dtype=float)
-    smax = float(np.linalg.svd(J, compute_uv=False)[0]) if J.size else 0.0
-    if smax == 0.0 or np.linalg.norm(u) == 0.0:
+    d = lost_direction(J, u, row_labels, tall=tall, variables=variables)
+    if d is None:
         return ""
-    u = u / np.linalg.norm(u)
-    if np.linalg.norm((J @ u) if tall else (u @ J)) > DIRECTION_RTOL * smax:
-        return ""
-    if tall:
+    if d.kind == "self-motion":
         names = ", ".join(str(v) for v in variables) if variables else "the joints"
-        return f"none: the joint motion {_vec(u, 2)} over ({names}) moves nothing"
-    labels = list(row_labels)
-    small = 1e-3
-    lin = [(r, u[labels.index(r)]) for r in _LINEAR if r in labels]
-    ang = [(r, u[labels.index(r)]) for r in _ANGULAR if r in labels]
-    others = [(lab, x) for lab, x in zip(labels, u) if lab not in _LINEAR + _ANGULAR]
-    n_lin = float(np.sqrt(sum(x * x for _, x in lin)))
-    n_ang = float(np.sqrt(sum(x * x for _, x in ang)))
-    n_other = float(np.sqrt(sum(x * x for _, x in others)))
+        return f"none: the joint motion {_vec(d.vector, 2)} over ({names}) moves nothing"
 
     def along(rows, norm):
         axes = ", ".join(r[1] for r, _ in rows)
         return f"{_vec([x / norm for _, x in rows], 2)} ({axes})"
 
-    if n_other <= small and n_ang <= small:
-        return f"no translation along {along(lin, n_lin)}"
-    if n_other <= small and n_lin <= small:
-        return f"no rotation about {along(ang, n_ang)}"
-    if n_other <= small:
-        a = np.array([u[labels.index(r)] if r in labels else 0.0 for r in _LINEAR])
-        b = np.array([u[labels.index(r)] if r in labels else 0.0 for r in _ANGULAR])
-        return (f"no motion with a.v + b.w != 0; as a wrench, force a = {_vec(a, 2)} with "
-                f"moment b = {_vec(b, 2)} needs no joint torque")
-
-    def rate(lab):
-        return lab if lab in _LINEAR + _ANGULAR else f"d({lab})/dt"
-
-    terms = " ".join(f"{signed(x, 2)} {rate(lab)}" for lab, x in zip(labels, u) if abs(x) > small)
+    if d.kind == "translation":
+        return f"no translation along {along(d.present(LINEAR_ROWS), d.linear_norm)}"
+    if d.kind == "rotation":
+        return f"no rotation about {along(d.present(ANGULAR_ROWS), d.angular_norm)}"
+    if d.kind == "wrench":
+        return (f"no motion with a.v + b.w != 0; as a wrench, force a = {_vec(d.linear, 2)} with "
+                f"moment b = {_vec(d.angular, 2)} needs no joint torque")
+    terms = " ".join(f"{signed(x, 2)} {_rate(lab)}" for lab, x in zip(d.rows, d.vector)
+                     if abs(x) > DIRECTION_PART_MIN)
     return f"task and constraint rates together: {terms}"

@@ -13,8 +13,8 @@ from rankloci.jacobians import task_matrix
 from rankloci.methods import compute_locus
 from rankloci.numeric.equations import NumericMatrix
 from rankloci.reporting import build_report
-from rankloci.reporting.analysis import sigma_ratios
-from rankloci.reporting.comparison import compare_loci
+from rankloci.numeric.landscape import sigma_ratios
+from rankloci.compare import compare_loci
 from rankloci.reporting.markdown import render_markdown
 from rankloci.tolerances import RANK_RTOL
 

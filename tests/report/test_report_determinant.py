@@ -8,7 +8,7 @@ import sympy as sp
 import rankloci
 from rankloci.io import load_model
 from rankloci.jacobians import task_matrix
-from rankloci.reporting.determinant import factored_determinant
+from rankloci.numeric.factored_det import factored_determinant
 
 
 def _factored(name, drop=None):

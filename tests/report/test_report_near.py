@@ -10,7 +10,7 @@ import pytest
 
 import report_helpers as RH
 from rankloci.api.near import manipulability
-from rankloci.reporting.analysis import model_components
+from rankloci.numeric.landscape import model_components
 from rankloci.reporting.content import report_blocks
 from rankloci.reporting.near_section import NEAR_OFFSET
 

@@ -15,7 +15,7 @@ import report_helpers as RH
 from rankloci.io import load_model
 from rankloci.loci import Outcome
 from rankloci.reporting import ReportError, build_report, write_report
-from rankloci.reporting.comparison import compare_loci
+from rankloci.compare import compare_loci
 from rankloci.reporting.tree_summary import tree_summary
 from rankloci.reporting.markdown import render_markdown
 from rankloci.reporting.mathfmt import LINE_WIDTH, broken_lines, latex, math_width

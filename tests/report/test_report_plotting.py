@@ -12,8 +12,8 @@ import pytest
 import report_helpers as RH
 from rankloci.io import load_model
 from rankloci.reporting import figures as F
-from rankloci.reporting.analysis import PathData
-from rankloci.reporting.robot import robot_pose
+from rankloci.numeric.landscape import PathData
+from rankloci.geometry import robot_pose
 
 PACKAGE = Path(F.__file__).resolve().parents[1]
 
@@ -65,7 +65,7 @@ def test_robot_picture(tmp_path):
 def test_locus_lines_on_a_heat_map_are_thin_and_told_apart():
     from matplotlib.colors import to_hex
 
-    from rankloci.reporting.analysis import SliceData
+    from rankloci.numeric.landscape import SliceData
 
     xs = ys = np.linspace(-1.0, 1.0, 5)
     line = np.array([[-1.0, 0.0], [1.0, 0.0]])

@@ -11,7 +11,7 @@ import sympy as sp
 from rankloci.io.toml_model import parse_model
 from rankloci.limits import DEFAULT_STROKE
 from rankloci.numeric.equations import NumericMatrix
-from rankloci.reporting import analysis as A
+from rankloci.numeric import landscape as A
 from rankloci.reporting import build_report
 from rankloci.reporting.markdown import render_markdown
 

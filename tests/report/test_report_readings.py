@@ -15,7 +15,7 @@ from rankloci.io import load_model
 from rankloci.jacobians import task_matrix
 from rankloci.methods import method_for
 from rankloci.reporting.build import component_views
-from rankloci.reporting.geometry import dependent_joints, facts_at
+from rankloci.geometry import dependent_joints, facts_at
 from rankloci.reporting.mathfmt import latex as mlatex
 
 SEED = 0
@@ -73,7 +73,7 @@ def test_puma560_readings_name_shoulder_elbow_and_wrist(puma):
 
 def test_lost_wrist_rotation_is_orthogonal_to_the_wrist_axes(puma):
     """The rotation the wrist loses is normal to the directions of axes 4, 5 and 6 there."""
-    from rankloci.reporting.reading import axis_lines
+    from rankloci.geometry import axis_lines
 
     model, views = puma
     c = views[2].component

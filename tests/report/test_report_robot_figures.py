@@ -10,7 +10,7 @@ import pytest
 
 from rankloci.io import load_model
 from rankloci.reporting.figures import plot_robot, robot_figure
-from rankloci.reporting.robot import robot_pose
+from rankloci.geometry import robot_pose
 
 
 #: Points computed in one plane leave a third singular value of their differences at the

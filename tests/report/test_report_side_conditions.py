@@ -17,8 +17,8 @@ from rankloci.jacobians import task_matrix
 from rankloci.methods import compute_locus
 from rankloci.numeric.equations import NumericMatrix
 from rankloci.render_text import locus_latex, locus_text
-from rankloci.reporting import analysis as A
-from rankloci.reporting.comparison import compare_loci
+from rankloci.numeric import landscape as A
+from rankloci.compare import compare_loci
 from rankloci.tolerances import ON_LOCUS_RTOL
 
 SEED = 0

@@ -1,4 +1,4 @@
-"""det J of a square Jacobian as the product of its components' equations.
+"""det J of a square matrix as the product of its components' equations.
 
 For a square J the components of the locus are the factors of det J.  Their
 product, with multiplicities and a constant, is det J itself:
@@ -18,12 +18,9 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from ..tolerances import DET_FACTOR_RTOL
+from ..tolerances import DET_FACTOR_RTOL, DET_POINTS
 
 __all__ = ["FactoredDeterminant", "factored_determinant"]
-
-#: Random configurations at which the factorisation is fitted and checked.
-DET_POINTS = 12
 
 #: Rational multipliers tried for an exact constant (half-angle factors bring powers of 2).
 _MULTIPLIERS = (1, 2, 4, 8, sp.Rational(1, 2), sp.Rational(1, 4), sp.Rational(1, 8))

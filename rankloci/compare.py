@@ -1,4 +1,11 @@
-"""The singular vector and subdeterminant loci compared, with the SVD's verdict where they differ."""
+"""Two methods' loci of one matrix compared, with the SVD's verdict where they differ.
+
+:func:`compare_loci` solves points onto each component of one locus and
+checks them against the other: a point on no component of the other locus is
+a disagreement, and sigma_min/sigma_max of J there says which method is right
+(:class:`Disagreement`, :class:`Comparison`).  The report shows the
+singular vector and subdeterminant loci compared this way.
+"""
 
 from __future__ import annotations
 
@@ -7,10 +14,11 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from ..expr import as_expression
-from ..numeric.equations import NumericMatrix
-from ..tolerances import COVER_RESIDUAL, RANK_RTOL
-from .analysis import component_equations, component_points, model_components, sigma_ratios
+from .expr import as_expression
+from .numeric.equations import NumericMatrix
+from .numeric.landscape import (component_equations, component_points, model_components,
+                                sigma_ratios)
+from .tolerances import COVER_RESIDUAL, RANK_RTOL
 
 __all__ = ["Comparison", "Disagreement", "compare_loci", "equation_sets"]
 
