@@ -25,9 +25,10 @@ import subprocess
 import numpy as np
 
 __all__ = ["plot_sigma_slice", "locus_slice", "plot_augmented", "plot_manipulability_path",
-           "plot_manipulability_paths", "manipulability_paths", "plot_tree", "plot_robot", "robot_figure", "figure_png",
-           "heatmap_png", "augmented_png", "manipulability_png", "tree_png", "robot_png",
-           "tree_dot_source", "HEATMAP_SIZE", "PATH_SIZE", "AUGMENTED_SIZE", "ROBOT_SIZE", "DPI"]
+           "plot_manipulability_paths", "manipulability_paths", "plot_tree", "plot_robot",
+           "robot_figure", "axis_line_ends", "figure_png", "heatmap_png", "augmented_png",
+           "manipulability_png", "tree_png", "robot_png", "tree_dot_source", "HEATMAP_SIZE",
+           "PATH_SIZE", "AUGMENTED_SIZE", "ROBOT_SIZE", "DPI"]
 
 DPI = 100
 #: Figure sizes in inches; at DPI they give the pixel sizes the tests expect.
@@ -51,6 +52,11 @@ _LINESTYLES = ("-", "--", "-.", ":")
 
 #: Width (points) of a locus line on a heat map; its dark edge is half a point wider.
 CURVE_WIDTH = 0.6
+
+#: Colour of the lines a reading names on a 3-D arm (collinear axes, an axis a point lies
+#: on): magenta, told apart from the grey links, the blue and red axes, the green ellipsoid,
+#: the purple arrow and the orange task point.
+READING_LINE_COLOUR = "#e6007e"
 
 
 def _new_axes(ax, size, projection=None):
@@ -684,8 +690,32 @@ def _plane_corners(pose, joint: int):
                                                      (along[1], across[1]), (along[0], across[1]))])
 
 
+def axis_line_ends(pose, joint: int):
+    """The two ends of the line of joint ``joint``'s axis (1-based), extended through the arm.
+
+    The line runs along the axis from its point, as far as the arm reaches along that
+    direction and a fifth of the arm's size beyond, so that every joint origin of the
+    chain is passed on the way.
+
+    Examples
+    --------
+    >>> from rankloci.io import load_model
+    >>> from rankloci.reporting.robot import robot_pose
+    >>> pose = robot_pose(load_model("planar2r"), {"q1": 0.0, "q2": 0.0})
+    >>> [[round(float(x), 2) + 0.0 for x in end] for end in axis_line_ends(pose, 1)]
+    [[0.0, 0.0, -0.4], [0.0, 0.0, 0.4]]
+    """
+    p = np.asarray(pose.axis_points[joint - 1], dtype=float)
+    d = np.asarray(pose.axis_directions[joint - 1], dtype=float)
+    d = d / np.linalg.norm(d)
+    s = (np.asarray(pose.chain, dtype=float) - p) @ d
+    lo, hi = float(min(s.min(), 0.0)), float(max(s.max(), 0.0))
+    margin = 0.2 * pose.scale
+    return np.array([p + (lo - margin) * d, p + (hi + margin) * d])
+
+
 def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), arrow=None,
-               arrow_label="", Jv=None, title: str = "", ax=None, plane=None):
+               arrow_label="", Jv=None, title: str = "", ax=None, plane=None, lines=()):
     """The arm at one configuration in 3-D: links, joint axes, task point.
 
     Parameters
@@ -712,6 +742,11 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
     plane : int, optional
         A 1-based joint: the plane through its axis and the task point is drawn
         translucent (the plane a shoulder singularity's reading names).  3-D only.
+    lines : sequence of (int, str)
+        Lines a reading names: for each (1-based joint, label), the line of that joint's
+        axis is drawn through the whole arm (:func:`axis_line_ends`), magenta and dash-dot,
+        with the label in the legend (collinear axes: one line for the group; an axis a
+        point lies on).  3-D only.
 
     Returns
     -------
@@ -768,6 +803,10 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
             if hot:
                 ax.text(*(p + half_axis * d), f"{k}", color="#d62728", fontsize=LABEL_PT)
         tip = np.asarray(pose.tool)
+        for joint, label in lines:
+            ends = axis_line_ends(pose, joint)
+            ax.plot(ends[:, 0], ends[:, 1], ends[:, 2], color=READING_LINE_COLOUR,
+                    linewidth=1.4, linestyle="-.", label=label, zorder=5)
         if plane is not None:
             corners = _plane_corners(pose, plane)
             if corners is not None:
@@ -810,7 +849,7 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
 
 def robot_figure(singular, regular=None, *, component: int = 1, model=None, seed: int = 0,
                  highlight=(), arrow=None, arrow_label="", Jv_singular=None, Jv_regular=None,
-                 title: str = "", ax=None, plane=None):
+                 title: str = "", ax=None, plane=None, lines=()):
     """Two 3-D panels: the arm at a component's sample point and at a nearby regular pose.
 
     Parameters
@@ -824,7 +863,7 @@ def robot_figure(singular, regular=None, *, component: int = 1, model=None, seed
     regular : RobotPose, optional
     highlight, arrow, arrow_label, Jv_singular, Jv_regular, title
         As :func:`plot_robot`.
-    plane : int, optional
+    plane, lines : optional
         As :func:`plot_robot`, on the singular panel.
     ax : pair of 3-D axes, optional
         A new Figure's otherwise.
@@ -865,7 +904,8 @@ def robot_figure(singular, regular=None, *, component: int = 1, model=None, seed
                   fig.add_subplot(1, 2, 2, projection=None if flat else "3d")]
         a, b = ax
         plot_robot(singular, highlight=highlight, arrow=arrow, arrow_label=arrow_label,
-                   Jv=Jv_singular, title="singular: the sample point", ax=a, plane=plane)
+                   Jv=Jv_singular, title="singular: the sample point", ax=a, plane=plane,
+                   lines=lines)
         plot_robot(regular, highlight=highlight, Jv=Jv_regular,
                    title="regular: a nearby configuration", ax=b)
         if title:
