@@ -148,7 +148,7 @@ def _robot_figures(model, model_tm, comps, views, nm, params, paths, stem) -> li
             arrow_text += (f" Translucent red, left: the plane through axis {plane} and the "
                            "task point that the reading names.")
         if named and not planar:
-            arrow_text += (" Magenta, dash-dot, extended through the arm, left: "
+            arrow_text += (" Broad magenta, dash-dot, extended through the arm, left: "
                            + "; ".join(what for _, _, what in named) + ".")
         caption = (f"The arm at the sample point of component {idx} (left) and at the regular "
                    f"configuration $q_0 + {t_reg:.2f}\\,d$ on its manipulability path (right; "

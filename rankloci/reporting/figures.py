@@ -35,7 +35,7 @@ DPI = 100
 HEATMAP_SIZE = (7.0, 5.2)
 AUGMENTED_SIZE = (8.0, 3.6)
 PATH_SIZE = (8.0, 4.8)
-ROBOT_SIZE = (8.0, 3.9)
+ROBOT_SIZE = (8.0, 4.2)
 
 #: Font size (pt) of legends and joint numbers on the path and robot figures: the report
 #: prints an 8-inch figure about 5.4 inches wide, so 9 pt reads as 6 pt.
@@ -694,8 +694,8 @@ def axis_line_ends(pose, joint: int):
     """The two ends of the line of joint ``joint``'s axis (1-based), extended through the arm.
 
     The line runs along the axis from its point, as far as the arm reaches along that
-    direction and a fifth of the arm's size beyond, so that every joint origin of the
-    chain is passed on the way.
+    direction and half the arm's size beyond (past the highlighted axes, drawn 0.45 of it
+    long each way), so that every joint origin of the chain is passed on the way.
 
     Examples
     --------
@@ -703,14 +703,14 @@ def axis_line_ends(pose, joint: int):
     >>> from rankloci.reporting.robot import robot_pose
     >>> pose = robot_pose(load_model("planar2r"), {"q1": 0.0, "q2": 0.0})
     >>> [[round(float(x), 2) + 0.0 for x in end] for end in axis_line_ends(pose, 1)]
-    [[0.0, 0.0, -0.4], [0.0, 0.0, 0.4]]
+    [[0.0, 0.0, -1.0], [0.0, 0.0, 1.0]]
     """
     p = np.asarray(pose.axis_points[joint - 1], dtype=float)
     d = np.asarray(pose.axis_directions[joint - 1], dtype=float)
     d = d / np.linalg.norm(d)
     s = (np.asarray(pose.chain, dtype=float) - p) @ d
     lo, hi = float(min(s.min(), 0.0)), float(max(s.max(), 0.0))
-    margin = 0.2 * pose.scale
+    margin = 0.5 * pose.scale
     return np.array([p + (lo - margin) * d, p + (hi + margin) * d])
 
 
@@ -806,7 +806,7 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
         for joint, label in lines:
             ends = axis_line_ends(pose, joint)
             ax.plot(ends[:, 0], ends[:, 1], ends[:, 2], color=READING_LINE_COLOUR,
-                    linewidth=1.4, linestyle="-.", label=label, zorder=5)
+                    linewidth=3.5, alpha=0.6, linestyle="-.", label=label, zorder=5)
         if plane is not None:
             corners = _plane_corners(pose, plane)
             if corners is not None:
@@ -908,6 +908,15 @@ def robot_figure(singular, regular=None, *, component: int = 1, model=None, seed
                    lines=lines)
         plot_robot(regular, highlight=highlight, Jv=Jv_regular,
                    title="regular: a nearby configuration", ax=b)
+        if not flat and a.get_legend() is not None:
+            # one legend for both 3-D panels, below them: in a panel, a legend of several
+            # entries would cover the arm or widen its panel at the other's expense
+            handles, labels = a.get_legend_handles_labels()
+            for x in (a, b):
+                if x.get_legend() is not None:
+                    x.get_legend().remove()
+            a.figure.legend(handles, labels, loc="outside lower center", fontsize=LABEL_PT,
+                            ncols=min(len(labels), 3), frameon=False)
         if title:
             a.figure.suptitle(title)
     return np.asarray([a, b], dtype=object)
