@@ -20,6 +20,7 @@ functions (the command line's ``--help`` stays fast).
 from __future__ import annotations
 
 import io
+import itertools
 import subprocess
 
 import numpy as np
@@ -714,6 +715,47 @@ def axis_line_ends(pose, joint: int):
     return np.array([p + (lo - margin) * d, p + (hi + margin) * d])
 
 
+def _joint_numbers(ax, labels):
+    """Write each (point, joint) of ``labels`` on the 3-D ``ax``; numbers that would fall
+    on one another as seen (axes through one point, axes seen end-on) are written once,
+    together, at the first one's place."""
+    from mpl_toolkits.mplot3d import proj3d
+
+    if not labels:
+        return
+    M = ax.get_proj()
+    corners = np.array(list(itertools.product(ax.get_xlim3d(), ax.get_ylim3d(),
+                                              ax.get_zlim3d())))
+    cx, cy, _ = proj3d.proj_transform(*corners.T, M)
+    span = max(float(np.ptp(cx)), float(np.ptp(cy)))
+    groups = []
+    for where, k in labels:
+        x, y, _ = proj3d.proj_transform(*where, M)
+        near = next((g for g in groups if np.hypot(g[1][0] - x, g[1][1] - y) < 0.06 * span),
+                    None)
+        if near is None:
+            groups.append((where, (x, y), [k]))
+        else:
+            near[2].append(k)
+    for where, _, ks in groups:
+        ax.text(*where, ", ".join(map(str, ks)), color="#d62728", fontsize=LABEL_PT)
+
+
+def _clipped_to_box(ends, lo, hi):
+    """The part of the segment ``ends`` (2, 3) inside the box ``lo``..``hi``, or None."""
+    a, b = np.asarray(ends, dtype=float)
+    t0, t1 = 0.0, 1.0
+    for k in range(3):
+        step = b[k] - a[k]
+        if step == 0:
+            if not lo[k] <= a[k] <= hi[k]:
+                return None
+            continue
+        u, v = (lo[k] - a[k]) / step, (hi[k] - a[k]) / step
+        t0, t1 = max(t0, min(u, v)), min(t1, max(u, v))
+    return None if t0 >= t1 else np.array([a + t0 * (b - a), a + t1 * (b - a)])
+
+
 def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), arrow=None,
                arrow_label="", Jv=None, title: str = "", ax=None, plane=None, lines=()):
     """The arm at one configuration in 3-D: links, joint axes, task point.
@@ -789,6 +831,7 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
             ax.plot(edge[:, 0], edge[:, 1], edge[:, 2], color="#555555", linewidth=1.2)
         ax.plot(chain[:, 0], chain[:, 1], chain[:, 2], color="#333333", linewidth=2.2,
                 marker="o", markersize=2.5)
+        hot_labels = []
         for k, (p, d, kind) in enumerate(zip(pose.axis_points, pose.axis_directions,
                                              pose.kinds), start=1):
             hot = k in highlight
@@ -801,10 +844,13 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
                 for edge in _box_edges(p, d, 0.14 * scale, 0.05 * scale):
                     ax.plot(edge[:, 0], edge[:, 1], edge[:, 2], color=colour, linewidth=1.0)
             if hot:
-                ax.text(*(p + half_axis * d), f"{k}", color="#d62728", fontsize=LABEL_PT)
+                hot_labels.append((p + half_axis * d, k))
         tip = np.asarray(pose.tool)
+        box = (mid - half, mid + half)
         for joint, label in lines:
-            ends = axis_line_ends(pose, joint)
+            ends = _clipped_to_box(axis_line_ends(pose, joint), *box)
+            if ends is None:
+                continue
             ax.plot(ends[:, 0], ends[:, 1], ends[:, 2], color=READING_LINE_COLOUR,
                     linewidth=3.5, alpha=0.6, linestyle="-.", label=label, zorder=5)
         if plane is not None:
@@ -840,6 +886,7 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
         ax.set_zlabel("z")
         ax.tick_params(labelsize=LABEL_PT)
         ax.view_init(elev=22, azim=-60)
+        _joint_numbers(ax, hot_labels)
         if title:
             ax.set_title(title, fontsize=10)
         ax.legend(loc="upper left", fontsize=LABEL_PT,

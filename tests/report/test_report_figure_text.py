@@ -35,7 +35,7 @@ MIN_DELTA_E = 20.0
 #: round-off of finding the centre of a full turn from its ends and back.
 SAME_WINDOW_REL = 1e-9
 
-MODELS = ("planar3r", "planar3r_orient", "puma560", "ur5")
+MODELS = ("planar3r", "planar3r_orient", "puma560", "ur5", "ssrms", "stanford")
 
 
 @pytest.fixture(scope="module")
@@ -255,3 +255,67 @@ def test_both_panels_of_the_augmented_figure_cover_the_same_window(drawn):
     a, b = np.asarray(extents)
     width = max(a[1] - a[0], a[3] - a[2])
     assert np.max(np.abs(a - b)) <= SAME_WINDOW_REL * width, extents
+
+
+def _data_boxes(fig, renderer) -> list:
+    """The window box of the data each Axes of ``fig`` plots: of a 3-D Axes, the box of its
+    cube of limits as projected (the data lie inside it); of a 2-D Axes, of its lines,
+    collections and images."""
+    from matplotlib.transforms import Bbox
+    from mpl_toolkits.mplot3d import proj3d
+
+    out = []
+    for ax in fig.axes:
+        if ax.name == "3d":
+            corners = np.array(list(itertools.product(ax.get_xlim3d(), ax.get_ylim3d(),
+                                                      ax.get_zlim3d())))
+            x, y, _ = proj3d.proj_transform(*corners.T, ax.get_proj())
+            out.append(Bbox.union([Bbox.from_extents(*ax.transData.transform((a, b)),
+                                                     *ax.transData.transform((a, b)))
+                                   for a, b in zip(x, y)]))
+        else:
+            artists = [*ax.get_lines(), *ax.collections, *ax.images]
+            out += [a.get_window_extent(renderer) for a in artists if a.get_visible()]
+    return out
+
+
+def _legends_over_data(fig, renderer) -> list:
+    """The texts of each legend of ``fig`` whose box meets the box of some plotted data."""
+    out = []
+    legends = [ax.get_legend() for ax in fig.axes if ax.get_legend() is not None]
+    legends += list(fig.legends)
+    boxes = _data_boxes(fig, renderer)
+    for legend in legends:
+        e = legend.get_window_extent(renderer)
+        for b in boxes:
+            w = min(e.x1, b.x1) - max(e.x0, b.x0)
+            h = min(e.y1, b.y1) - max(e.y0, b.y0)
+            if w > OVERLAP_ALLOWANCE_PX and h > OVERLAP_ALLOWANCE_PX:
+                out.append(tuple(t.get_text() for t in legend.get_texts()))
+                break
+    return out
+
+
+@pytest.mark.parametrize("three", [False, True])
+def test_the_legend_check_finds_a_legend_over_the_data(three):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from rankloci.near.figures import plot_manipulability
+
+    fig = Figure(figsize=(3.4, 3.4), dpi=F.DPI)
+    J = np.array([[1.0, 0.4, 0.2], [0.3, 1.0, 0.5], [0.1, 0.2, 0.9]])[:3 if three else 2]
+    plot_manipulability(J, ax=fig.add_subplot(projection="3d" if three else None))
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    assert _legends_over_data(fig, canvas.get_renderer())      # its legend is inside
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", MODELS)
+def test_near_manipulability_legends_leave_the_plots_free(drawn, name):
+    figs = [(label, fig, r) for label, fig, r in drawn[name] if "-near-manipulability" in label]
+    assert len(figs) == 1
+    for label, fig, renderer in figs:
+        assert sum(ax.get_legend() is not None for ax in fig.axes) >= 2
+        assert not _legends_over_data(fig, renderer), label
