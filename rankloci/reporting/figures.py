@@ -46,9 +46,10 @@ LABEL_PT = 9
 ROBOT_CUBE_ZOOM = 0.85
 
 #: Locus curves: colours that stand out on viridis, with a dark outline; any two differ by a
-#: CIE76 delta E of at least 20 (tests/report/test_report_figure_text.py).
+#: CIE76 delta E of at least 20, and each differs by as much from every colour of viridis
+#: (tests/report/test_report_figure_text.py).
 CURVE_COLOURS = ("#ff2d55", "#ffffff", "#00e5ff", "#ffb000", "#ff66ff", "#7CFC00",
-                 "#ff8c00", "#c0c0c0", "#1e90ff", "#ffd700")
+                 "#ff8c00", "#c0c0c0", "#1e90ff", "#a0522d")
 _LINESTYLES = ("-", "--", "-.", ":")
 
 #: Width (points) of a locus line on a heat map; its dark edge is half a point wider.

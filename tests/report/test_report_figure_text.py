@@ -319,3 +319,80 @@ def test_near_manipulability_legends_leave_the_plots_free(drawn, name):
     for label, fig, renderer in figs:
         assert sum(ax.get_legend() is not None for ax in fig.axes) >= 2
         assert not _legends_over_data(fig, renderer), label
+
+
+#: Smallest CIE76 difference between a locus line and the heat-map colour beneath any point
+#: of it: the same margin as between two lines (a thin line must stand out from its ground).
+MIN_DELTA_E_GROUND = 20.0
+
+
+def _ground_colours(ax, xy) -> np.ndarray:
+    """The RGB colours of the heat map of ``ax`` at the points ``xy`` (n, 2), as drawn."""
+    image = ax.images[0]
+    x0, x1, y0, y1 = image.get_extent()
+    values = np.ma.getdata(image.get_array())
+    ny, nx = values.shape
+    cols = np.clip(((xy[:, 0] - x0) / (x1 - x0) * nx).astype(int), 0, nx - 1)
+    rows = np.clip(((xy[:, 1] - y0) / (y1 - y0) * ny).astype(int), 0, ny - 1)
+    return image.cmap(image.norm(values[rows, cols]))[:, :3]
+
+
+def _ground_contrast(ax) -> dict:
+    """Component label -> the smallest CIE76 difference between its line's colour and the
+    heat-map colours beneath the points of that line."""
+    from matplotlib.colors import to_rgb
+
+    out = {}
+    for line in ax.get_lines():
+        lab = line.get_label()
+        if "point" in lab or not len(line.get_xydata()):
+            continue
+        dotted = line.get_linestyle() in ("None", "none", " ", "")
+        colour = _lab(to_rgb(line.get_markerfacecolor() if dotted else line.get_color()))
+        ground = np.array([_lab(c) for c in _ground_colours(ax, np.asarray(line.get_xydata()))])
+        d = float(np.min(np.linalg.norm(ground - colour, axis=1)))
+        key = lab if not lab.startswith("_") else f"segment of {line.get_color()}"
+        out[key] = min(d, out.get(key, np.inf))
+    return out
+
+
+def test_the_ground_check_finds_a_line_the_colour_of_its_ground():
+    from matplotlib.figure import Figure
+
+    ax = Figure().add_subplot()
+    ax.imshow(np.linspace(0, 1, 100).reshape(10, 10), cmap="viridis", extent=(0, 1, 0, 1),
+              origin="lower")
+    ax.plot([0.05, 0.05], [0.05, 0.95], color="#ffffff", label="component 1")
+    ax.plot([0.05, 0.05], [0.05, 0.95], color="#440154", label="component 2")  # viridis at 0
+    found = _ground_contrast(ax)
+    assert found["component 1"] >= MIN_DELTA_E_GROUND > found["component 2"]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", MODELS)
+def test_locus_lines_stand_out_from_the_heat_map_beneath(drawn, name):
+    seen = 0
+    for label, fig, _ in drawn[name]:
+        if "-sigma-" not in label and "-augmented" not in label:
+            continue
+        for ax in fig.axes:
+            if not ax.images:
+                continue
+            found = _ground_contrast(ax)
+            seen += len(found)
+            bad = {k: round(v, 1) for k, v in found.items() if v < MIN_DELTA_E_GROUND}
+            assert not bad, (label, bad)
+    if name != "planar3r_orient":
+        assert seen >= 1
+
+
+def test_every_locus_colour_stands_out_from_the_whole_colormap():
+    # a line may cross any value of the heat map: each colour of the palette keeps the margin
+    # from every colour of viridis
+    from matplotlib import colormaps
+    from matplotlib.colors import to_rgb
+
+    ramp = np.array([_lab(c[:3]) for c in colormaps["viridis"](np.linspace(0, 1, 256))])
+    for c in F.CURVE_COLOURS:
+        d = float(np.min(np.linalg.norm(ramp - _lab(to_rgb(c)), axis=1)))
+        assert d >= MIN_DELTA_E_GROUND, (c, round(d, 1))
