@@ -128,6 +128,7 @@ class Report:
     near: object = None       # near_section.NearData: manipulability and rates near the locus
     limits: tuple = ()        # rankloci.limits.LimitCheck per component of the model's locus
     determinant: object = None  # determinant.FactoredDeterminant of a square J, or None
+    minor_gcd: object = None  # determinant.MinorGcd of a wide or tall J, or None
 
     def limit_check(self, index: int):
         """The :class:`~rankloci.limits.LimitCheck` of component ``index`` (1-based), or None."""
@@ -329,6 +330,14 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
             [sp.sympify(f, strict=True).subs(spelled) for f in forms], params, rng(seed)))
         if determinant is not None:   # shown in the notation of J, checked spelled out
             determinant = replace(determinant, factors=tuple(forms))
+    # the gcd of the maximal minors of a wide or tall J, exactly, within bounds
+    minor_gcd = None
+    if (locus is not None and getattr(locus, "base", None) is None
+            and model_tm.shape[0] != model_tm.shape[1] and min(model_tm.shape) > 0):
+        from .determinant import maximal_minor_gcd
+
+        minor_gcd = timed("gcd of the maximal minors", lambda: maximal_minor_gcd(
+            model_tm.matrix, model_tm.variables, model_tm.angles))
 
     augmented = ()
     base = getattr(locus, "base", None) if locus is not None else None
@@ -363,7 +372,8 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
                   exact=exact_result, tree=tree, figures=figures, timings=tuple(timings),
                   seed=seed, samples=samples, timeout=timeout, numeric=numeric,
                   augmented=augmented, notes=notes, model_notes=model_notes, stamp=stamp,
-                  near=near, limits=limits, determinant=determinant)
+                  near=near, limits=limits, determinant=determinant,
+                  minor_gcd=minor_gcd)
 
 
 def _strokes(model, nm) -> dict:
