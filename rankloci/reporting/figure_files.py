@@ -60,7 +60,7 @@ def _vector3(labels, vec, rows) -> np.ndarray:
 def _robot_figures(model, model_tm, comps, views, nm, params, paths, stem) -> list:
     """A picture of the arm at each component's sample point and at a nearby regular pose."""
     from ..model import RobotModel
-    from .figures import ROBOT_REGULAR_T, robot_png
+    from .figures import HIGHLIGHT_LONG_MAX, ROBOT_REGULAR_T, robot_png
     from .robot import robot_pose
 
     if not isinstance(model, RobotModel) or getattr(model, "frame", "base") != "base":
@@ -136,8 +136,8 @@ def _robot_figures(model, model_tm, comps, views, nm, params, paths, stem) -> li
                      + "; orange star: the task point, with the end-effector frame's x (red) "
                      "and y (green) axes.")
         else:
-            hot = (f" Red, long: the axes the reading names ({', '.join(map(str, axes))})."
-                   if axes else "")
+            hot = (f" Red{', long' if len(axes) <= HIGHLIGHT_LONG_MAX else ''}: the axes the "
+                   f"reading names ({', '.join(map(str, axes))})." if axes else "")
             parts = ("Grey: the links through the frame origins, from the base (dark box) on "
                      "the floor (light grey); blue: the joint axes"
                      + (" (dashed, in a box, for prismatic joints)" if prismatic else "")

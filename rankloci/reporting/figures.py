@@ -42,6 +42,11 @@ ROBOT_SIZE = (8.0, 4.2)
 #: prints an 8-inch figure about 5.4 inches wide, so 9 pt reads as 6 pt.
 LABEL_PT = 9
 
+#: Highlighted axes are drawn long (through the arm) when at most this many are: more long
+#: lines than this tangle over the arm (a reading that names all seven axes of the SSRMS),
+#: and they are drawn at the length of the others, in red.
+HIGHLIGHT_LONG_MAX = 4
+
 #: A 3-D arm's cube fills this fraction of its panel, leaving room for the axis labels.
 ROBOT_CUBE_ZOOM = 0.85
 
@@ -775,7 +780,8 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
     model : optional
         For a locus: the robot it is of.
     highlight : sequence of int
-        1-based joints whose axes are drawn long and red (the axes a reading names).
+        1-based joints whose axes are drawn red (the axes a reading names), and long
+        when there are at most :data:`HIGHLIGHT_LONG_MAX` of them.
     arrow : array_like of 3 floats, optional
         A direction drawn as an arrow at the task point (the lost direction).
     Jv : numpy.ndarray, optional
@@ -833,11 +839,12 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
         ax.plot(chain[:, 0], chain[:, 1], chain[:, 2], color="#333333", linewidth=2.2,
                 marker="o", markersize=2.5)
         hot_labels = []
+        long_axes = len(highlight) <= HIGHLIGHT_LONG_MAX
         for k, (p, d, kind) in enumerate(zip(pose.axis_points, pose.axis_directions,
                                              pose.kinds), start=1):
             hot = k in highlight
             colour = "#d62728" if hot else "#1f77b4"
-            half_axis = (0.45 if hot else 0.12) * scale
+            half_axis = (0.45 if hot and long_axes else 0.12) * scale
             seg = np.array([p - half_axis * d, p + half_axis * d])
             ax.plot(seg[:, 0], seg[:, 1], seg[:, 2], color=colour,
                     linewidth=2.0 if hot else 1.0, linestyle="-" if kind == "revolute" else "--")
