@@ -330,14 +330,16 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
             [sp.sympify(f, strict=True).subs(spelled) for f in forms], params, rng(seed)))
         if determinant is not None:   # shown in the notation of J, checked spelled out
             determinant = replace(determinant, factors=tuple(forms))
-    # the gcd of the maximal minors of a wide or tall J, exactly, within bounds
+    # the gcd of the maximal minors of a wide or tall J, exactly, within bounds; in the
+    # locus frame, where the minors are smallest: another frame and reference point multiply
+    # J on the left by a matrix of determinant 1, and every maximal minor by that determinant
     minor_gcd = None
     if (locus is not None and getattr(locus, "base", None) is None
-            and model_tm.shape[0] != model_tm.shape[1] and min(model_tm.shape) > 0):
+            and tm.shape[0] != tm.shape[1] and min(tm.shape) > 0):
         from .determinant import maximal_minor_gcd
 
         minor_gcd = timed("gcd of the maximal minors", lambda: maximal_minor_gcd(
-            model_tm.matrix, model_tm.variables, model_tm.angles))
+            tm.matrix, tm.variables, tm.angles))
 
     augmented = ()
     base = getattr(locus, "base", None) if locus is not None else None
