@@ -57,8 +57,11 @@ CURVE_COLOURS = ("#ff2d55", "#ffffff", "#00e5ff", "#ffb000", "#ff66ff", "#7CFC00
                  "#ff8c00", "#c0c0c0", "#1e90ff", "#a0522d")
 _LINESTYLES = ("-", "--", "-.", ":")
 
-#: Width (points) of a locus line on a heat map; its dark edge is half a point wider.
-CURVE_WIDTH = 0.6
+#: Width (points) of a locus line on a heat map: a little over one pixel as printed, so
+#: that its colour is seen and not only its dark edge.
+CURVE_WIDTH = 0.9
+#: Its dark edge is this much wider (points): a hairline on either side of the colour.
+CURVE_EDGE = 0.3
 
 #: Colour of the lines a reading names on a 3-D arm (collinear axes, an axis a point lies
 #: on): magenta, told apart from the grey links, the blue and red axes, the green ellipsoid,
@@ -131,7 +134,7 @@ def _draw_slice(ax, data, names, prismatic, norm, cmap, *, legend=True, prefix="
                      norm=norm, cmap=cmap, interpolation="nearest")
     # thin lines with a hairline dark edge, narrower than the valley of the ratio they mark;
     # each component differs from the others in colour and in dash pattern (told apart in grey)
-    outline = [pe.Stroke(linewidth=CURVE_WIDTH + 0.5, foreground="black"), pe.Normal()]
+    outline = [pe.Stroke(linewidth=CURVE_WIDTH + CURVE_EDGE, foreground="black"), pe.Normal()]
     for idx, lines, pts in data.curves:
         colour = CURVE_COLOURS[(idx - 1) % len(CURVE_COLOURS)]
         style = _LINESTYLES[(idx - 1) % len(_LINESTYLES)]
