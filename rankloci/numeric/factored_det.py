@@ -13,6 +13,7 @@ it is a small rational multiple of a product of parameters, else as a number.
 from __future__ import annotations
 
 import itertools
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -20,7 +21,8 @@ import sympy as sp
 
 from ..tolerances import DET_FACTOR_RTOL, DET_POINTS
 
-__all__ = ["FactoredDeterminant", "factored_determinant"]
+__all__ = ["FactoredDeterminant", "factored_determinant", "MinorGcd", "maximal_minor_gcd",
+           "MAX_MINORS", "MINOR_MAX_TERMS"]
 
 #: Rational multipliers tried for an exact constant (half-angle factors bring powers of 2).
 _MULTIPLIERS = (1, 2, 4, 8, sp.Rational(1, 2), sp.Rational(1, 4), sp.Rational(1, 8))
@@ -131,3 +133,117 @@ def factored_determinant(jacobian, variables, kinds, factors, params, rng):
     constant = exact if exact is not None else sp.Float(kappa, 6)
     return FactoredDeterminant(constant, tuple(factors), powers, exact is not None,
                                DET_POINTS * len(kappas))
+
+
+#: A wide or tall J with more maximal minors than this gets no gcd (stated in the report):
+#: a 6 x 8 J has 28, a 6 x 9 J 84.
+MAX_MINORS = 50
+#: A maximal minor larger than this many terms stops the gcd (stated in the report): it
+#: bounds the time as a term budget does, the same on every machine.
+MINOR_MAX_TERMS = 20000
+
+
+@dataclass(frozen=True)
+class MinorGcd:
+    """The gcd of the maximal minors of a wide or tall J, factored, or why it is not given.
+
+    ``factors`` (in the joint variables) and ``powers`` are empty when the gcd is a constant
+    (or ``skipped`` says why it was not computed); ``minors`` is how many maximal minors J
+    has; ``parameter_factor`` is the product of the factors in the parameters alone (zero
+    only at special parameter values).
+    """
+
+    shape: tuple
+    minors: int
+    factors: tuple = ()
+    powers: tuple = ()
+    skipped: str = ""
+    parameter_factor: sp.Expr = sp.Integer(1)  # the factors in the parameters alone
+
+
+def maximal_minor_gcd(matrix, variables, angles, *, max_minors: int = MAX_MINORS,
+                      max_terms: int = MINOR_MAX_TERMS) -> MinorGcd:
+    """The gcd of the maximal minors of a wide or tall ``matrix``, factored, computed exactly.
+
+    The minors are polynomials in the half-angle cosines and sines of ``angles``, the other
+    variables and the parameters (FLINT, over the rationals); their gcd, with the circles
+    ``cos(q/2)**2 + sin(q/2)**2`` and constants dropped, vanishes exactly where every maximal
+    minor does because of one common factor: a hypersurface where J loses rank.  A gcd of 1
+    says the locus has codimension 2 or more.
+
+    Parameters
+    ----------
+    matrix : sympy.Matrix
+        J, not square.
+    variables : sequence of sympy.Symbol
+        The joint variables.
+    angles : sequence of sympy.Symbol
+        Those of ``variables`` that enter through sin and cos.
+    max_minors, max_terms : int
+        Bounds: more minors than ``max_minors``, or a minor over ``max_terms`` terms, and
+        the result is ``skipped`` with the reason.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> q1, q2, x = sp.symbols("q1 q2 x")
+    >>> J = sp.Matrix([[sp.sin(q2), 0, sp.cos(q1) * sp.sin(q2)], [x, 1, 0]])
+    >>> g = maximal_minor_gcd(J, [q1, q2, x], [q1, q2])
+    >>> g.minors, g.factors, g.powers
+    (3, (sin(q2),), (1,))
+    """
+    from ..algebra.polys import TermLimit, circle_free_det, common_factor
+    from ..algebra.ring import PolyRing, square_root_primes
+
+    M = sp.Matrix(matrix)
+    m, n = M.shape
+    if m == n:
+        raise ValueError(f"matrix: a wide or tall J has maximal minors of interest, this one "
+                         f"is square ({m} x {n})")
+    small = min(m, n)
+    count = math.comb(max(m, n), small)
+    if count > max_minors:
+        return MinorGcd((m, n), count, skipped=f"J has {count} maximal minors, more than the "
+                                                f"{max_minors} computed")
+    angles = tuple(angles)
+    others = tuple(v for v in variables if v not in angles)
+    known = set(variables)
+    params = tuple(sorted({s for e in M for s in e.free_symbols if s not in known},
+                          key=lambda s: s.name))
+    ring = PolyRing(angles, others, params, square_root_primes(M))
+    rows = ring.from_sympy_rows(M if m < n else M.T)
+    minors = []
+    for cols in itertools.combinations(range(max(m, n)), small):
+        sub = [[row[c] for c in cols] for row in rows]
+        try:
+            minors.append(circle_free_det(sub, ring, max_terms=max_terms))
+        except TermLimit:
+            return MinorGcd((m, n), count, skipped=f"a maximal minor has more than {max_terms} "
+                                                   "terms")
+    g = common_factor(minors)
+    if g is None or ring.is_number(g):
+        return MinorGcd((m, n), count)
+    circles = [ring.C(i) * ring.C(i) + ring.S(i) * ring.S(i) for i in range(ring.n_angles)]
+    joints = set(range(2 * len(angles) + len(others)))
+    found, parameters = {}, []
+    for f, k in g.factor()[1]:
+        if f.is_constant() or any(f == c for c in circles) or ring.is_number(f):
+            continue
+        if ring.variable_indices(f) & joints:
+            e = ring.to_sympy(f)
+            found[e] = found.get(e, 0) + int(k)
+        else:
+            parameters.append(ring.to_sympy(f) ** int(k))
+    # the half angles of the ring joined again: sin(q/2) cos(q/2) is sin(q)/2, and
+    # (cos(q/2) - sin(q/2)) (cos(q/2) + sin(q/2)) is cos(q)
+    for q in angles:
+        s, c = sp.sin(q / 2), sp.cos(q / 2)
+        for pair, whole in (((s, c), sp.sin(q)), ((c - s, c + s), sp.cos(q))):
+            k = min(found.get(pair[0], 0), found.get(pair[1], 0))
+            if k:
+                for h in pair:
+                    found[h] -= k
+                found[whole] = found.get(whole, 0) + k
+    kept = [(e, k) for e, k in found.items() if k]
+    return MinorGcd((m, n), count, tuple(e for e, _ in kept), tuple(k for _, k in kept),
+                    parameter_factor=sp.Mul(*parameters))

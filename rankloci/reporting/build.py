@@ -127,6 +127,7 @@ class Report:
     near: object = None       # near_section.NearData: manipulability and rates near the locus
     limits: tuple = ()        # rankloci.limits.LimitCheck per component of the model's locus
     determinant: object = None  # determinant.FactoredDeterminant of a square J, or None
+    minor_gcd: object = None  # determinant.MinorGcd of a wide or tall J, or None
 
     def limit_check(self, index: int):
         """The :class:`~rankloci.limits.LimitCheck` of component ``index`` (1-based), or None."""
@@ -332,6 +333,16 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
             [sp.sympify(f, strict=True).subs(spelled) for f in forms], params, rng(seed)))
         if determinant is not None:   # shown in the notation of J, checked spelled out
             determinant = replace(determinant, factors=tuple(forms))
+    # the gcd of the maximal minors of a wide or tall J, exactly, within bounds; in the
+    # locus frame, where the minors are smallest: another frame and reference point multiply
+    # J on the left by a matrix of determinant 1, and every maximal minor by that determinant
+    minor_gcd = None
+    if (locus is not None and getattr(locus, "base", None) is None
+            and tm.shape[0] != tm.shape[1] and min(tm.shape) > 0):
+        from .determinant import maximal_minor_gcd
+
+        minor_gcd = timed("gcd of the maximal minors", lambda: maximal_minor_gcd(
+            tm.matrix, tm.variables, tm.angles))
 
     augmented = ()
     base = getattr(locus, "base", None) if locus is not None else None
@@ -366,7 +377,8 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
                   exact=exact_result, tree=tree, figures=figures, timings=tuple(timings),
                   seed=seed, samples=samples, timeout=timeout, numeric=numeric,
                   augmented=augmented, notes=notes, model_notes=model_notes, stamp=stamp,
-                  near=near, limits=limits, determinant=determinant)
+                  near=near, limits=limits, determinant=determinant,
+                  minor_gcd=minor_gcd)
 
 
 def _strokes(model, nm) -> dict:

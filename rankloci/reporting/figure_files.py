@@ -18,7 +18,7 @@ import sympy as sp
 from .blocks import SIGMA, numbered, plural, signed
 from ..numeric.svd import sigma_ratio
 
-__all__ = ["FigureFile", "report_figures", "MAX_SLICES", "MAX_PATHS"]
+__all__ = ["FigureFile", "report_figures", "reading_lines", "MAX_SLICES", "MAX_PATHS"]
 
 #: At most this many heat-map slices and manipulability paths per report.
 MAX_SLICES = 4
@@ -60,7 +60,7 @@ def _vector3(labels, vec, rows) -> np.ndarray:
 def _robot_figures(model, model_tm, comps, views, nm, params, paths, stem) -> list:
     """A picture of the arm at each component's sample point and at a nearby regular pose."""
     from ..model import RobotModel
-    from .figures import ROBOT_REGULAR_T, robot_png
+    from .figures import HIGHLIGHT_LONG_MAX, ROBOT_REGULAR_T, robot_png
     from .robot import robot_pose
 
     if not isinstance(model, RobotModel) or getattr(model, "frame", "base") != "base":
@@ -105,13 +105,15 @@ def _robot_figures(model, model_tm, comps, views, nm, params, paths, stem) -> li
         through = re.compile(r"the task point lies in the plane through axis (\d+)\b")
         plane = next((int(m.group(1)) for r in (view.readings if view is not None else ())
                       if (m := through.search(r))), None)
+        named = reading_lines(view.readings if view is not None else ())
         Jv0 = J0[lin] if lin else None
         Jv1 = J1[lin] if lin else None
         title = f"{stem}: component {idx}"
         pose0 = robot_pose(model, dict(zip(names, q0)), params)
         pose1 = robot_pose(model, dict(zip(names, q1)), params)
         png = robot_png(pose0, pose1, highlight=axes, arrow=arrow, arrow_label=what,
-                        Jv_singular=Jv0, Jv_regular=Jv1, title=title, plane=plane)
+                        Jv_singular=Jv0, Jv_regular=Jv1, title=title, plane=plane,
+                        lines=tuple((g[0], label) for g, label, _ in named))
         prismatic = "prismatic" in pose0.kinds
         flat = ""
         if lin:
@@ -134,8 +136,8 @@ def _robot_figures(model, model_tm, comps, views, nm, params, paths, stem) -> li
                      + "; orange star: the task point, with the end-effector frame's x (red) "
                      "and y (green) axes.")
         else:
-            hot = (f" Red, long: the axes the reading names ({', '.join(map(str, axes))})."
-                   if axes else "")
+            hot = (f" Red{', long' if len(axes) <= HIGHLIGHT_LONG_MAX else ''}: the axes the "
+                   f"reading names ({', '.join(map(str, axes))})." if axes else "")
             parts = ("Grey: the links through the frame origins, from the base (dark box) on "
                      "the floor (light grey); blue: the joint axes"
                      + (" (dashed, in a box, for prismatic joints)" if prismatic else "")
@@ -145,6 +147,9 @@ def _robot_figures(model, model_tm, comps, views, nm, params, paths, stem) -> li
         if plane is not None and not planar:
             arrow_text += (f" Translucent red, left: the plane through axis {plane} and the "
                            "task point that the reading names.")
+        if named and not planar:
+            arrow_text += (" Broad magenta, dash-dot, extended through the arm, left: "
+                           + "; ".join(what for _, _, what in named) + ".")
         caption = (f"The arm at the sample point of component {idx} (left) and at the regular "
                    f"configuration $q_0 + {t_reg:.2f}\\,d$ on its manipulability path (right; "
                    f"{SIGMA} = {float(np.interp(t_reg, path.t, path.ratio)):.2g}). "
@@ -152,6 +157,44 @@ def _robot_figures(model, model_tm, comps, views, nm, params, paths, stem) -> li
         out.append(FigureFile(f"{stem}-robot-{idx}.png", png, caption, "robot", title, (idx,),
                               idx))
     return out
+
+
+_COLLINEAR = re.compile(r"\baxes ((?:\d+, )*\d+) and (\d+) are collinear")
+_ON_AXIS = re.compile(r"\b(the task point|the point where axes (?:(?:\d+, )*\d+ and )?\d+ meet)"
+                      r" lies on axis (\d+)\b")
+
+
+def reading_lines(readings) -> tuple:
+    """The lines a component's readings name, to be drawn on the arm.
+
+    Each is (joints, legend label, caption phrase): a group of collinear axes (one line
+    through them all), or an axis a point lies on (the task point, a wrist centre).  A
+    line is named once, by its first mention.
+
+    Examples
+    --------
+    >>> reading_lines(["Wrist singularity: axes 4 and 6 are collinear"])
+    (((4, 6), 'axes 4 and 6 (collinear)', 'the line of axes 4 and 6, collinear'),)
+    >>> reading_lines(["Boom singularity: the point where axes 4, 5 and 6 meet lies on axis 2"])[0][:2]
+    ((2,), 'axis 2 (a point on it)')
+    """
+    out, seen = [], set()
+    for r in readings:
+        found = []
+        for m in _COLLINEAR.finditer(r):
+            g = tuple(int(x) for x in m.group(1).split(", ")) + (int(m.group(2)),)
+            names = ", ".join(map(str, g[:-1])) + f" and {g[-1]}"
+            found.append((m.start(), g, f"axes {names} (collinear)",
+                          f"the line of axes {names}, collinear"))
+        for m in _ON_AXIS.finditer(r):
+            k = int(m.group(2))
+            found.append((m.start(), (k,), f"axis {k} (a point on it)",
+                          f"the line of axis {k}, on which {m.group(1)} lies"))
+        for _, g, label, what in sorted(found):
+            if not seen & set(g):
+                seen.update(g)
+                out.append((g, label, what))
+    return tuple(out)
 
 
 def _tol_text() -> str:

@@ -20,37 +20,53 @@ functions (the command line's ``--help`` stays fast).
 from __future__ import annotations
 
 import io
+import itertools
 import subprocess
 
 import numpy as np
 
 __all__ = ["plot_sigma_slice", "locus_slice", "plot_augmented", "plot_manipulability_path",
-           "plot_manipulability_paths", "manipulability_paths", "plot_tree", "plot_robot", "robot_figure", "figure_png",
-           "heatmap_png", "augmented_png", "manipulability_png", "tree_png", "robot_png",
-           "tree_dot_source", "HEATMAP_SIZE", "PATH_SIZE", "AUGMENTED_SIZE", "ROBOT_SIZE", "DPI"]
+           "plot_manipulability_paths", "manipulability_paths", "plot_tree", "plot_robot",
+           "robot_figure", "axis_line_ends", "figure_png", "heatmap_png", "augmented_png",
+           "manipulability_png", "tree_png", "robot_png", "tree_dot_source", "HEATMAP_SIZE",
+           "PATH_SIZE", "AUGMENTED_SIZE", "ROBOT_SIZE", "DPI"]
 
 DPI = 100
 #: Figure sizes in inches; at DPI they give the pixel sizes the tests expect.
 HEATMAP_SIZE = (7.0, 5.2)
 AUGMENTED_SIZE = (8.0, 3.6)
 PATH_SIZE = (8.0, 4.8)
-ROBOT_SIZE = (8.0, 3.9)
+ROBOT_SIZE = (8.0, 4.2)
 
 #: Font size (pt) of legends and joint numbers on the path and robot figures: the report
 #: prints an 8-inch figure about 5.4 inches wide, so 9 pt reads as 6 pt.
 LABEL_PT = 9
 
+#: Highlighted axes are drawn long (through the arm) when at most this many are: more long
+#: lines than this tangle over the arm (a reading that names all seven axes of the SSRMS),
+#: and they are drawn at the length of the others, in red.
+HIGHLIGHT_LONG_MAX = 4
+
 #: A 3-D arm's cube fills this fraction of its panel, leaving room for the axis labels.
 ROBOT_CUBE_ZOOM = 0.85
 
 #: Locus curves: colours that stand out on viridis, with a dark outline; any two differ by a
-#: CIE76 delta E of at least 20 (tests/report/test_report_figure_text.py).
+#: CIE76 delta E of at least 20, and each differs by as much from every colour of viridis
+#: (tests/report/test_report_figure_text.py).
 CURVE_COLOURS = ("#ff2d55", "#ffffff", "#00e5ff", "#ffb000", "#ff66ff", "#7CFC00",
-                 "#ff8c00", "#c0c0c0", "#1e90ff", "#ffd700")
+                 "#ff8c00", "#c0c0c0", "#1e90ff", "#a0522d")
 _LINESTYLES = ("-", "--", "-.", ":")
 
-#: Width (points) of a locus line on a heat map; its dark edge is half a point wider.
-CURVE_WIDTH = 0.6
+#: Width (points) of a locus line on a heat map: a little over one pixel as printed, so
+#: that its colour is seen and not only its dark edge.
+CURVE_WIDTH = 0.9
+#: Its dark edge is this much wider (points): a hairline on either side of the colour.
+CURVE_EDGE = 0.3
+
+#: Colour of the lines a reading names on a 3-D arm (collinear axes, an axis a point lies
+#: on): magenta, told apart from the grey links, the blue and red axes, the green ellipsoid,
+#: the purple arrow and the orange task point.
+READING_LINE_COLOUR = "#e6007e"
 
 
 def _new_axes(ax, size, projection=None):
@@ -118,7 +134,7 @@ def _draw_slice(ax, data, names, prismatic, norm, cmap, *, legend=True, prefix="
                      norm=norm, cmap=cmap, interpolation="nearest")
     # thin lines with a hairline dark edge, narrower than the valley of the ratio they mark;
     # each component differs from the others in colour and in dash pattern (told apart in grey)
-    outline = [pe.Stroke(linewidth=CURVE_WIDTH + 0.5, foreground="black"), pe.Normal()]
+    outline = [pe.Stroke(linewidth=CURVE_WIDTH + CURVE_EDGE, foreground="black"), pe.Normal()]
     for idx, lines, pts in data.curves:
         colour = CURVE_COLOURS[(idx - 1) % len(CURVE_COLOURS)]
         style = _LINESTYLES[(idx - 1) % len(_LINESTYLES)]
@@ -684,8 +700,73 @@ def _plane_corners(pose, joint: int):
                                                      (along[1], across[1]), (along[0], across[1]))])
 
 
+def axis_line_ends(pose, joint: int):
+    """The two ends of the line of joint ``joint``'s axis (1-based), extended through the arm.
+
+    The line runs along the axis from its point, as far as the arm reaches along that
+    direction and half the arm's size beyond (past the highlighted axes, drawn 0.45 of it
+    long each way), so that every joint origin of the chain is passed on the way.
+
+    Examples
+    --------
+    >>> from rankloci.io import load_model
+    >>> from rankloci.reporting.robot import robot_pose
+    >>> pose = robot_pose(load_model("planar2r"), {"q1": 0.0, "q2": 0.0})
+    >>> [[round(float(x), 2) + 0.0 for x in end] for end in axis_line_ends(pose, 1)]
+    [[0.0, 0.0, -1.0], [0.0, 0.0, 1.0]]
+    """
+    p = np.asarray(pose.axis_points[joint - 1], dtype=float)
+    d = np.asarray(pose.axis_directions[joint - 1], dtype=float)
+    d = d / np.linalg.norm(d)
+    s = (np.asarray(pose.chain, dtype=float) - p) @ d
+    lo, hi = float(min(s.min(), 0.0)), float(max(s.max(), 0.0))
+    margin = 0.5 * pose.scale
+    return np.array([p + (lo - margin) * d, p + (hi + margin) * d])
+
+
+def _joint_numbers(ax, labels):
+    """Write each (point, joint) of ``labels`` on the 3-D ``ax``; numbers that would fall
+    on one another as seen (axes through one point, axes seen end-on) are written once,
+    together, at the first one's place."""
+    from mpl_toolkits.mplot3d import proj3d
+
+    if not labels:
+        return
+    M = ax.get_proj()
+    corners = np.array(list(itertools.product(ax.get_xlim3d(), ax.get_ylim3d(),
+                                              ax.get_zlim3d())))
+    cx, cy, _ = proj3d.proj_transform(*corners.T, M)
+    span = max(float(np.ptp(cx)), float(np.ptp(cy)))
+    groups = []
+    for where, k in labels:
+        x, y, _ = proj3d.proj_transform(*where, M)
+        near = next((g for g in groups if np.hypot(g[1][0] - x, g[1][1] - y) < 0.06 * span),
+                    None)
+        if near is None:
+            groups.append((where, (x, y), [k]))
+        else:
+            near[2].append(k)
+    for where, _, ks in groups:
+        ax.text(*where, ", ".join(map(str, ks)), color="#d62728", fontsize=LABEL_PT)
+
+
+def _clipped_to_box(ends, lo, hi):
+    """The part of the segment ``ends`` (2, 3) inside the box ``lo``..``hi``, or None."""
+    a, b = np.asarray(ends, dtype=float)
+    t0, t1 = 0.0, 1.0
+    for k in range(3):
+        step = b[k] - a[k]
+        if step == 0:
+            if not lo[k] <= a[k] <= hi[k]:
+                return None
+            continue
+        u, v = (lo[k] - a[k]) / step, (hi[k] - a[k]) / step
+        t0, t1 = max(t0, min(u, v)), min(t1, max(u, v))
+    return None if t0 >= t1 else np.array([a + t0 * (b - a), a + t1 * (b - a)])
+
+
 def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), arrow=None,
-               arrow_label="", Jv=None, title: str = "", ax=None, plane=None):
+               arrow_label="", Jv=None, title: str = "", ax=None, plane=None, lines=()):
     """The arm at one configuration in 3-D: links, joint axes, task point.
 
     Parameters
@@ -702,7 +783,8 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
     model : optional
         For a locus: the robot it is of.
     highlight : sequence of int
-        1-based joints whose axes are drawn long and red (the axes a reading names).
+        1-based joints whose axes are drawn red (the axes a reading names), and long
+        when there are at most :data:`HIGHLIGHT_LONG_MAX` of them.
     arrow : array_like of 3 floats, optional
         A direction drawn as an arrow at the task point (the lost direction).
     Jv : numpy.ndarray, optional
@@ -712,6 +794,11 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
     plane : int, optional
         A 1-based joint: the plane through its axis and the task point is drawn
         translucent (the plane a shoulder singularity's reading names).  3-D only.
+    lines : sequence of (int, str)
+        Lines a reading names: for each (1-based joint, label), the line of that joint's
+        axis is drawn through the whole arm (:func:`axis_line_ends`), magenta and dash-dot,
+        with the label in the legend (collinear axes: one line for the group; an axis a
+        point lies on).  3-D only.
 
     Returns
     -------
@@ -754,11 +841,13 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
             ax.plot(edge[:, 0], edge[:, 1], edge[:, 2], color="#555555", linewidth=1.2)
         ax.plot(chain[:, 0], chain[:, 1], chain[:, 2], color="#333333", linewidth=2.2,
                 marker="o", markersize=2.5)
+        hot_labels = []
+        long_axes = len(highlight) <= HIGHLIGHT_LONG_MAX
         for k, (p, d, kind) in enumerate(zip(pose.axis_points, pose.axis_directions,
                                              pose.kinds), start=1):
             hot = k in highlight
             colour = "#d62728" if hot else "#1f77b4"
-            half_axis = (0.45 if hot else 0.12) * scale
+            half_axis = (0.45 if hot and long_axes else 0.12) * scale
             seg = np.array([p - half_axis * d, p + half_axis * d])
             ax.plot(seg[:, 0], seg[:, 1], seg[:, 2], color=colour,
                     linewidth=2.0 if hot else 1.0, linestyle="-" if kind == "revolute" else "--")
@@ -766,8 +855,15 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
                 for edge in _box_edges(p, d, 0.14 * scale, 0.05 * scale):
                     ax.plot(edge[:, 0], edge[:, 1], edge[:, 2], color=colour, linewidth=1.0)
             if hot:
-                ax.text(*(p + half_axis * d), f"{k}", color="#d62728", fontsize=LABEL_PT)
+                hot_labels.append((p + half_axis * d, k))
         tip = np.asarray(pose.tool)
+        box = (mid - half, mid + half)
+        for joint, label in lines:
+            ends = _clipped_to_box(axis_line_ends(pose, joint), *box)
+            if ends is None:
+                continue
+            ax.plot(ends[:, 0], ends[:, 1], ends[:, 2], color=READING_LINE_COLOUR,
+                    linewidth=3.5, alpha=0.6, linestyle="-.", label=label, zorder=5)
         if plane is not None:
             corners = _plane_corners(pose, plane)
             if corners is not None:
@@ -801,6 +897,7 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
         ax.set_zlabel("z")
         ax.tick_params(labelsize=LABEL_PT)
         ax.view_init(elev=22, azim=-60)
+        _joint_numbers(ax, hot_labels)
         if title:
             ax.set_title(title, fontsize=10)
         ax.legend(loc="upper left", fontsize=LABEL_PT,
@@ -810,7 +907,7 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
 
 def robot_figure(singular, regular=None, *, component: int = 1, model=None, seed: int = 0,
                  highlight=(), arrow=None, arrow_label="", Jv_singular=None, Jv_regular=None,
-                 title: str = "", ax=None, plane=None):
+                 title: str = "", ax=None, plane=None, lines=()):
     """Two 3-D panels: the arm at a component's sample point and at a nearby regular pose.
 
     Parameters
@@ -824,7 +921,7 @@ def robot_figure(singular, regular=None, *, component: int = 1, model=None, seed
     regular : RobotPose, optional
     highlight, arrow, arrow_label, Jv_singular, Jv_regular, title
         As :func:`plot_robot`.
-    plane : int, optional
+    plane, lines : optional
         As :func:`plot_robot`, on the singular panel.
     ax : pair of 3-D axes, optional
         A new Figure's otherwise.
@@ -865,9 +962,19 @@ def robot_figure(singular, regular=None, *, component: int = 1, model=None, seed
                   fig.add_subplot(1, 2, 2, projection=None if flat else "3d")]
         a, b = ax
         plot_robot(singular, highlight=highlight, arrow=arrow, arrow_label=arrow_label,
-                   Jv=Jv_singular, title="singular: the sample point", ax=a, plane=plane)
+                   Jv=Jv_singular, title="singular: the sample point", ax=a, plane=plane,
+                   lines=lines)
         plot_robot(regular, highlight=highlight, Jv=Jv_regular,
                    title="regular: a nearby configuration", ax=b)
+        if not flat and a.get_legend() is not None:
+            # one legend for both 3-D panels, below them: in a panel, a legend of several
+            # entries would cover the arm or widen its panel at the other's expense
+            handles, labels = a.get_legend_handles_labels()
+            for x in (a, b):
+                if x.get_legend() is not None:
+                    x.get_legend().remove()
+            a.figure.legend(handles, labels, loc="outside lower center", fontsize=LABEL_PT,
+                            ncols=min(len(labels), 3), frameon=False)
         if title:
             a.figure.suptitle(title)
     return np.asarray([a, b], dtype=object)

@@ -281,6 +281,7 @@ def _locus_section(report):
         out.append(Para("No component exists for the model's parameter values: $J$ has full "
                         "rank everywhere."))
     out += _determinant_blocks(report, main)
+    out += _minor_gcd_blocks(report, main)
     for v in main:
         out += _component_blocks(report, v)
     if special:
@@ -302,6 +303,33 @@ def _factor_latex(e, power: int) -> str:
                                  and len(text) > 2 and not text.endswith("}")):
         text = rf"\left({text}\right)"
     return text + (f"^{{{power}}}" if power > 1 else "")
+
+
+def _minor_gcd_blocks(report, main):
+    """The gcd of the maximal minors of a wide or tall J, factored, or why it is 1 or not given."""
+    g = getattr(report, "minor_gcd", None)
+    if g is None:
+        return []
+    m, n = g.shape
+    what = (rf"$J$ is {m} $\times$ {n}: it loses rank where all its {g.minors} maximal "
+            rf"({min(m, n)} $\times$ {min(m, n)}) minors vanish")
+    if g.skipped:
+        return [Para(f"{what}. Their greatest common divisor is not computed: {g.skipped}.")]
+    if not g.factors:
+        return [Para(f"{what}. Their greatest common divisor is 1 (computed exactly, in the "
+                     "polynomials of the half-angle sines and cosines and the parameters): no "
+                     "factor is common to all of them, so no component is a hypersurface: the "
+                     "locus has codimension 2 or more in joint space.")]
+    factors = " ".join(_factor_latex(f, k) for f, k in zip(g.factors, g.powers))
+    param = ("" if g.parameter_factor == 1 else
+             f" The gcd also has the factor ${latex(g.parameter_factor)}$ in the parameters "
+             "alone, which vanishes only for special parameter values.")
+    return [Para(f"{what}. Their greatest common divisor, computed exactly and factored, is "
+                 "(up to a constant factor):"),
+            Math((r"\gcd(\text{maximal minors of } J) = " + factors,)),
+            Para("Where it vanishes, every maximal minor does: these are the components of "
+                 "codimension 1 (hypersurfaces) of the locus; the other components have "
+                 "codimension 2 or more." + param)]
 
 
 def _determinant_blocks(report, main):

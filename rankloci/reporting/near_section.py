@@ -96,22 +96,32 @@ def near_manipulability_figure(model, poses, *, three: bool = True):
     cols = min(NEAR_COLUMNS, len(poses))
     rows = -(-len(poses) // cols)
     with matplotlib.rc_context({"font.size": NEAR_FONT_PT}):
-        fig = MplFigure(figsize=(3.4 * cols, (3.4 if three else 3.0) * rows),
+        fig = MplFigure(figsize=(3.4 * cols, 3.8 * rows),
                         layout="constrained")
-        for i, p in enumerate(poses, start=1):
-            ax = fig.add_subplot(rows, cols, i, projection="3d" if three else None)
+        # each panel is a row for its legend (and title) above the plot: a legend over the
+        # plot would cover the ellipsoid and the polytope
+        grid = fig.add_gridspec(2 * rows, cols, height_ratios=[1, 4.0] * rows)
+        for i, p in enumerate(poses):
+            r, c = divmod(i, cols)
+            ax = fig.add_subplot(grid[2 * r + 1, c], projection="3d" if three else None)
             plot_manipulability(manipulability(model, p.q, position_only=True).J, ax=ax)
             if three:
                 # constrained layout does not see a 3-D axis label: draw the cube smaller so
                 # that the labels at its corners (vz on the right) stay inside the figure
                 ax.set_box_aspect((1, 1, 1), zoom=NEAR_CUBE_ZOOM)
-            ax.set_title("regular pose" if p.component == 0
-                         else f"near component {p.component}", fontsize=NEAR_FONT_PT)
             ax.tick_params(labelsize=NEAR_FONT_PT - 1)
             # three ticks an axis: at this size more would run into each other
             for axis in (ax.xaxis, ax.yaxis) + ((ax.zaxis,) if three else ()):
                 axis.set_major_locator(MaxNLocator(3))
-            _fixed_legend(ax, fontsize=NEAR_FONT_PT - 1, loc="upper left")
+            handles, labels = ax.get_legend_handles_labels()
+            if ax.get_legend() is not None:
+                ax.get_legend().remove()
+            key = fig.add_subplot(grid[2 * r, c])
+            key.set_axis_off()
+            key.legend(handles, labels, loc="center", fontsize=NEAR_FONT_PT - 1, frameon=False,
+                       title="regular pose" if p.component == 0
+                       else f"near component {p.component}", title_fontsize=NEAR_FONT_PT,
+                       borderaxespad=0.0)
     return fig
 
 

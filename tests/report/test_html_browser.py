@@ -1,7 +1,8 @@
 """The HTML report in a real browser (headless Chromium driven by Selenium).
 
 The page loads without console errors, renders every formula, and its sliders
-move the arm along each component of the PUMA 560's locus while the ratio
+move the arm along each component of the locus (of the PUMA 560, of the Stanford arm,
+whose boom is a prismatic joint, and of a 6R arm read from a URDF file) while the ratio
 sigma_min/sigma_max the page computes (from the joint chain, not from the
 locus) stays at most VIEW_ON_LOCUS_RTOL; the poses it reaches are on the locus
 by :meth:`Locus.contains`.  With every joint free, the ratio the page shows is
@@ -63,20 +64,58 @@ def _chromium():
     return browser, driver
 
 
-@pytest.fixture(scope="module")
-def puma_page(tmp_path_factory):
+#: A 6R arm from a URDF file (yaw, shoulder and elbow pitch, a roll-pitch-roll wrist, with
+#: limits): the page is built from a URDF model as from a model file.
+URDF_6R = """<?xml version="1.0"?>
+<robot name="arm6r">
+  <link name="base"/><link name="l1"/><link name="l2"/><link name="l3"/><link name="l4"/>
+  <link name="l5"/><link name="l6"/><link name="tool"/>
+  <joint name="yaw" type="revolute"><parent link="base"/><child link="l1"/>
+    <origin xyz="0 0 0" rpy="0 0 0"/><axis xyz="0 0 1"/>
+    <limit lower="-2.9" upper="2.9" effort="1" velocity="1"/></joint>
+  <joint name="shoulder" type="revolute"><parent link="l1"/><child link="l2"/>
+    <origin xyz="0 0 0.3" rpy="0 0 0"/><axis xyz="0 1 0"/>
+    <limit lower="-2.0" upper="2.0" effort="1" velocity="1"/></joint>
+  <joint name="elbow" type="revolute"><parent link="l2"/><child link="l3"/>
+    <origin xyz="0.4 0 0" rpy="0 0 0"/><axis xyz="0 1 0"/>
+    <limit lower="-2.5" upper="2.5" effort="1" velocity="1"/></joint>
+  <joint name="roll1" type="revolute"><parent link="l3"/><child link="l4"/>
+    <origin xyz="0.35 0 0" rpy="0 0 0"/><axis xyz="1 0 0"/>
+    <limit lower="-3.0" upper="3.0" effort="1" velocity="1"/></joint>
+  <joint name="pitch" type="revolute"><parent link="l4"/><child link="l5"/>
+    <origin xyz="0 0 0" rpy="0 0 0"/><axis xyz="0 1 0"/>
+    <limit lower="-2.0" upper="2.0" effort="1" velocity="1"/></joint>
+  <joint name="roll2" type="revolute"><parent link="l5"/><child link="l6"/>
+    <origin xyz="0 0 0" rpy="0 0 0"/><axis xyz="1 0 0"/>
+    <limit lower="-3.0" upper="3.0" effort="1" velocity="1"/></joint>
+  <joint name="flange" type="fixed"><parent link="l6"/><child link="tool"/>
+    <origin xyz="0.1 0 0" rpy="0 0 0"/></joint>
+</robot>
+"""
+
+#: The PUMA 560, a prismatic arm (the Stanford arm: its boom slides) and a URDF model.
+PAGES = ("puma560", "stanford", "arm6r.urdf")
+
+
+@pytest.fixture(scope="module", params=PAGES)
+def page(request, tmp_path_factory):
     pytest.importorskip("matplotlib")
     from rankloci.reporting import build_report
     from rankloci.reporting.html import render_html
 
-    report = build_report(load_model("puma560"), samples=2, exact=False)
-    path = tmp_path_factory.mktemp("html") / "puma560.html"
+    d = tmp_path_factory.mktemp("html")
+    name = request.param
+    if name.endswith(".urdf"):
+        (d / name).write_text(URDF_6R, encoding="utf-8")
+        name = str(d / name)
+    report = build_report(load_model(name), samples=2, exact=False)
+    path = d / "page.html"
     path.write_text(render_html(report, timings=False), encoding="utf-8")
     return report, path
 
 
 @pytest.fixture(scope="module")
-def browser(puma_page):
+def browser(page):
     browser, driver = _chromium()
     from selenium import webdriver
     from selenium.webdriver.chrome.options import Options
@@ -90,7 +129,7 @@ def browser(puma_page):
     options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
     chrome = webdriver.Chrome(service=Service(driver), options=options)
     try:
-        chrome.get(puma_page[1].as_uri())
+        chrome.get(page[1].as_uri())
         yield chrome
     finally:
         chrome.quit()
@@ -136,36 +175,42 @@ def test_page_loads_without_console_errors_and_renders_every_formula(browser):
     assert spans > 20 and rendered == spans and failed == 0
 
 
-def test_sliders_move_the_arm_along_each_component(browser, puma_page):
-    report, _ = puma_page
+def test_sliders_move_the_arm_along_each_component(browser, page):
+    report, _ = page
     locus = report.locus
     offered = browser.execute_script(
         "return [...document.querySelectorAll('#arm-component option')].map(o => +o.value)")
     components = [v.index for v in report.components if not v.special]
     assert offered == [0, *components]
+    dragged = set()
     for index in components:
         _choose(browser, index)
         start = _joints(browser)
         assert _ratio(browser) <= VIEW_ON_LOCUS_RTOL, index
-        # the report's sample point lies within the joint limits, and the page says so
-        assert report.limit_check(index).meets
+        # a sample point within the joint limits is shown so (the Stanford arm's boom at
+        # zero extension is outside the boom's stroke: its sample is too)
         outside = browser.find_element("id", "arm-pose").get_attribute("data-outside")
-        assert json.loads(outside) == [], index
+        if report.limit_check(index).meets:
+            assert json.loads(outside) == [], index
         sliders = browser.find_elements("css selector", "#arm-sliders input[type=range]")
         dimension = next(v.component.dimension for v in report.components if v.index == index)
         assert len(sliders) == dimension
         for slider in sliders:
+            dragged.add(int(slider.get_attribute("data-variable")))
             for _ in _drag(browser, slider, DRAG):
                 ratio = _ratio(browser)
                 assert ratio <= VIEW_ON_LOCUS_RTOL, (index, slider.get_attribute("id"), ratio)
             assert locus.contains(_pose(browser)), (index, slider.get_attribute("id"))
         moved = np.abs(np.array(_joints(browser)) - np.array(start)).max()
         assert moved > 1.0, (index, moved)       # pixels
+    # a prismatic joint (the Stanford arm's boom) is among the joints moved along the locus
+    prismatic = {k for k, j in enumerate(report.model.joints) if j.kind == "prismatic"}
+    assert not prismatic or prismatic & dragged, (prismatic, dragged)
     assert [e for e in browser.get_log("browser") if e["level"] == "SEVERE"] == []
 
 
-def test_with_every_joint_free_the_ratio_is_numpys(browser, puma_page):
-    report, _ = puma_page
+def test_with_every_joint_free_the_ratio_is_numpys(browser, page):
+    report, _ = page
     model = report.model
     tm = task_matrix(model)
     nm = NumericMatrix(sp.Matrix(tm.matrix).subs(dict(tm.parameters)), tm.variables, tm.angles)
@@ -178,9 +223,10 @@ def test_with_every_joint_free_the_ratio_is_numpys(browser, puma_page):
     q = _pose(browser)
     # a joint moved out of its limits is named (the page's own test, against the model's)
     limits = [j.limits for j in model.joints]
-    outside = [v.name for v, lim, x in zip(model.variables, limits, q)
+    turns = [(-1, 0, 1) if j.kind == "revolute" else (0,) for j in model.joints]
+    outside = [v.name for v, lim, x, ks in zip(model.variables, limits, q, turns)
                if lim is not None and not any(lim[0] <= x + 2 * np.pi * k <= lim[1]
-                                              for k in (-1, 0, 1))]
+                                              for k in ks)]
     shown = browser.find_element("id", "arm-pose").get_attribute("data-outside")
     assert json.loads(shown) == outside
     s = np.linalg.svd(nm(q), compute_uv=False)

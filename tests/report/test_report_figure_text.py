@@ -35,7 +35,7 @@ MIN_DELTA_E = 20.0
 #: round-off of finding the centre of a full turn from its ends and back.
 SAME_WINDOW_REL = 1e-9
 
-MODELS = ("planar3r", "planar3r_orient", "puma560", "ur5")
+MODELS = ("planar3r", "planar3r_orient", "puma560", "ur5", "ssrms", "stanford")
 
 
 @pytest.fixture(scope="module")
@@ -255,3 +255,144 @@ def test_both_panels_of_the_augmented_figure_cover_the_same_window(drawn):
     a, b = np.asarray(extents)
     width = max(a[1] - a[0], a[3] - a[2])
     assert np.max(np.abs(a - b)) <= SAME_WINDOW_REL * width, extents
+
+
+def _data_boxes(fig, renderer) -> list:
+    """The window box of the data each Axes of ``fig`` plots: of a 3-D Axes, the box of its
+    cube of limits as projected (the data lie inside it); of a 2-D Axes, of its lines,
+    collections and images."""
+    from matplotlib.transforms import Bbox
+    from mpl_toolkits.mplot3d import proj3d
+
+    out = []
+    for ax in fig.axes:
+        if ax.name == "3d":
+            corners = np.array(list(itertools.product(ax.get_xlim3d(), ax.get_ylim3d(),
+                                                      ax.get_zlim3d())))
+            x, y, _ = proj3d.proj_transform(*corners.T, ax.get_proj())
+            out.append(Bbox.union([Bbox.from_extents(*ax.transData.transform((a, b)),
+                                                     *ax.transData.transform((a, b)))
+                                   for a, b in zip(x, y)]))
+        else:
+            artists = [*ax.get_lines(), *ax.collections, *ax.images]
+            out += [a.get_window_extent(renderer) for a in artists if a.get_visible()]
+    return out
+
+
+def _legends_over_data(fig, renderer) -> list:
+    """The texts of each legend of ``fig`` whose box meets the box of some plotted data."""
+    out = []
+    legends = [ax.get_legend() for ax in fig.axes if ax.get_legend() is not None]
+    legends += list(fig.legends)
+    boxes = _data_boxes(fig, renderer)
+    for legend in legends:
+        e = legend.get_window_extent(renderer)
+        for b in boxes:
+            w = min(e.x1, b.x1) - max(e.x0, b.x0)
+            h = min(e.y1, b.y1) - max(e.y0, b.y0)
+            if w > OVERLAP_ALLOWANCE_PX and h > OVERLAP_ALLOWANCE_PX:
+                out.append(tuple(t.get_text() for t in legend.get_texts()))
+                break
+    return out
+
+
+@pytest.mark.parametrize("three", [False, True])
+def test_the_legend_check_finds_a_legend_over_the_data(three):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from rankloci.near.figures import plot_manipulability
+
+    fig = Figure(figsize=(3.4, 3.4), dpi=F.DPI)
+    J = np.array([[1.0, 0.4, 0.2], [0.3, 1.0, 0.5], [0.1, 0.2, 0.9]])[:3 if three else 2]
+    plot_manipulability(J, ax=fig.add_subplot(projection="3d" if three else None))
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    assert _legends_over_data(fig, canvas.get_renderer())      # its legend is inside
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", MODELS)
+def test_near_manipulability_legends_leave_the_plots_free(drawn, name):
+    figs = [(label, fig, r) for label, fig, r in drawn[name] if "-near-manipulability" in label]
+    assert len(figs) == 1
+    for label, fig, renderer in figs:
+        assert sum(ax.get_legend() is not None for ax in fig.axes) >= 2
+        assert not _legends_over_data(fig, renderer), label
+
+
+#: Smallest CIE76 difference between a locus line and the heat-map colour beneath any point
+#: of it: the same margin as between two lines (a thin line must stand out from its ground).
+MIN_DELTA_E_GROUND = 20.0
+
+
+def _ground_colours(ax, xy) -> np.ndarray:
+    """The RGB colours of the heat map of ``ax`` at the points ``xy`` (n, 2), as drawn."""
+    image = ax.images[0]
+    x0, x1, y0, y1 = image.get_extent()
+    values = np.ma.getdata(image.get_array())
+    ny, nx = values.shape
+    cols = np.clip(((xy[:, 0] - x0) / (x1 - x0) * nx).astype(int), 0, nx - 1)
+    rows = np.clip(((xy[:, 1] - y0) / (y1 - y0) * ny).astype(int), 0, ny - 1)
+    return image.cmap(image.norm(values[rows, cols]))[:, :3]
+
+
+def _ground_contrast(ax) -> dict:
+    """Component label -> the smallest CIE76 difference between its line's colour and the
+    heat-map colours beneath the points of that line."""
+    from matplotlib.colors import to_rgb
+
+    out = {}
+    for line in ax.get_lines():
+        lab = line.get_label()
+        if "point" in lab or not len(line.get_xydata()):
+            continue
+        dotted = line.get_linestyle() in ("None", "none", " ", "")
+        colour = _lab(to_rgb(line.get_markerfacecolor() if dotted else line.get_color()))
+        ground = np.array([_lab(c) for c in _ground_colours(ax, np.asarray(line.get_xydata()))])
+        d = float(np.min(np.linalg.norm(ground - colour, axis=1)))
+        key = lab if not lab.startswith("_") else f"segment of {line.get_color()}"
+        out[key] = min(d, out.get(key, np.inf))
+    return out
+
+
+def test_the_ground_check_finds_a_line_the_colour_of_its_ground():
+    from matplotlib.figure import Figure
+
+    ax = Figure().add_subplot()
+    ax.imshow(np.linspace(0, 1, 100).reshape(10, 10), cmap="viridis", extent=(0, 1, 0, 1),
+              origin="lower")
+    ax.plot([0.05, 0.05], [0.05, 0.95], color="#ffffff", label="component 1")
+    ax.plot([0.05, 0.05], [0.05, 0.95], color="#440154", label="component 2")  # viridis at 0
+    found = _ground_contrast(ax)
+    assert found["component 1"] >= MIN_DELTA_E_GROUND > found["component 2"]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", MODELS)
+def test_locus_lines_stand_out_from_the_heat_map_beneath(drawn, name):
+    seen = 0
+    for label, fig, _ in drawn[name]:
+        if "-sigma-" not in label and "-augmented" not in label:
+            continue
+        for ax in fig.axes:
+            if not ax.images:
+                continue
+            found = _ground_contrast(ax)
+            seen += len(found)
+            bad = {k: round(v, 1) for k, v in found.items() if v < MIN_DELTA_E_GROUND}
+            assert not bad, (label, bad)
+    if name != "planar3r_orient":
+        assert seen >= 1
+
+
+def test_every_locus_colour_stands_out_from_the_whole_colormap():
+    # a line may cross any value of the heat map: each colour of the palette keeps the margin
+    # from every colour of viridis
+    from matplotlib import colormaps
+    from matplotlib.colors import to_rgb
+
+    ramp = np.array([_lab(c[:3]) for c in colormaps["viridis"](np.linspace(0, 1, 256))])
+    for c in F.CURVE_COLOURS:
+        d = float(np.min(np.linalg.norm(ramp - _lab(to_rgb(c)), axis=1)))
+        assert d >= MIN_DELTA_E_GROUND, (c, round(d, 1))

@@ -78,3 +78,83 @@ def test_the_plane_through_axis_1_and_the_task_point_is_drawn():
     count = lambda ax: sum(isinstance(c, Poly3DCollection) for c in ax.collections)  # noqa: E731
     assert count(with_plane) == count(without) + 1
     assert "plane through axis 1" in [t.get_text() for t in with_plane.get_legend().get_texts()]
+
+
+#: A sample point is on its component to about 1e-12 relative; the axes it makes collinear
+#: (and the point it puts on an axis) are so to a few orders of magnitude above it, not more.
+ON_LINE_REL = 1e-8
+
+
+def _named_line_figure(name, equations):
+    """The singular panel of ``name``'s component with ``equations`` (as strings, sorted),
+    drawn with the lines its reading names, and the pose and the lines."""
+    from matplotlib.colors import to_hex
+
+    from rankloci.augmented import augmented_locus
+    from rankloci.jacobians import task_matrix
+    from rankloci.methods import method_for
+    from rankloci.reporting.build import component_views
+    from rankloci.reporting.figure_files import reading_lines
+    from rankloci.reporting.figures import READING_LINE_COLOUR
+
+    model = load_model(name)
+    tm = task_matrix(model, frame="auto")
+    locus = augmented_locus(model, tm, method_for(tm.shape), seed=0)
+    view = next(v for v in component_views(model, locus, seed=0)
+                if tuple(sorted(map(str, v.component.equations))) == equations)
+    named = reading_lines(view.readings)
+    pose = robot_pose(model, {k: float(v) for k, v in view.component.sample.items()})
+    ax = robot_figure(pose, pose, lines=tuple((g[0], label) for g, label, _ in named))[0]
+    drawn = {ln.get_label(): ln for ln in ax.get_lines()
+             if to_hex(ln.get_color()) == READING_LINE_COLOUR}
+    return pose, named, drawn, ax
+
+
+def _check_line(pose, joints, line):
+    ends = np.asarray(line.get_data_3d(), dtype=float).T
+    u = ends[1] - ends[0]
+    length = float(np.linalg.norm(u))
+    u /= length
+    # extended through the arm: it reaches past every point of the chain along its direction
+    s = (np.asarray(pose.chain) - ends[0]) @ u
+    assert s.min() > 0 and s.max() < length and length >= 0.4 * pose.scale
+    for k in joints:
+        p = np.asarray(pose.axis_points[k - 1])
+        d = np.asarray(pose.axis_directions[k - 1])
+        off = (p - ends[0]) - ((p - ends[0]) @ u) * u    # the joint origin is on the line
+        assert np.linalg.norm(off) <= ON_LINE_REL * pose.scale, (k, off)
+        assert np.linalg.norm(np.cross(u, d)) <= ON_LINE_REL, (k, d, u)  # parallel to its axis
+
+
+def test_the_collinear_axes_a_reading_names_are_drawn_as_one_line():
+    pose, named, drawn, ax = _named_line_figure("puma560", ("sin(q5)",))
+    assert [g for g, _, _ in named] == [(4, 6)]
+    assert list(drawn) == ["axes 4 and 6 (collinear)"]
+    _check_line(pose, (4, 6), drawn["axes 4 and 6 (collinear)"])
+    assert "axes 4 and 6 (collinear)" in [t.get_text() for t in ax.figure.legends[0].get_texts()]
+    # the other joints' axes are not on that line: the check can fail
+    with pytest.raises(AssertionError):
+        _check_line(pose, (1,), drawn["axes 4 and 6 (collinear)"])
+
+
+def test_an_axis_a_point_lies_on_is_drawn_as_a_line():
+    # the Stanford arm's boom at zero extension: the wrist centre lies on axis 2
+    pose, named, drawn, _ = _named_line_figure("stanford", ("q3",))
+    assert [g for g, _, _ in named] == [(2,)]
+    _check_line(pose, (2,), drawn["axis 2 (a point on it)"])
+    centre = np.asarray(pose.axis_points[3])   # axes 4, 5 and 6 meet at the wrist centre
+    ends = np.asarray(drawn["axis 2 (a point on it)"].get_data_3d(), dtype=float).T
+    u = (ends[1] - ends[0]) / np.linalg.norm(ends[1] - ends[0])
+    off = (centre - ends[0]) - ((centre - ends[0]) @ u) * u
+    assert np.linalg.norm(off) <= ON_LINE_REL * pose.scale
+
+
+def test_each_line_a_reading_names_is_taken_once():
+    # pa10's shoulder and wrist at once: two groups, each named once
+    from rankloci.reporting.figure_files import reading_lines
+
+    named = reading_lines(["Shoulder and wrist singularities at once: where $s_{2} = 0$, axes 1 "
+                           "and 3 are collinear; the point where axes 3, 4 and 5 meet lies on "
+                           "axis 1; where $s_{6} = 0$, axes 5 and 7 are collinear; the task point "
+                           "lies on axis 5"])
+    assert [g for g, _, _ in named] == [(1, 3), (5, 7)]
