@@ -470,6 +470,15 @@ DET_FACTOR_RTOL = 1e-8
 #: that agree to DET_FACTOR_RTOL leave no room for a wrong exponent by chance.
 DET_POINTS = 12
 
+#: A wide or tall J with more maximal minors than this gets no gcd of its maximal minors in a
+#: report (the report says so): a 6 x 8 J has 28, a 6 x 9 J 84.  It decides only whether the
+#: gcd is shown, never a locus.
+MAX_MINORS = 50
+
+#: A maximal minor of more terms than this stops that gcd (the report says so): a term budget
+#: bounds the time as a clock would, but gives the same output on every machine.
+MINOR_MAX_TERMS = 20000
+
 # --- proved points next to numeric ones (tree/certify.py) ----------------------------------------
 
 #: Working precision of the ball arithmetic: coefficients of several hundred digits are exact

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from ..tolerances import DET_FACTOR_RTOL, DET_POINTS
+from ..tolerances import DET_FACTOR_RTOL, DET_POINTS, MAX_MINORS, MINOR_MAX_TERMS
 
 __all__ = ["FactoredDeterminant", "factored_determinant", "MinorGcd", "maximal_minor_gcd",
            "MAX_MINORS", "MINOR_MAX_TERMS"]
@@ -133,14 +133,6 @@ def factored_determinant(jacobian, variables, kinds, factors, params, rng):
     constant = exact if exact is not None else sp.Float(kappa, 6)
     return FactoredDeterminant(constant, tuple(factors), powers, exact is not None,
                                DET_POINTS * len(kappas))
-
-
-#: A wide or tall J with more maximal minors than this gets no gcd (stated in the report):
-#: a 6 x 8 J has 28, a 6 x 9 J 84.
-MAX_MINORS = 50
-#: A maximal minor larger than this many terms stops the gcd (stated in the report): it
-#: bounds the time as a term budget does, the same on every machine.
-MINOR_MAX_TERMS = 20000
 
 
 @dataclass(frozen=True)

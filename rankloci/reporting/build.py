@@ -339,7 +339,7 @@ def build_report(model, *, seed: int = 0, samples: int = 10, numeric: bool = Fal
     minor_gcd = None
     if (locus is not None and getattr(locus, "base", None) is None
             and tm.shape[0] != tm.shape[1] and min(tm.shape) > 0):
-        from .determinant import maximal_minor_gcd
+        from ..numeric.factored_det import maximal_minor_gcd
 
         minor_gcd = timed("gcd of the maximal minors", lambda: maximal_minor_gcd(
             tm.matrix, tm.variables, tm.angles))

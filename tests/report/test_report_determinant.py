@@ -62,7 +62,7 @@ def test_the_report_displays_the_factored_determinant():
 
 
 def _gcd(name):
-    from rankloci.reporting.determinant import maximal_minor_gcd
+    from rankloci.numeric.factored_det import maximal_minor_gcd
 
     model = load_model(name)
     tm = task_matrix(model, frame="auto")
@@ -70,7 +70,7 @@ def _gcd(name):
 
 
 def test_a_common_factor_of_the_maximal_minors_is_found_with_its_power():
-    from rankloci.reporting.determinant import maximal_minor_gcd
+    from rankloci.numeric.factored_det import maximal_minor_gcd
 
     q1, q2, q3, x, a = sp.symbols("q1 q2 q3 x a")
     f = sp.sin(q2) ** 2 * sp.cos(q3)
@@ -110,7 +110,7 @@ def test_gcd_one_means_every_component_has_codimension_two_or_more(name):
 
 
 def test_the_gcd_is_skipped_with_its_reason_past_its_bounds():
-    from rankloci.reporting.determinant import maximal_minor_gcd
+    from rankloci.numeric.factored_det import maximal_minor_gcd
 
     _, tm, _ = _gcd("pa10")
     many = maximal_minor_gcd(tm.matrix, tm.variables, tm.angles, max_minors=6)
@@ -120,7 +120,7 @@ def test_the_gcd_is_skipped_with_its_reason_past_its_bounds():
 
 
 def test_a_square_matrix_is_refused():
-    from rankloci.reporting.determinant import maximal_minor_gcd
+    from rankloci.numeric.factored_det import maximal_minor_gcd
 
     q = sp.Symbol("q")
     with pytest.raises(ValueError, match="square"):
