@@ -39,7 +39,9 @@ __all__ = ["AxisLine", "axis_lines", "facts_at", "design_points", "dependent_joi
            "meeting_point", "parallel", "distance_to_line", "arm_scale", "random_configuration",
            "RobotPose", "robot_pose", "ComponentFacts", "component_facts", "design_facts",
            "common_facts", "columns_fill_rows", "lost_rotation_axis", "design_point",
-           "point_axis_distances", "equal_distances", "centres_distance", "dependence_left"]
+           "point_axis_distances", "equal_distances", "centres_distance", "dependence_left",
+           "axis_line_ends", "plane_through_axis", "box_edges", "rectangle_along", "scaled_to",
+           "motion_arrow"]
 
 
 @dataclass(frozen=True)
@@ -513,3 +515,135 @@ def dependence_left(matrix, points, factor_points, explained, n_joints: int) -> 
     rest = dependent_joints([matrix(q) for q in points], cols, sorted(keep))
     dropped = tuple(sorted(set(range(1, n_joints + 1)) - {c + 1 for c in keep}))
     return dropped, rest
+
+
+# --- shapes a figure of the arm draws: computed here, drawn by the report ---------------------
+
+
+def axis_line_ends(pose: RobotPose, joint: int) -> np.ndarray:
+    """The two ends of the line of joint ``joint``'s axis (1-based), extended through the arm.
+
+    The line runs along the axis from its point, as far as the arm reaches along that
+    direction and half the arm's size beyond, so that every joint origin of the chain is
+    passed on the way.
+
+    Examples
+    --------
+    >>> from rankloci.io import load_model
+    >>> pose = robot_pose(load_model("planar2r"), {"q1": 0.0, "q2": 0.0})
+    >>> [[round(float(x), 2) + 0.0 for x in end] for end in axis_line_ends(pose, 1)]
+    [[0.0, 0.0, -1.0], [0.0, 0.0, 1.0]]
+    """
+    p = np.asarray(pose.axis_points[joint - 1], dtype=float)
+    d = np.asarray(pose.axis_directions[joint - 1], dtype=float)
+    d = d / np.linalg.norm(d)
+    s = (np.asarray(pose.chain, dtype=float) - p) @ d
+    lo, hi = float(min(s.min(), 0.0)), float(max(s.max(), 0.0))
+    margin = 0.5 * pose.scale
+    return np.array([p + (lo - margin) * d, p + (hi + margin) * d])
+
+
+def plane_through_axis(pose: RobotPose, joint: int) -> np.ndarray | None:
+    """The four corners of the plane through joint ``joint``'s axis and the task point, as
+    wide as the arm; None when the task point lies on that axis (no plane is defined).
+
+    Examples
+    --------
+    >>> from rankloci.io import load_model
+    >>> pose = robot_pose(load_model("planar2r"), {"q1": 0.0, "q2": 0.0})
+    >>> corners = plane_through_axis(pose, 1)
+    >>> corners.shape, bool(np.allclose(corners[:, 1], 0.0))   # the plane y = 0
+    ((4, 3), True)
+    """
+    p = np.asarray(pose.axis_points[joint - 1], dtype=float)
+    d = np.asarray(pose.axis_directions[joint - 1], dtype=float)
+    d = d / np.linalg.norm(d)
+    r = np.asarray(pose.tool, dtype=float) - p
+    u = r - (r @ d) * d
+    if np.linalg.norm(u) <= 1e-9 * pose.scale:
+        return None
+    u = u / np.linalg.norm(u)
+    half = 0.6 * pose.scale
+    reach = max(float(r @ u), 0.0)
+    along = np.array([r @ d - half, r @ d + half])
+    across = np.array([-0.2 * pose.scale, reach + 0.2 * pose.scale])
+    return np.array([p + s * d + t * u for s, t in ((along[0], across[0]), (along[1], across[0]),
+                                                     (along[1], across[1]), (along[0], across[1]))])
+
+
+def box_edges(centre, direction, length: float, width: float) -> list:
+    """The 12 edges of a box of square section along ``direction`` (3-D), each a (2, 3) array.
+
+    Examples
+    --------
+    >>> edges = box_edges([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], 2.0, 1.0)
+    >>> len(edges), sorted({round(float(np.linalg.norm(e[1] - e[0])), 6) for e in edges})
+    (12, [1.0, 2.0])
+    """
+    d = np.asarray(direction, dtype=float)
+    u = np.cross(d, [1.0, 0.0, 0.0] if abs(d[0]) < 0.9 else [0.0, 1.0, 0.0])
+    u /= np.linalg.norm(u)
+    v = np.cross(d, u)
+    corners = [np.asarray(centre) + a * length / 2 * d + b * width / 2 * u + c * width / 2 * v
+               for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)]
+    pairs = [(i, j) for i in range(8) for j in range(i + 1, 8) if bin(i ^ j).count("1") == 1]
+    return [np.array([corners[i], corners[j]]) for i, j in pairs]
+
+
+def rectangle_along(point, direction, length: float, width: float) -> list:
+    """The four corners of a rectangle in the plane, centred at ``point`` (2-D), its long side
+    along ``direction`` (the first two coordinates are used).
+
+    Examples
+    --------
+    >>> [[float(x) for x in c] for c in rectangle_along([0.0, 0.0], [2.0, 0.0], 2.0, 1.0)]
+    [[-1.0, -0.5], [1.0, -0.5], [1.0, 0.5], [-1.0, 0.5]]
+    """
+    d2 = np.asarray(direction[:2], dtype=float)
+    d2 = d2 / max(np.linalg.norm(d2), 1e-12)
+    n2 = np.array([-d2[1], d2[0]])
+    p = np.asarray(point[:2], dtype=float)
+    return [p + a * length / 2 * d2 + b * width / 2 * n2 for a, b in
+            ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+
+
+def scaled_to(vector, length: float) -> np.ndarray | None:
+    """``vector`` scaled to ``length``, or None when it is zero.
+
+    Examples
+    --------
+    >>> scaled_to([3.0, 4.0], 10.0).tolist(), scaled_to([0.0, 0.0], 1.0)
+    ([6.0, 8.0], None)
+    """
+    v = np.asarray(vector, dtype=float)
+    n = float(np.linalg.norm(v))
+    return None if n == 0.0 else v / n * length
+
+
+def motion_arrow(linear, angular, small: float):
+    """Which part of a lost direction an arrow at the task point shows.
+
+    ``linear`` and ``angular`` are its translational and rotational parts (3-vectors); a part
+    counts when it is longer than ``small``.  Returns (vector, kind): the translation when it
+    is alone (``"translation"``), the rotation axis when it is alone (``"rotation"``), the
+    translation when both count (``"translation part"``), or (None, None) when neither does.
+
+    Examples
+    --------
+    >>> motion_arrow([0.0, 0.0, 1.0], [0.0, 0.0, 0.0], 1e-3)[1]
+    'translation'
+    >>> motion_arrow([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], 1e-3)[1]
+    'rotation'
+    >>> motion_arrow([0.5, 0.0, 0.0], [0.0, 0.7, 0.0], 1e-3)[1]
+    'translation part'
+    """
+    a = np.asarray(linear, dtype=float)
+    b = np.asarray(angular, dtype=float)
+    la, lb = float(np.linalg.norm(a)), float(np.linalg.norm(b))
+    if la > small and lb <= small:
+        return a, "translation"
+    if lb > small and la <= small:
+        return b, "rotation"
+    if la > small:
+        return a, "translation part"
+    return None, None

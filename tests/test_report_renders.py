@@ -17,12 +17,6 @@ import pytest
 
 REPORTING = Path(__file__).resolve().parent.parent / "rankloci" / "reporting"
 
-#: Module (relative to rankloci/reporting) -> why it may still compute.
-ALLOWED = {
-    "figures.py": "drawing code; its numerics move with the figure work",
-    "figure_files.py": "drawing code; its numerics move with the figure work",
-}
-
 #: Modules whose import, or any attribute of which, is linear algebra or optimisation.
 FORBIDDEN_MODULES = ("numpy.linalg", "scipy.linalg", "scipy.optimize")
 
@@ -90,18 +84,8 @@ def _modules():
 def test_the_report_module_does_no_linear_algebra(path):
     rel = path.relative_to(REPORTING).as_posix()
     found = computations(path.read_text())
-    if rel in ALLOWED:
-        return
     assert not found, (f"rankloci/reporting/{rel} computes; move this into the library and "
                        "render its result:\n" + "\n".join(f"  line {n}: {w}" for n, w in found))
-
-
-def test_every_allowed_module_exists_and_still_computes():
-    """An allow-list entry goes once its module no longer needs it."""
-    for rel in ALLOWED:
-        path = REPORTING / rel
-        assert path.exists(), rel
-        assert computations(path.read_text()), f"{rel} no longer computes: drop it from ALLOWED"
 
 
 @pytest.mark.parametrize("source, expected", [

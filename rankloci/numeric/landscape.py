@@ -38,7 +38,7 @@ from .equations import Equations, NumericMatrix, points_on
 __all__ = ["SliceData", "PathData", "slice_grid", "slice_joints", "path_through",
            "model_components", "sigma_ratios", "component_points", "component_equations",
            "equation_weights", "regular_point", "normal_directions", "manipulability",
-           "ratio_grid", "dependent_variables", "reading_points"]
+           "ratio_grid", "dependent_variables", "reading_points", "slice_point"]
 
 def model_components(locus):
     """(1-based index, component) of the components that exist for the model's values."""
@@ -534,3 +534,23 @@ def reading_points(comp, equations, nm: NumericMatrix, parameters, rng) -> tuple
             single = component_equations(_SomeEquations((e,)), nm, parameters)
             factor_points.append([as_dict(q) for q in points_on(single, nm, rng, FACTOR_POINTS)])
     return [as_dict(q) for q in pts], factor_points
+
+
+def slice_point(nm: NumericMatrix, rng) -> tuple:
+    """A configuration to centre a slice of sigma_min/sigma_max on when no component is known.
+
+    A minimum of the ratio from a random regular start (:func:`regular_point`), when that
+    minimum is singular (sigma_min/sigma_max <= RANK_RTOL: the slice then shows a piece of the
+    locus); else the regular start.  Returns (q, singular).
+    """
+    from ..tolerances import RANK_RTOL
+    from .equations import minimise_ratio
+
+    start = regular_point(nm, rng)
+    try:
+        q = minimise_ratio(nm, start)
+    except (ValueError, np.linalg.LinAlgError):  # pragma: no cover - numeric trouble
+        q = None
+    if q is not None and float(sigma_ratios(nm.batch(q[None, :]))[0]) <= RANK_RTOL:
+        return q, True
+    return start, False

@@ -10,7 +10,8 @@ import numpy as np
 
 from ..tolerances import GRAM_SCREEN, RANK_RTOL
 
-__all__ = ["sigma_ratio", "numeric_rank_drop", "rank_deficient", "null_directions", "GRAM_SCREEN"]
+__all__ = ["sigma_ratio", "numeric_rank_drop", "rank_deficient", "null_directions",
+           "principal_axes", "GRAM_SCREEN"]
 
 
 def sigma_ratio(J) -> np.ndarray:
@@ -86,3 +87,17 @@ def null_directions(J, drop: int, tall: bool = False) -> tuple:
     U, _, Vt = np.linalg.svd(J)
     vecs = Vt[-drop:] if tall else U[:, -drop:].T
     return tuple(tuple(float(x) for x in v) for v in vecs)
+
+
+def principal_axes(J) -> tuple:
+    """The axes and semi-axis lengths of the ellipsoid {J x : |x| <= 1}: J's left singular
+    vectors (columns of U) and its singular values, largest first.
+
+    Examples
+    --------
+    >>> U, s = principal_axes(np.array([[0.0, 2.0], [1.0, 0.0]]))
+    >>> s.tolist(), np.abs(U[:, 0]).tolist()
+    ([2.0, 1.0], [1.0, 0.0])
+    """
+    U, s, _ = np.linalg.svd(np.asarray(J, dtype=float))
+    return U, s

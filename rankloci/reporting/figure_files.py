@@ -16,6 +16,7 @@ import numpy as np
 import sympy as sp
 
 from .blocks import SIGMA, numbered, plural, signed
+from ..geometry import motion_arrow
 from ..numeric.svd import sigma_ratio
 
 __all__ = ["FigureFile", "report_figures", "reading_lines", "MAX_SLICES", "MAX_PATHS"]
@@ -93,13 +94,13 @@ def _robot_figures(model, model_tm, comps, views, nm, params, paths, stem) -> li
             u = np.asarray(c.direction_at_sample[0], dtype=float)
             a = _vector3(labels, u, ("vx", "vy", "vz"))
             b = _vector3(labels, u, ("wx", "wy", "wz"))
-            small = 1e-3  # directions are read to 3 decimals
-            if np.linalg.norm(a) > small and np.linalg.norm(b) <= small:
-                arrow, what = a, "lost translation"
-            elif np.linalg.norm(b) > small and np.linalg.norm(a) <= small:
-                arrow, what = b, "axis of the lost rotation"
-            elif np.linalg.norm(a) > small:
-                arrow, what = a, "translation part of the lost motion"
+            # a part counts from 1e-3: directions are read to 3 decimals
+            vector, kind = motion_arrow(a, b, 1e-3)
+            if kind is not None:
+                arrow = vector
+                what = {"translation": "lost translation",
+                        "rotation": "axis of the lost rotation",
+                        "translation part": "translation part of the lost motion"}[kind]
         axes = tuple(view.axes) if view is not None else ()
         # a shoulder singularity's reading names a plane through an axis: it is drawn
         through = re.compile(r"the task point lies in the plane through axis (\d+)\b")
@@ -229,23 +230,14 @@ def _units_text(units: str) -> str:
 
 
 def _slice_point_without_locus(nm, rng):
-    """A configuration for a heat map when no component is known, and how to name it.
+    """A configuration for a heat map when no component is known, and how to name it
+    (:func:`~rankloci.numeric.landscape.slice_point`)."""
+    from ..numeric.landscape import slice_point
 
-    A minimum of sigma_min/sigma_max from the best of some random starts, when it is
-    singular (the slice then shows a piece of the locus); else a random regular one.
-    """
-    from ..numeric.equations import minimise_ratio
-    from ..tolerances import RANK_RTOL
-    from .analysis import regular_point, sigma_ratios
-
-    start = regular_point(nm, rng)
-    try:
-        q = minimise_ratio(nm, start)
-    except (ValueError, np.linalg.LinAlgError):  # pragma: no cover - numeric trouble
-        q = None
-    if q is not None and float(sigma_ratios(nm.batch(q[None, :]))[0]) <= RANK_RTOL:
+    q, singular = slice_point(nm, rng)
+    if singular:
         return q, "a singular configuration found numerically (a minimum of the ratio)"
-    return start, "a random regular configuration"
+    return q, "a random regular configuration"
 
 
 def _solved_variants(c, names) -> list:

@@ -25,6 +25,10 @@ import subprocess
 
 import numpy as np
 
+from ..geometry import (axis_line_ends, box_edges, plane_through_axis, rectangle_along,
+                        scaled_to)
+from ..numeric.svd import principal_axes
+
 __all__ = ["plot_sigma_slice", "locus_slice", "plot_augmented", "plot_manipulability_path",
            "plot_manipulability_paths", "manipulability_paths", "plot_tree", "plot_robot",
            "robot_figure", "axis_line_ends", "figure_png", "heatmap_png", "augmented_png",
@@ -542,7 +546,7 @@ def plot_manipulability_paths(paths, *, units: str = "", title: str = "", jacobi
 
 def _ellipsoid(ax, centre, Jv, size, colour):
     """The translational manipulability ellipsoid {Jv x : |x| <= 1}, scaled to ``size``."""
-    U, s, _ = np.linalg.svd(Jv)
+    U, s = principal_axes(Jv)
     top = float(s[0]) if s.size and s[0] > 0 else 1.0
     radii = np.zeros(3)
     radii[:len(s)] = s / top * size
@@ -603,18 +607,6 @@ def _robot_and_q(robot, q, *, model=None, component: int = 1):
 _FRAME_COLOURS = ("#d62728", "#2ca02c", "#1f77b4")
 
 
-def _box_edges(centre, direction, length, width):
-    """The 12 edges of a box along ``direction`` (3-D), each a (2, 3) array."""
-    d = np.asarray(direction, dtype=float)
-    u = np.cross(d, [1.0, 0.0, 0.0] if abs(d[0]) < 0.9 else [0.0, 1.0, 0.0])
-    u /= np.linalg.norm(u)
-    v = np.cross(d, u)
-    corners = [np.asarray(centre) + a * length / 2 * d + b * width / 2 * u + c * width / 2 * v
-               for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)]
-    pairs = [(i, j) for i in range(8) for j in range(i + 1, 8) if bin(i ^ j).count("1") == 1]
-    return [np.array([corners[i], corners[j]]) for i, j in pairs]
-
-
 def _plot_robot_2d(pose, *, highlight, arrow, arrow_label, Jv, title, ax):
     """The arm of a planar model in its plane: links, joints, prismatic boxes, task point."""
     from matplotlib.patches import Polygon
@@ -634,11 +626,7 @@ def _plot_robot_2d(pose, *, highlight, arrow, arrow_label, Jv, title, ax):
             ax.plot([p[0]], [p[1]], marker="o", markersize=7 if hot else 5,
                     markerfacecolor="white", markeredgecolor=colour, zorder=3)
         else:
-            d2 = np.asarray(d[:2]) / max(np.linalg.norm(d[:2]), 1e-12)
-            n2 = np.array([-d2[1], d2[0]])
-            L, W = 0.12 * scale, 0.05 * scale
-            pts = [p[:2] + a * L / 2 * d2 + b * W / 2 * n2 for a, b in
-                   ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+            pts = rectangle_along(p, d, 0.12 * scale, 0.05 * scale)
             ax.add_patch(Polygon(pts, closed=True, fill=False, edgecolor=colour, linewidth=1.2,
                                  zorder=3))
         if hot:
@@ -653,7 +641,7 @@ def _plot_robot_2d(pose, *, highlight, arrow, arrow_label, Jv, title, ax):
             ax.quiver(*tip, *v, color=_FRAME_COLOURS[c], angles="xy", scale_units="xy", scale=1,
                       width=0.004, zorder=4)
     if Jv is not None and np.size(Jv):
-        U, sv, _ = np.linalg.svd(np.asarray(Jv, dtype=float)[:2])
+        U, sv = principal_axes(np.asarray(Jv, dtype=float)[:2])
         top = float(sv[0]) if sv.size and sv[0] > 0 else 1.0
         t = np.linspace(0, 2 * np.pi, 80)
         circle = np.stack([np.cos(t), np.sin(t)])
@@ -661,9 +649,9 @@ def _plot_robot_2d(pose, *, highlight, arrow, arrow_label, Jv, title, ax):
         radii[:len(sv)] = sv[:2] / top * 0.25 * scale
         pts = tip[:, None] + U[:2, :2] @ (radii[:, None] * circle)
         ax.plot(pts[0], pts[1], color="#2ca02c", linewidth=0.8, alpha=0.8)
-    if arrow is not None and np.linalg.norm(np.asarray(arrow)[:2]) > 0:
-        a = np.asarray(arrow, dtype=float)[:2]
-        a = a / np.linalg.norm(a) * 0.35 * scale
+    a = scaled_to(np.asarray(arrow, dtype=float)[:2], 0.35 * scale) if arrow is not None \
+        else None
+    if a is not None:
         ax.quiver(*tip, *a, color="#9467bd", angles="xy", scale_units="xy", scale=1,
                   width=0.008, zorder=5, label=arrow_label or None)
     lo = chain.min(axis=0) - 0.3 * scale
@@ -679,49 +667,6 @@ def _plot_robot_2d(pose, *, highlight, arrow, arrow_label, Jv, title, ax):
         ax.set_title(title, fontsize=10)
     ax.legend(loc="lower right", fontsize=LABEL_PT)
     return ax
-
-
-def _plane_corners(pose, joint: int):
-    """The four corners of the plane through joint ``joint``'s axis and the task point, as
-    wide as the arm; None when the task point lies on that axis (no plane is defined)."""
-    p = np.asarray(pose.axis_points[joint - 1], dtype=float)
-    d = np.asarray(pose.axis_directions[joint - 1], dtype=float)
-    d = d / np.linalg.norm(d)
-    r = np.asarray(pose.tool, dtype=float) - p
-    u = r - (r @ d) * d
-    if np.linalg.norm(u) <= 1e-9 * pose.scale:
-        return None
-    u = u / np.linalg.norm(u)
-    half = 0.6 * pose.scale
-    reach = max(float(r @ u), 0.0)
-    along = np.array([r @ d - half, r @ d + half])
-    across = np.array([-0.2 * pose.scale, reach + 0.2 * pose.scale])
-    return np.array([p + s * d + t * u for s, t in ((along[0], across[0]), (along[1], across[0]),
-                                                     (along[1], across[1]), (along[0], across[1]))])
-
-
-def axis_line_ends(pose, joint: int):
-    """The two ends of the line of joint ``joint``'s axis (1-based), extended through the arm.
-
-    The line runs along the axis from its point, as far as the arm reaches along that
-    direction and half the arm's size beyond (past the highlighted axes, drawn 0.45 of it
-    long each way), so that every joint origin of the chain is passed on the way.
-
-    Examples
-    --------
-    >>> from rankloci.io import load_model
-    >>> from rankloci.reporting.robot import robot_pose
-    >>> pose = robot_pose(load_model("planar2r"), {"q1": 0.0, "q2": 0.0})
-    >>> [[round(float(x), 2) + 0.0 for x in end] for end in axis_line_ends(pose, 1)]
-    [[0.0, 0.0, -1.0], [0.0, 0.0, 1.0]]
-    """
-    p = np.asarray(pose.axis_points[joint - 1], dtype=float)
-    d = np.asarray(pose.axis_directions[joint - 1], dtype=float)
-    d = d / np.linalg.norm(d)
-    s = (np.asarray(pose.chain, dtype=float) - p) @ d
-    lo, hi = float(min(s.min(), 0.0)), float(max(s.max(), 0.0))
-    margin = 0.5 * pose.scale
-    return np.array([p + (lo - margin) * d, p + (hi + margin) * d])
 
 
 def _joint_numbers(ax, labels):
@@ -836,7 +781,7 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
         X, Y = np.meshgrid(gx, gy)
         ax.plot_surface(X, Y, np.full_like(X, floor_z), color="#dddddd", alpha=0.35,
                         linewidth=0, shade=False)
-        for edge in _box_edges(chain[0] - [0, 0, 0.03 * scale], [0.0, 0.0, 1.0], 0.06 * scale,
+        for edge in box_edges(chain[0] - [0, 0, 0.03 * scale], [0.0, 0.0, 1.0], 0.06 * scale,
                                0.14 * scale):
             ax.plot(edge[:, 0], edge[:, 1], edge[:, 2], color="#555555", linewidth=1.2)
         ax.plot(chain[:, 0], chain[:, 1], chain[:, 2], color="#333333", linewidth=2.2,
@@ -852,7 +797,7 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
             ax.plot(seg[:, 0], seg[:, 1], seg[:, 2], color=colour,
                     linewidth=2.0 if hot else 1.0, linestyle="-" if kind == "revolute" else "--")
             if kind == "prismatic":
-                for edge in _box_edges(p, d, 0.14 * scale, 0.05 * scale):
+                for edge in box_edges(p, d, 0.14 * scale, 0.05 * scale):
                     ax.plot(edge[:, 0], edge[:, 1], edge[:, 2], color=colour, linewidth=1.0)
             if hot:
                 hot_labels.append((p + half_axis * d, k))
@@ -865,7 +810,7 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
             ax.plot(ends[:, 0], ends[:, 1], ends[:, 2], color=READING_LINE_COLOUR,
                     linewidth=3.5, alpha=0.6, linestyle="-.", label=label, zorder=5)
         if plane is not None:
-            corners = _plane_corners(pose, plane)
+            corners = plane_through_axis(pose, plane)
             if corners is not None:
                 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
@@ -881,9 +826,8 @@ def plot_robot(pose, q=None, *, component: int = 1, model=None, highlight=(), ar
                           arrow_length_ratio=0.2)
         if Jv is not None and np.size(Jv):
             _ellipsoid(ax, tip, np.asarray(Jv, dtype=float), 0.25 * scale, "#2ca02c")
-        if arrow is not None and np.linalg.norm(arrow) > 0:
-            a = np.asarray(arrow, dtype=float)
-            a = a / np.linalg.norm(a) * 0.35 * scale
+        a = scaled_to(arrow, 0.35 * scale) if arrow is not None else None
+        if a is not None:
             ax.quiver(*tip, *a, color="#9467bd", linewidth=1.8, arrow_length_ratio=0.25,
                       label=arrow_label or None)
         ax.set_xlim(mid[0] - half, mid[0] + half)

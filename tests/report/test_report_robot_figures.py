@@ -62,10 +62,10 @@ def test_prismatic_joints_are_drawn_as_boxes():
 def test_the_plane_through_axis_1_and_the_task_point_is_drawn():
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
-    from rankloci.reporting.figures import _plane_corners
+    from rankloci.geometry import plane_through_axis
 
     pose = _pose("puma560")
-    corners = _plane_corners(pose, 1)
+    corners = plane_through_axis(pose, 1)
     assert corners.shape == (4, 3)
     # the four corners, a point of axis 1, a second point along it and the task point all lie
     # in one plane: the matrix of their differences has rank 2
