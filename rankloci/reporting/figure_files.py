@@ -268,21 +268,32 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot, views=()) -> t
     :class:`~rankloci.reporting.build.ComponentView` (their readings name the axes
     the pictures of the robot highlight).
     """
-    from ..jacobians import task_matrix
-    from ..numeric.equations import NumericMatrix
     from . import analysis as A
-    from .tree_summary import tree_summary
     from .escape import file_stem
-    from .figures import augmented_png, heatmap_png, manipulability_png, tree_png
-    from .tree_summary import component_leaves
 
     stem = file_stem(model.name)  # names the files and titles the figures
     rng = np.random.default_rng(seed)
-    names = [v.name for v in nm.variables]
-    prismatic = [v not in nm.angles for v in nm.variables]
     comps = A.model_components(locus) if locus is not None else []
-    out = []
-    slices = []          # (SliceData, where the slice passes through)
+    slices = _slices(nm, comps, params, rng)
+    out = _slice_figures(slices, comps, locus, nm, stem)
+    if comps:
+        out += _path_figures(model, model_tm, comps, views, nm, params, rng, seed, stem)
+    if locus is not None and locus.tree is not None and locus.tree.number_of_nodes():
+        out.append(_tree_figure(locus, comps, nm, params, rng, dot, stem))
+    base = getattr(locus, "base", None) if locus is not None else None
+    if base is not None and slices:
+        out.append(_augmented_figure(model, base, slices[0][0], nm, params, stem))
+    return tuple(out)
+
+
+def _slices(nm, comps, params, rng) -> list:
+    """(SliceData, where the slice passes through) for the heat maps: one through a sample
+    point of each component that no earlier slice shows (at most MAX_SLICES), or one through
+    a configuration found numerically when there are no components."""
+    from . import analysis as A
+
+    names = [v.name for v in nm.variables]
+    slices = []
     if len(names) >= 2:
         used = []
         for idx, comp in (comps or [(None, None)]):
@@ -301,6 +312,16 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot, views=()) -> t
             data = A.slice_grid(nm, comps, params, axes, point, through=idx)
             used.append((axes, data))
             slices.append((data, where))
+    return slices
+
+
+def _slice_figures(slices, comps, locus, nm, stem) -> list:
+    """The heat map of each slice, with its caption."""
+    from .figures import heatmap_png
+
+    names = [v.name for v in nm.variables]
+    prismatic = [v not in nm.angles for v in nm.variables]
+    out = []
     for k, (data, where) in enumerate(slices, start=1):
         i, j = data.axes
         fixed = ", ".join(f"{names[m]} = {signed(data.point[m], 3)}" for m in range(len(names))
@@ -329,79 +350,100 @@ def report_figures(model, model_tm, locus, nm, params, seed, dot, views=()) -> t
         out.append(FigureFile(f"{stem}-sigma-{k}.png",
                               heatmap_png(data, names, prismatic, title=title), caption, "sigma",
                               title, tuple(shown), data.through))
-    slices = [data for data, _ in slices]
-    # manipulability along paths
-    if comps:
-        paths = []
-        for idx, c in comps[:MAX_PATHS]:
-            q0 = np.array([c.sample[n] for n in names], dtype=float)
-            normals = A.normal_directions(A.component_equations(c, nm, params), q0)
-            paths.append(A.path_through(nm, q0, rng, component=idx, normals=normals))
-        units = _units(model, model_tm)
-        caption = (f"Manipulability $w = \\sqrt{{\\det(J J^T)}}$ [{_units_text(units)}] along "
-                   "straight joint-space "
-                   "paths $q(t) = q_0 + t d$, $-1 \\le t \\le 1$, each through the sample "
-                   "point $q_0$ of one component (at $t = 0$) between two regular "
-                   f"configurations. $\\lVert d \\rVert = {A.PATH_LENGTH:g}$, "
-                   f"{A.PATH_NORMAL_SHARE:g} of it across the component (in the span of its "
-                   f"equations' gradients) and the rest random (seed {seed}), so each path "
-                   "crosses its component transversally. Red dots: every parameter $t$ at which "
-                   f"the path meets the locus ({SIGMA} refined to at most "
-                   f"{_tol_text()}), some of them on other components.")
-        title = f"{stem}: manipulability across the locus"
-        out.append(FigureFile(f"{stem}-manipulability.png",
-                              manipulability_png(paths, units=units, title=title),
-                              caption, "manipulability", title,
-                              tuple(p.component for p in paths)))
-        out += _robot_figures(model, model_tm, dict(comps), views, nm, params, paths, stem)
-    # the branch tree
-    if locus is not None and locus.tree is not None and locus.tree.number_of_nodes():
-        points = {idx: [np.array([c.sample[n] for n in names], dtype=float)]
-                  + A.component_points(c, nm, params, rng, 2)[1:]
-                  + _solved_variants(c, names) for idx, c in comps}
-        leaves = component_leaves(locus.tree, points, nm.variables, params)
-        summary = tree_summary(locus.tree, components=leaves)
-        cut = (f" The tree has {summary.total_nodes} nodes; drawn are the paths to one leaf of "
-               f"each component, the other {summary.collapsed} branches are left out (the "
-               "table above counts the stop reasons of all leaves)." if summary.collapsed
-               else "")
-        found = sorted(set(leaves.values()))
-        missing = [idx for idx, _ in comps if idx not in found]
-        miss = (f" No leaf matches {numbered('component', missing)}: the final merge of "
-                "the leaves formed it." if missing else "")
-        caption = (f"Branch tree of the {locus.method} method, top-down; each node shows its "
-                   "branch condition (in half-angle coordinates, cut after three lines) and the "
-                   "columns and k of its level. Green leaves are branches "
-                   "that give a component of the model, labelled with its number (their "
-                   "conditions vanish at its points); grey leaves stop for the reason in "
-                   "brackets, among them branches that exist only for special parameter "
-                   "values." + cut + miss)
-        out.append(FigureFile(f"{stem}-tree.png", tree_png(summary, dot=dot), caption,
-                              "tree", f"{stem}: branch tree of the {locus.method} method",
-                              boxes=summary.graph.number_of_nodes()))
-    # augmented Jacobian: J and J_aug side by side
-    base = getattr(locus, "base", None) if locus is not None else None
-    if base is not None and slices:
-        plain_tm = task_matrix(model, use_model_augment=False)
-        nm_plain = NumericMatrix(sp.Matrix(plain_tm.matrix).subs(params), plain_tm.variables,
-                                 plain_tm.angles)
-        nm_plain.strokes = getattr(nm, "strokes", {})
-        data = slices[0]
-        # the same window as the augmented slice: the panels share their axes, and a window
-        # chosen for J alone would leave a white band in one of them
-        # (an angle's window is a full turn about its middle, a length's is set by the point)
-        window = tuple((g[0] + g[-1]) / 2 if nm.variables[k] in nm.angles else data.point[k]
-                       for g, k in ((data.xs, data.axes[0]), (data.ys, data.axes[1])))
-        left = A.slice_grid(nm_plain, A.model_components(base), params, data.axes, data.point,
-                            through=data.through, n=len(data.xs), centres=window)
-        i, j = data.axes
-        caption = (f"{SIGMA} over the ({names[i]}, {names[j]}) slice of the first "
-                   "heat map, one colour scale: left J without the constraint rows, with the "
-                   "components of its own locus; right the augmented J, with the components "
-                   "of the augmented locus. Components drawn on the right only are algorithmic "
-                   "singularities.")
-        title = f"{stem}: J and the augmented J"
-        out.append(FigureFile(f"{stem}-augmented.png",
-                              augmented_png(left, data, names, prismatic, title=title),
-                              caption, "augmented", title))
-    return tuple(out)
+    return out
+
+
+def _path_figures(model, model_tm, comps, views, nm, params, rng, seed, stem) -> list:
+    """Manipulability along a path through each component, and the pictures of the arm."""
+    from . import analysis as A
+    from .figures import manipulability_png
+
+    names = [v.name for v in nm.variables]
+    out = []
+    paths = []
+    for idx, c in comps[:MAX_PATHS]:
+        q0 = np.array([c.sample[n] for n in names], dtype=float)
+        normals = A.normal_directions(A.component_equations(c, nm, params), q0)
+        paths.append(A.path_through(nm, q0, rng, component=idx, normals=normals))
+    units = _units(model, model_tm)
+    caption = (f"Manipulability $w = \\sqrt{{\\det(J J^T)}}$ [{_units_text(units)}] along "
+               "straight joint-space "
+               "paths $q(t) = q_0 + t d$, $-1 \\le t \\le 1$, each through the sample "
+               "point $q_0$ of one component (at $t = 0$) between two regular "
+               f"configurations. $\\lVert d \\rVert = {A.PATH_LENGTH:g}$, "
+               f"{A.PATH_NORMAL_SHARE:g} of it across the component (in the span of its "
+               f"equations' gradients) and the rest random (seed {seed}), so each path "
+               "crosses its component transversally. Red dots: every parameter $t$ at which "
+               f"the path meets the locus ({SIGMA} refined to at most "
+               f"{_tol_text()}), some of them on other components.")
+    title = f"{stem}: manipulability across the locus"
+    out.append(FigureFile(f"{stem}-manipulability.png",
+                          manipulability_png(paths, units=units, title=title),
+                          caption, "manipulability", title,
+                          tuple(p.component for p in paths)))
+    out += _robot_figures(model, model_tm, dict(comps), views, nm, params, paths, stem)
+    return out
+
+
+def _tree_figure(locus, comps, nm, params, rng, dot, stem) -> FigureFile:
+    """The branch tree, with the leaves of each component marked."""
+    from . import analysis as A
+    from .figures import tree_png
+    from .tree_summary import component_leaves, tree_summary
+
+    names = [v.name for v in nm.variables]
+    points = {idx: [np.array([c.sample[n] for n in names], dtype=float)]
+              + A.component_points(c, nm, params, rng, 2)[1:]
+              + _solved_variants(c, names) for idx, c in comps}
+    leaves = component_leaves(locus.tree, points, nm.variables, params)
+    summary = tree_summary(locus.tree, components=leaves)
+    cut = (f" The tree has {summary.total_nodes} nodes; drawn are the paths to one leaf of "
+           f"each component, the other {summary.collapsed} branches are left out (the "
+           "table above counts the stop reasons of all leaves)." if summary.collapsed
+           else "")
+    found = sorted(set(leaves.values()))
+    missing = [idx for idx, _ in comps if idx not in found]
+    miss = (f" No leaf matches {numbered('component', missing)}: the final merge of "
+            "the leaves formed it." if missing else "")
+    caption = (f"Branch tree of the {locus.method} method, top-down; each node shows its "
+               "branch condition (in half-angle coordinates, cut after three lines) and the "
+               "columns and k of its level. Green leaves are branches "
+               "that give a component of the model, labelled with its number (their "
+               "conditions vanish at its points); grey leaves stop for the reason in "
+               "brackets, among them branches that exist only for special parameter "
+               "values." + cut + miss)
+    return FigureFile(f"{stem}-tree.png", tree_png(summary, dot=dot), caption, "tree",
+                      f"{stem}: branch tree of the {locus.method} method",
+                      boxes=summary.graph.number_of_nodes())
+
+
+def _augmented_figure(model, base, data, nm, params, stem) -> FigureFile:
+    """J and the augmented J over the first heat map's slice, side by side."""
+    from ..jacobians import task_matrix
+    from ..numeric.equations import NumericMatrix
+    from . import analysis as A
+    from .figures import augmented_png
+
+    names = [v.name for v in nm.variables]
+    prismatic = [v not in nm.angles for v in nm.variables]
+    plain_tm = task_matrix(model, use_model_augment=False)
+    nm_plain = NumericMatrix(sp.Matrix(plain_tm.matrix).subs(params), plain_tm.variables,
+                             plain_tm.angles)
+    nm_plain.strokes = getattr(nm, "strokes", {})
+    # the same window as the augmented slice: the panels share their axes, and a window
+    # chosen for J alone would leave a white band in one of them
+    # (an angle's window is a full turn about its middle, a length's is set by the point)
+    window = tuple((g[0] + g[-1]) / 2 if nm.variables[k] in nm.angles else data.point[k]
+                   for g, k in ((data.xs, data.axes[0]), (data.ys, data.axes[1])))
+    left = A.slice_grid(nm_plain, A.model_components(base), params, data.axes, data.point,
+                        through=data.through, n=len(data.xs), centres=window)
+    i, j = data.axes
+    caption = (f"{SIGMA} over the ({names[i]}, {names[j]}) slice of the first "
+               "heat map, one colour scale: left J without the constraint rows, with the "
+               "components of its own locus; right the augmented J, with the components "
+               "of the augmented locus. Components drawn on the right only are algorithmic "
+               "singularities.")
+    title = f"{stem}: J and the augmented J"
+    return FigureFile(f"{stem}-augmented.png",
+                      augmented_png(left, data, names, prismatic, title=title),
+                      caption, "augmented", title)
