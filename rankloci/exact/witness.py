@@ -55,10 +55,17 @@ circle's points at infinity and are removed.
 
 Limits
 ------
-Witness points are computed for codimensions 1 and 2 (subspaces of
-dimension 1 and 2); a matrix whose components can have codimension 3 or more
-(an n x m matrix with m - n >= 2) is certified for codimensions 1 and 2 and
-the result says that the rest is undecided.  Expressions must be
+Witness points are computed for codimensions 1 to ``MAX_CODIMENSION`` (4):
+on a subspace of dimension c, c - 1 variables are eliminated with
+resultants, one at a time, and each elimination squares the degrees.  A
+codimension whose determinants or eliminations exceed the budgets
+(``MAX_ELIMINATION_DEGREE``, ``MAX_ELIMINATION_TERMS``) is left undecided,
+and so is a codimension above ``MAX_CODIMENSION``; the result names each one
+and why.  In practice codimensions 3 and 4 are decided for small matrices
+(planar4r, 2 x 4) and left undecided on long chains, whose determinants on a
+subspace have degree 70 to 80 (mobile10, 6 x 10; the 9R snake, 6 x 9); a
+component of such a codimension given in solved form is still checked for
+soundness at a point of each of its pieces.  Expressions must be
 polynomials in sines and cosines of rational multiples of the angles (half
 angles included), the other variables and square roots of integers.
 """

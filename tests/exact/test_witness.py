@@ -86,6 +86,44 @@ def test_a_wrong_solved_value_is_refused():
     assert any("solved values do not satisfy" in f for f in cert.findings)
 
 
+def _planar4r():
+    tm = task_matrix(rankloci.load_model("planar4r"), numeric=True)
+    q = tm.variables
+    whole = Component((sp.sin(q[1]), sp.sin(q[2]), sp.sin(q[3])), dimension=1, free=(q[0],))
+    return tm, q, whole
+
+
+def test_codimension_three_refuses_a_missing_or_halved_component():
+    """planar4r (2 x 4): its only component has codimension 3, 8 witness points on a random
+    3-dimensional subspace (q2, q3, q4 each 0 or pi).  Without it, or with q4 = pi only, the
+    witness points of codimension 3 are not covered."""
+    tm, q, whole = _planar4r()
+    cert = certify_components(tm.matrix, q, tm.angles, [whole], seed=5)
+    assert cert.verdict == "passed"
+    assert cert.witness_points == {1: 0, 2: 0, 3: 8}
+    cert = certify_components(tm.matrix, q, tm.angles, [], seed=5)
+    assert cert.verdict == "failed"
+    assert any("8 of the 8 witness points of codimension 3" in f for f in cert.findings)
+    halved = dataclasses.replace(whole, equations=(sp.sin(q[1]), sp.sin(q[2]), sp.cos(q[3] / 2)))
+    cert = certify_components(tm.matrix, q, tm.angles, [halved], seed=5)
+    assert cert.verdict == "failed"
+    assert any("4 of the 8 witness points of codimension 3" in f for f in cert.findings)
+
+
+def test_a_codimension_beyond_the_elimination_budget_is_undecided(monkeypatch):
+    """Where the eliminations of codimension 3 would exceed their budget (long chains:
+    mobile10, the 9R snake), the verdict is undecided and says which codimension and why,
+    never passed."""
+    import rankloci.exact.witness as witness
+
+    tm, q, whole = _planar4r()
+    monkeypatch.setattr(witness, "MAX_ELIMINATION_TERMS", 10)
+    cert = certify_components(tm.matrix, q, tm.angles, [whole], seed=5)
+    assert cert.verdict == "undecided"
+    assert 3 not in cert.witness_points
+    assert any(f.startswith("codimension 3 components are not certified") for f in cert.findings)
+
+
 def test_a_certificate_reads_back_from_its_json():
     cert = _certify([Component((sp.sin(q2),), dimension=1)])
     assert Certificate.from_dict(json.loads(json.dumps(cert.to_dict()))).to_dict() == \
