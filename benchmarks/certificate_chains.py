@@ -82,6 +82,10 @@ def render(rows, meta) -> str:
              f"`python benchmarks/certificate_chains.py`, {meta['date']}, {meta['machine']}, "
              f"Python {meta['python']}. One process, chains one after another, on a shared "
              "machine: compare the ratio, not the seconds.", "",
+             "Seconds per codimension run from the certificate's message for that codimension "
+             "to the next one; the last runs to the end and includes the soundness checks of "
+             "components of the codimensions left undecided (those are refused before any "
+             "elimination, by the degree of their determinants).", "",
              "| chain | matrix | engine (s) | components by codimension | certificate (s) "
              "| s per codimension | verdict | witness points |",
              "| --- | --- | --- | --- | --- | --- | --- | --- |"]
