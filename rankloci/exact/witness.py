@@ -75,6 +75,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import math
+import threading
 import time
 from dataclasses import dataclass
 
@@ -804,6 +805,39 @@ def _real_part_claims(components, variables, angles, N):
     return covers, findings, records
 
 
+#: the last results of the certificate's costliest steps (restricting the matrix to a random
+#: plane, its compressed determinants, their isolated zeros), by their exact inputs and the
+#: state of the random generator before them: a certificate computed again for the same
+#: matrix and seed (with other components, as when components are added to a locus that
+#: failed) repeats none of them, and ends with the generator in the same state
+_MEMO: dict = {}
+_MEMO_LOCK = threading.Lock()
+
+
+def _rows_key(rows, forms, P, roots):
+    """The exact inputs of the locus's planes: the matrix's forms, their variables, the prime."""
+    return (tuple(forms.ctx.names()), tuple(forms.angles), tuple(forms.others), P,
+            tuple(roots), tuple(tuple(str(x) for x in row) for row in rows))
+
+
+def _remembered(key, rng, compute):
+    """``compute()``, or its remembered result for the same ``key`` and state of ``rng``
+    (``rng`` then left in the state ``compute`` left it in)."""
+    state = rng.bit_generator.state
+    full = (key, repr(state))
+    with _MEMO_LOCK:
+        hit = _MEMO.get(full)
+    if hit is not None:
+        rng.bit_generator.state = hit[1]
+        return hit[0]
+    value = compute()
+    with _MEMO_LOCK:
+        if len(_MEMO) >= 16:        # the planes of one or two certificates
+            _MEMO.pop(next(iter(_MEMO)))
+        _MEMO[full] = (value, rng.bit_generator.state)
+    return value
+
+
 def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline, progress, t0):
     findings = []
     counts = {}
@@ -813,9 +847,14 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
         if deadline():
             raise TimeoutError
 
-    line = _Plane(forms, P, roots, 1, rng)
-    Ml = [[line.restrict(x) for x in row] for row in rows]
-    H = _compressions(Ml, n, m, 2, P, rng)
+    key = _rows_key(rows, forms, P, roots)
+
+    def first_plane():
+        line = _Plane(forms, P, roots, 1, rng)
+        Ml = [[line.restrict(x) for x in row] for row in rows]
+        return line, Ml, _compressions(Ml, n, m, 2, P, rng)
+
+    line, Ml, H = _remembered(("plane", 1, key), rng, first_plane)
     degree_sum += sum(max(0, int(h.total_degree())) for h in H)
     if all(h.is_zero() for h in H):
         # rank deficient everywhere: the locus is the whole space
@@ -848,8 +887,11 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
                             f"to {MAX_CODIMENSION}")
             continue
         if c not in planes:
-            plane = _Plane(forms, P, roots, c, rng)
-            Mp = [[plane.restrict(x) for x in row] for row in rows]
+            def restricted(c=c):
+                plane = _Plane(forms, P, roots, c, rng)
+                return plane, [[plane.restrict(x) for x in row] for row in rows]
+
+            plane, Mp = _remembered(("plane", c, key), rng, restricted)
             # the determinants' degree, and whether the eliminations could stay in budget
             D = sum(max(int(x.total_degree()) for x in row) for row in Mp)
             if c > 2 and D ** c / math.factorial(c) > MAX_ELIMINATION_TERMS:
@@ -861,7 +903,8 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
                                                        findings):
                         uncertain.append(c)
                 continue
-            Hp = _compressions(Mp, n, m, c + 1, P, rng)
+            Hp = _remembered(("minors", c, key), rng,
+                             lambda Mp=Mp, c=c: _compressions(Mp, n, m, c + 1, P, rng))
             degree_sum += sum(max(0, int(h.total_degree())) for h in Hp)
             planes[c] = (plane, Mp, Hp)
         plane, Mp, Hp = planes[c]
@@ -870,7 +913,9 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
             locus_points = []        # no component of the locus has this codimension
         else:
             try:
-                locus_points, _ = _isolated_points(Hp, plane, rng)
+                locus_points, _ = _remembered(("points", c, key), rng,
+                                              lambda Hp=Hp, plane=plane:
+                                              _isolated_points(Hp, plane, rng))
             except _TooLarge as exc:
                 findings.append(f"codimension {c} components are not certified: the "
                                 f"elimination is too large ({exc})")
