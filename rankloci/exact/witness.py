@@ -514,6 +514,12 @@ def _isolated(polys, k, P, rng):
 
 def _value(p, coords, F):
     """The value in the field F of an nmod_mpoly at ``coords`` (powers computed once each)."""
+    if F.degree() == 1:
+        # a point over GF(P) itself: flint evaluates the polynomial at its integers (the
+        # variables past ``coords`` are absent from p)
+        args = [int(x) for x in coords]
+        args += [0] * (p.context().nvars() - len(args))
+        return F(int(p(*args)))
     powers = [[F(1)] for _ in coords]
     total = F(0)
     for mon, coeff in zip(p.monoms(), p.coeffs()):
