@@ -444,6 +444,14 @@ def _univariate_points(f, P):
 
 def _at(p, coords, F, k):
     """``p`` (nmod_mpoly in u0..) with u0..u_{k-1} = ``coords`` (in F): a polynomial in u_k over F."""
+    if F.degree() == 1:
+        # coordinates in GF(P) itself: flint substitutes their integers
+        q = p.subs({f"u{j}": int(coords[j]) for j in range(k)}) if k else p
+        terms = q.to_dict()
+        out = [F(0)] * (max((m[k] for m in terms), default=0) + 1)
+        for mon, coeff in terms.items():
+            out[mon[k]] = F(int(coeff))
+        return flint.fq_default_poly_ctx(F)(out)
     coeffs: dict = {}
     for mon, coeff in zip(p.monoms(), p.coeffs()):
         term = F(int(coeff))
