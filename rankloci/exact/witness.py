@@ -829,9 +829,11 @@ _MEMO_LOCK = threading.Lock()
 
 
 def _rows_key(rows, forms, P, roots):
-    """The exact inputs of the locus's planes: the matrix's forms, their variables, the prime."""
+    """The exact inputs of the locus's planes: the matrix's forms, their variables, the prime,
+    and the elimination budgets (a result computed within one is no result beyond another)."""
     return (tuple(forms.ctx.names()), tuple(forms.angles), tuple(forms.others), P,
-            tuple(roots), tuple(tuple(str(x) for x in row) for row in rows))
+            tuple(roots), tuple(tuple(str(x) for x in row) for row in rows),
+            MAX_ELIMINATION_DEGREE, MAX_ELIMINATION_TERMS)
 
 
 def _remembered(key, rng, compute):

@@ -110,6 +110,27 @@ def test_codimension_three_refuses_a_missing_or_halved_component():
     assert any("4 of the 8 witness points of codimension 3" in f for f in cert.findings)
 
 
+def test_a_certificate_computed_again_reuses_its_planes_and_is_the_same(monkeypatch):
+    """A second certificate of the same matrix and seed (as when components are added to a
+    locus that failed) reuses the planes, determinants and witness points of the first: the
+    same verdict, counts and findings, and none of them recomputed."""
+    import rankloci.exact.witness as witness
+
+    tm, q, whole = _planar4r()
+    monkeypatch.setattr(witness, "_MEMO", {})
+    first = certify_components(tm.matrix, q, tm.angles, [], seed=5)
+    kept = dict(witness._MEMO)
+    assert {k[0][:2] for k in kept} >= {("plane", 1), ("points", 3)}
+    calls = []
+    monkeypatch.setattr(witness, "_compressions", lambda *a: calls.append(a))
+    monkeypatch.setattr(witness, "_isolated_points",
+                        lambda *a, **k: calls.append(a) or ([], None))
+    again = certify_components(tm.matrix, q, tm.angles, [], seed=5)
+    assert calls == [] and witness._MEMO == kept
+    assert dataclasses.replace(again, seconds=0) == dataclasses.replace(first, seconds=0)
+    assert again.verdict == "failed" and again.witness_points == {1: 0, 2: 0, 3: 8}
+
+
 def test_a_codimension_beyond_the_elimination_budget_is_undecided(monkeypatch):
     """Where the eliminations of codimension 3 would exceed their budget (long chains:
     mobile10, the 9R snake), the verdict is undecided and says which codimension and why,
