@@ -316,3 +316,32 @@ def test_check_counts_complex_components_of_a_locus_file_only_when_proved(tmp_pa
     saved.write_text(json.dumps(doc), encoding="utf-8")
     assert main(["check", str(real), "--locus", str(saved), "--quiet"]) == 1
     assert "lie on no reported component" in capsys.readouterr().out
+
+
+def test_values_and_lifts_at_points_over_the_prime_field_agree_with_direct_sums():
+    """Values of a polynomial at a point of GF(P) (flint's evaluation), and the polynomial in
+    the last variable left once the others are fixed (flint's substitution), against sums of
+    the terms computed by hand modulo P."""
+    import random
+
+    import flint
+
+    from rankloci.exact.witness import _at, _value
+
+    P = 2 ** 61 - 1
+    F = flint.fq_default_ctx(P, 1)
+    ctx = flint.nmod_mpoly_ctx.get(("u0", "u1", "u2"), modulus=P)
+    rng = random.Random(7)
+    for _ in range(20):
+        terms = {(rng.randrange(4), rng.randrange(4), rng.randrange(3)): rng.randrange(P)
+                 for _ in range(rng.randrange(1, 9))}
+        p = ctx.from_dict(terms)
+        point = [rng.randrange(P) for _ in range(3)]
+
+        def by_hand(xs, terms=terms):
+            return sum(c * pow(xs[0], a, P) * pow(xs[1], b, P) * pow(xs[2], e, P)
+                       for (a, b, e), c in terms.items()) % P
+
+        assert _value(p, [F(x) for x in point], F) == F(by_hand(point))
+        lifted = _at(p, [F(x) for x in point[:2]], F, 2)
+        assert lifted(F(point[2])) == F(by_hand(point))
