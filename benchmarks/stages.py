@@ -53,9 +53,9 @@ def _child(path, base, tip, augment, jobs) -> dict:
     """Run the pipeline once in this process with the stages timed."""
     from importlib import import_module
 
-    # by import_module: the package's own ``jacobian`` is the API function of that name
+    # by import_module: the package's own names may be API functions of the same name
     augmented, certify, jacobian, methods, crosscheck = (import_module(f"rankloci.{m}") for m in (
-        "augmented", "certify", "jacobian", "methods", "numeric.crosscheck"))
+        "augmented", "certify", "jacobians", "methods", "numeric.crosscheck"))
     try:
         parallel = import_module("rankloci.parallel")
     except ImportError:         # a version without worker processes

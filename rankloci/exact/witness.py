@@ -55,10 +55,17 @@ circle's points at infinity and are removed.
 
 Limits
 ------
-Witness points are computed for codimensions 1 and 2 (subspaces of
-dimension 1 and 2); a matrix whose components can have codimension 3 or more
-(an n x m matrix with m - n >= 2) is certified for codimensions 1 and 2 and
-the result says that the rest is undecided.  Expressions must be
+Witness points are computed for codimensions 1 to ``MAX_CODIMENSION`` (4):
+on a subspace of dimension c, c - 1 variables are eliminated with
+resultants, one at a time, and each elimination squares the degrees.  A
+codimension whose determinants or eliminations exceed the budgets
+(``MAX_ELIMINATION_DEGREE``, ``MAX_ELIMINATION_TERMS``) is left undecided,
+and so is a codimension above ``MAX_CODIMENSION``; the result names each one
+and why.  In practice codimensions 3 and 4 are decided for small matrices
+(planar4r, 2 x 4) and left undecided on long chains, whose determinants on a
+subspace have degree 70 to 80 (mobile10, 6 x 10; the 9R snake, 6 x 9); a
+component of such a codimension given in solved form is still checked for
+soundness at a point of each of its pieces.  Expressions must be
 polynomials in sines and cosines of rational multiples of the angles (half
 angles included), the other variables and square roots of integers.
 """
@@ -68,6 +75,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import math
+import threading
 import time
 from dataclasses import dataclass
 
@@ -436,6 +444,14 @@ def _univariate_points(f, P):
 
 def _at(p, coords, F, k):
     """``p`` (nmod_mpoly in u0..) with u0..u_{k-1} = ``coords`` (in F): a polynomial in u_k over F."""
+    if F.degree() == 1:
+        # coordinates in GF(P) itself: flint substitutes their integers
+        q = p.subs({f"u{j}": int(coords[j]) for j in range(k)}) if k else p
+        terms = q.to_dict()
+        out = [F(0)] * (max((m[k] for m in terms), default=0) + 1)
+        for mon, coeff in terms.items():
+            out[mon[k]] = F(int(coeff))
+        return flint.fq_default_poly_ctx(F)(out)
     coeffs: dict = {}
     for mon, coeff in zip(p.monoms(), p.coeffs()):
         term = F(int(coeff))
@@ -506,6 +522,12 @@ def _isolated(polys, k, P, rng):
 
 def _value(p, coords, F):
     """The value in the field F of an nmod_mpoly at ``coords`` (powers computed once each)."""
+    if F.degree() == 1:
+        # a point over GF(P) itself: flint evaluates the polynomial at its integers (the
+        # variables past ``coords`` are absent from p)
+        args = [int(x) for x in coords]
+        args += [0] * (p.context().nvars() - len(args))
+        return F(int(p(*args)))
     powers = [[F(1)] for _ in coords]
     total = F(0)
     for mon, coeff in zip(p.monoms(), p.coeffs()):
@@ -797,6 +819,41 @@ def _real_part_claims(components, variables, angles, N):
     return covers, findings, records
 
 
+#: the last results of the certificate's costliest steps (restricting the matrix to a random
+#: plane, its compressed determinants, their isolated zeros), by their exact inputs and the
+#: state of the random generator before them: a certificate computed again for the same
+#: matrix and seed (with other components, as when components are added to a locus that
+#: failed) repeats none of them, and ends with the generator in the same state
+_MEMO: dict = {}
+_MEMO_LOCK = threading.Lock()
+
+
+def _rows_key(rows, forms, P, roots):
+    """The exact inputs of the locus's planes: the matrix's forms, their variables, the prime,
+    and the elimination budgets (a result computed within one is no result beyond another)."""
+    return (tuple(forms.ctx.names()), tuple(forms.angles), tuple(forms.others), P,
+            tuple(roots), tuple(tuple(str(x) for x in row) for row in rows),
+            MAX_ELIMINATION_DEGREE, MAX_ELIMINATION_TERMS)
+
+
+def _remembered(key, rng, compute):
+    """``compute()``, or its remembered result for the same ``key`` and state of ``rng``
+    (``rng`` then left in the state ``compute`` left it in)."""
+    state = rng.bit_generator.state
+    full = (key, repr(state))
+    with _MEMO_LOCK:
+        hit = _MEMO.get(full)
+    if hit is not None:
+        rng.bit_generator.state = hit[1]
+        return hit[0]
+    value = compute()
+    with _MEMO_LOCK:
+        if len(_MEMO) >= 16:        # the planes of one or two certificates
+            _MEMO.pop(next(iter(_MEMO)))
+        _MEMO[full] = (value, rng.bit_generator.state)
+    return value
+
+
 def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline, progress, t0):
     findings = []
     counts = {}
@@ -806,9 +863,14 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
         if deadline():
             raise TimeoutError
 
-    line = _Plane(forms, P, roots, 1, rng)
-    Ml = [[line.restrict(x) for x in row] for row in rows]
-    H = _compressions(Ml, n, m, 2, P, rng)
+    key = _rows_key(rows, forms, P, roots)
+
+    def first_plane():
+        line = _Plane(forms, P, roots, 1, rng)
+        Ml = [[line.restrict(x) for x in row] for row in rows]
+        return line, Ml, _compressions(Ml, n, m, 2, P, rng)
+
+    line, Ml, H = _remembered(("plane", 1, key), rng, first_plane)
     degree_sum += sum(max(0, int(h.total_degree())) for h in H)
     if all(h.is_zero() for h in H):
         # rank deficient everywhere: the locus is the whole space
@@ -841,8 +903,11 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
                             f"to {MAX_CODIMENSION}")
             continue
         if c not in planes:
-            plane = _Plane(forms, P, roots, c, rng)
-            Mp = [[plane.restrict(x) for x in row] for row in rows]
+            def restricted(c=c):
+                plane = _Plane(forms, P, roots, c, rng)
+                return plane, [[plane.restrict(x) for x in row] for row in rows]
+
+            plane, Mp = _remembered(("plane", c, key), rng, restricted)
             # the determinants' degree, and whether the eliminations could stay in budget
             D = sum(max(int(x.total_degree()) for x in row) for row in Mp)
             if c > 2 and D ** c / math.factorial(c) > MAX_ELIMINATION_TERMS:
@@ -854,7 +919,8 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
                                                        findings):
                         uncertain.append(c)
                 continue
-            Hp = _compressions(Mp, n, m, c + 1, P, rng)
+            Hp = _remembered(("minors", c, key), rng,
+                             lambda Mp=Mp, c=c: _compressions(Mp, n, m, c + 1, P, rng))
             degree_sum += sum(max(0, int(h.total_degree())) for h in Hp)
             planes[c] = (plane, Mp, Hp)
         plane, Mp, Hp = planes[c]
@@ -863,7 +929,9 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
             locus_points = []        # no component of the locus has this codimension
         else:
             try:
-                locus_points, _ = _isolated_points(Hp, plane, rng)
+                locus_points, _ = _remembered(("points", c, key), rng,
+                                              lambda Hp=Hp, plane=plane:
+                                              _isolated_points(Hp, plane, rng))
             except _TooLarge as exc:
                 findings.append(f"codimension {c} components are not certified: the "
                                 f"elimination is too large ({exc})")
@@ -1155,31 +1223,36 @@ def _integer_relation(r, P, degree=2):
 
 
 def _lll(basis):
-    """LLL-reduced basis of an integer lattice (rows), exact arithmetic; small dimensions."""
+    """LLL-reduced basis of an integer lattice (rows), exact arithmetic; small dimensions.
+
+    The Gram-Schmidt coefficients are exact rationals of flint (``fmpq``, some ten times
+    faster than Python's ``Fraction``); each is rounded as ``round`` rounds a ``Fraction``
+    (halves to even)."""
     from fractions import Fraction
 
     b = [list(map(int, row)) for row in basis]
     n = len(b)
+    zero = flint.fmpq(0)
 
     def dot(u, v):
-        return sum(x * y for x, y in zip(u, v))
+        return sum((x * y for x, y in zip(u, v)), zero)
 
     def gram_schmidt():
-        bs, mu = [], [[Fraction(0)] * n for _ in range(n)]
+        bs, mu = [], [[zero] * n for _ in range(n)]
         for i in range(n):
-            v = [Fraction(x) for x in b[i]]
+            v = [flint.fmpq(x) for x in b[i]]
             for j in range(i):
-                mu[i][j] = Fraction(dot(b[i], bs[j])) / dot(bs[j], bs[j]) if any(bs[j]) else 0
+                mu[i][j] = dot(b[i], bs[j]) / dot(bs[j], bs[j]) if any(bs[j]) else zero
                 v = [x - mu[i][j] * y for x, y in zip(v, bs[j])]
             bs.append(v)
         return bs, mu
 
     bs, mu = gram_schmidt()
     k = 1
-    delta = Fraction(3, 4)
+    delta = flint.fmpq(3, 4)
     while k < n:
         for j in range(k - 1, -1, -1):
-            q = round(mu[k][j])
+            q = round(Fraction(int(mu[k][j].p), int(mu[k][j].q)))
             if q:
                 b[k] = [x - q * y for x, y in zip(b[k], b[j])]
                 bs, mu = gram_schmidt()
@@ -1189,7 +1262,7 @@ def _lll(basis):
             b[k], b[k - 1] = b[k - 1], b[k]
             bs, mu = gram_schmidt()
             k = max(k - 1, 1)
-    return sorted(b, key=lambda v: dot(v, v))
+    return sorted(b, key=lambda v: sum(x * x for x in v))
 
 
 def _small_height(key, P) -> bool:

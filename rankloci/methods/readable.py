@@ -8,6 +8,8 @@ value is substituted into the other equations.
 
 from __future__ import annotations
 
+import functools
+
 import sympy as sp
 
 from ..kinematics import trig_normal
@@ -19,6 +21,13 @@ def solved_value(e, q):
     """Values of q on {e = 0} when e depends on q alone and is a half-angle line."""
     if e.free_symbols != {q}:
         return None
+    return _solved_value(e, q)
+
+
+@functools.lru_cache(maxsize=1024)
+def _solved_value(e, q):
+    # the components of one locus share most of their equations in one angle (sin(q5/2),
+    # cos(q2/2), ...), and each is solved many times over: the values, computed once each
     C, S = sp.Dummy("C"), sp.Dummy("S")
     h = e.subs({sp.cos(q / 2): C, sp.sin(q / 2): S})
     if h.has(q):

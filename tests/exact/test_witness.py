@@ -86,6 +86,65 @@ def test_a_wrong_solved_value_is_refused():
     assert any("solved values do not satisfy" in f for f in cert.findings)
 
 
+def _planar4r():
+    tm = task_matrix(rankloci.load_model("planar4r"), numeric=True)
+    q = tm.variables
+    whole = Component((sp.sin(q[1]), sp.sin(q[2]), sp.sin(q[3])), dimension=1, free=(q[0],))
+    return tm, q, whole
+
+
+def test_codimension_three_refuses_a_missing_or_halved_component():
+    """planar4r (2 x 4): its only component has codimension 3, 8 witness points on a random
+    3-dimensional subspace (q2, q3, q4 each 0 or pi).  Without it, or with q4 = pi only, the
+    witness points of codimension 3 are not covered."""
+    tm, q, whole = _planar4r()
+    cert = certify_components(tm.matrix, q, tm.angles, [whole], seed=5)
+    assert cert.verdict == "passed"
+    assert cert.witness_points == {1: 0, 2: 0, 3: 8}
+    cert = certify_components(tm.matrix, q, tm.angles, [], seed=5)
+    assert cert.verdict == "failed"
+    assert any("8 of the 8 witness points of codimension 3" in f for f in cert.findings)
+    halved = dataclasses.replace(whole, equations=(sp.sin(q[1]), sp.sin(q[2]), sp.cos(q[3] / 2)))
+    cert = certify_components(tm.matrix, q, tm.angles, [halved], seed=5)
+    assert cert.verdict == "failed"
+    assert any("4 of the 8 witness points of codimension 3" in f for f in cert.findings)
+
+
+def test_a_certificate_computed_again_reuses_its_planes_and_is_the_same(monkeypatch):
+    """A second certificate of the same matrix and seed (as when components are added to a
+    locus that failed) reuses the planes, determinants and witness points of the first: the
+    same verdict, counts and findings, and none of them recomputed."""
+    import rankloci.exact.witness as witness
+
+    tm, q, whole = _planar4r()
+    monkeypatch.setattr(witness, "_MEMO", {})
+    first = certify_components(tm.matrix, q, tm.angles, [], seed=5)
+    kept = dict(witness._MEMO)
+    assert {k[0][:2] for k in kept} >= {("plane", 1), ("points", 3)}
+    calls = []
+    monkeypatch.setattr(witness, "_compressions", lambda *a: calls.append(a))
+    monkeypatch.setattr(witness, "_isolated_points",
+                        lambda *a, **k: calls.append(a) or ([], None))
+    again = certify_components(tm.matrix, q, tm.angles, [], seed=5)
+    assert calls == [] and witness._MEMO == kept
+    assert dataclasses.replace(again, seconds=0) == dataclasses.replace(first, seconds=0)
+    assert again.verdict == "failed" and again.witness_points == {1: 0, 2: 0, 3: 8}
+
+
+def test_a_codimension_beyond_the_elimination_budget_is_undecided(monkeypatch):
+    """Where the eliminations of codimension 3 would exceed their budget (long chains:
+    mobile10, the 9R snake), the verdict is undecided and says which codimension and why,
+    never passed."""
+    import rankloci.exact.witness as witness
+
+    tm, q, whole = _planar4r()
+    monkeypatch.setattr(witness, "MAX_ELIMINATION_TERMS", 10)
+    cert = certify_components(tm.matrix, q, tm.angles, [whole], seed=5)
+    assert cert.verdict == "undecided"
+    assert 3 not in cert.witness_points
+    assert any(f.startswith("codimension 3 components are not certified") for f in cert.findings)
+
+
 def test_a_certificate_reads_back_from_its_json():
     cert = _certify([Component((sp.sin(q2),), dimension=1)])
     assert Certificate.from_dict(json.loads(json.dumps(cert.to_dict()))).to_dict() == \
@@ -257,3 +316,32 @@ def test_check_counts_complex_components_of_a_locus_file_only_when_proved(tmp_pa
     saved.write_text(json.dumps(doc), encoding="utf-8")
     assert main(["check", str(real), "--locus", str(saved), "--quiet"]) == 1
     assert "lie on no reported component" in capsys.readouterr().out
+
+
+def test_values_and_lifts_at_points_over_the_prime_field_agree_with_direct_sums():
+    """Values of a polynomial at a point of GF(P) (flint's evaluation), and the polynomial in
+    the last variable left once the others are fixed (flint's substitution), against sums of
+    the terms computed by hand modulo P."""
+    import random
+
+    import flint
+
+    from rankloci.exact.witness import _at, _value
+
+    P = 2 ** 61 - 1
+    F = flint.fq_default_ctx(P, 1)
+    ctx = flint.nmod_mpoly_ctx.get(("u0", "u1", "u2"), modulus=P)
+    rng = random.Random(7)
+    for _ in range(20):
+        terms = {(rng.randrange(4), rng.randrange(4), rng.randrange(3)): rng.randrange(P)
+                 for _ in range(rng.randrange(1, 9))}
+        p = ctx.from_dict(terms)
+        point = [rng.randrange(P) for _ in range(3)]
+
+        def by_hand(xs, terms=terms):
+            return sum(c * pow(xs[0], a, P) * pow(xs[1], b, P) * pow(xs[2], e, P)
+                       for (a, b, e), c in terms.items()) % P
+
+        assert _value(p, [F(x) for x in point], F) == F(by_hand(point))
+        lifted = _at(p, [F(x) for x in point[:2]], F, 2)
+        assert lifted(F(point[2])) == F(by_hand(point))
