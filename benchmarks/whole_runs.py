@@ -332,8 +332,8 @@ def _row_cells(res) -> str:
 def render_whole_section(rows, meta, s) -> list[str]:
     """The whole-run part of corpus.md: how it was run, the counts, the slowest rows, the
     model files' table."""
-    from corpus import _cell, _short
-
+    corpus = _corpus_module()
+    _cell, _short = corpus._cell, corpus._short
     lines = [
         "## The whole run a user waits for, certificate included",
         "",
@@ -420,6 +420,78 @@ def render(meta_run) -> None:
                                 data["paths_outside_joint_range"], data["meta"])
     whole = render_whole_section(rows, meta, s)
     (HERE / "corpus.md").write_text(md.rstrip("\n") + "\n\n" + "\n".join(whole))
+    render_frontier(rows, meta)
+
+
+FRONTIER_BEGIN = "<!-- whole_runs.py: begin -->"
+FRONTIER_END = "<!-- whole_runs.py: end -->"
+
+
+def frontier_rows(rows) -> list[tuple]:
+    """``(frontier case, joints, whole-run row or None, its key)`` for each case of
+    ``frontier.py``: a model file's row, or the corpus chain with the same joints (its tip is
+    the child link of the last movable joint, which may lie before the case's tip)."""
+    import rankloci
+
+    sys.path.insert(0, str(HERE))
+    import frontier
+
+    corpus = _corpus_module()
+    root = corpus.robots_dir()
+    by_key = {r["key"]: r for r in rows}
+    chains = corpus.corpus(root)[0] if root is not None else []
+    out = []
+    for name, joints, args, _ in frontier.CASES:
+        if "--numeric" in args:
+            continue         # the corpus-wide run computes what the command computes by default
+        if not args[0].startswith("{robots}"):
+            key = str(Path(args[0]).relative_to(HERE.parent))
+            out.append((name, joints, by_key.get(key), key))
+            continue
+        file = args[0].removeprefix("{robots}/")
+        base, tip = args[args.index("--base-link") + 1], args[args.index("--tip") + 1]
+        if root is None:
+            continue
+        model = rankloci.load_model(str(root / file), base_link=base, tip=tip)
+        names = tuple(j.name for j in model.joints)
+        # or the chain that names the tip among its other leaves (a mimic joint's link)
+        chain = next((c for c in chains if c.file == file and c.base == base
+                      and (c.joints == names or tip in c.also)), None)
+        key = None if chain is None else f"{chain.file}: {chain.label}"
+        out.append((name, joints, by_key.get(key), key))
+    return out
+
+
+def render_frontier(rows, meta) -> None:
+    """The frontier chains' whole runs, between markers in frontier.md."""
+    _cell = _corpus_module()._cell
+    lines = [FRONTIER_BEGIN, "", "## The frontier chains in the corpus-wide whole runs", "",
+             f"From `benchmarks/whole_runs.py` ({meta.get('date', '')}, time limit "
+             f"{meta.get('timeout_s', 120):g} s, default jobs, niced, one run at a time on "
+             "the loaded 2-core machine; see `benchmarks/corpus.md` for how it is run): the "
+             "same whole computation as `rankloci locus` (API call in a fresh process, imports "
+             "included), with the peak resident set of the run's processes (workers included). "
+             "A URDF case is the corpus chain with the same joints (the corpus's tip is the "
+             "child link of the last movable joint), or the one that lists the case's tip among "
+             "its other leaves (tiago's index finger follows its thumb by a mimic joint).", "",
+             "| chain | joints | corpus row | shape | engine (s) | certificate (s) | whole (s) | "
+             "peak RSS (MiB) | complete | within |", "| --- " * 10 + "|"]
+    for name, joints, row, key in frontier_rows(rows):
+        if row is None:
+            lines.append(f"| {name} | {joints} | {_cell(key or 'not in the corpus')} | pending "
+                         "| | | | | | |")
+        else:
+            lines.append(f"| {name} | {joints} | {_cell(key)} | {_row_cells(row['result'])} |")
+    lines += ["", FRONTIER_END]
+    path = HERE / "frontier.md"
+    text = path.read_text()
+    if FRONTIER_BEGIN in text:
+        head, rest = text.split(FRONTIER_BEGIN, 1)
+        tail = rest.split(FRONTIER_END, 1)[1] if FRONTIER_END in rest else ""
+        text = head.rstrip("\n") + "\n\n" + "\n".join(lines) + tail
+    else:
+        text = text.rstrip("\n") + "\n\n" + "\n".join(lines) + "\n"
+    path.write_text(text)
 
 
 def main(argv=None) -> int:
