@@ -305,6 +305,7 @@ def summary(rows, expected_chains: int | None) -> dict:
            "certified": by("certified"), "undecided": by("undecided"), "refused": by("refused"),
            "timeout": by("timeout"), "error": by("error"),
            "within_target": sum(r["result"]["within"] for r in rows),
+           "with_target": sum(r["result"].get("target_s") is not None for r in rows),
            "graded_pass": sum(r["result"].get("grade") == "pass" for r in chains),
            "graded_fail": sum(r["result"].get("grade") == "fail" for r in chains),
            "graded_other": sum(r["result"].get("grade") not in ("pass", "fail")
@@ -326,7 +327,13 @@ def _row_cells(res) -> str:
     shape = "x".join(map(str, res["shape"])) if res.get("shape") else ""
     return (f"{shape} | {_f(res.get('engine_s'))} | {_f(res.get('certificate_s'))} | "
             f"{_f(res.get('whole_s'))} | {_f(res.get('peak_rss_mib'), 0)} | {complete} | "
-            f"{'yes' if res['within'] else 'no'}")
+            f"{_within_text(res)}")
+
+
+def _within_text(res) -> str:
+    if res.get("target_s") is None:
+        return "no target"
+    return "yes" if res["within"] else "no"
 
 
 def render_whole_section(rows, meta, s) -> list[str]:
@@ -361,7 +368,8 @@ def render_whole_section(rows, meta, s) -> list[str]:
         "",
         f"**{s['rows']} whole runs ({s['chains']} chains, {s['models']} model files): "
         f"{s['certified']} certified, {s['undecided']} undecided, {s['refused']} refused, "
-        f"{s['timeout']} timed out, {s['error']} errors; {s['within_target']} within target. "
+        f"{s['timeout']} timed out, {s['error']} errors; {s['within_target']} of the "
+        f"{s['with_target']} with a target (up to {TARGETS[-1][0]} joints) within it. "
         f"Locus shown graded against Pinocchio: {s['graded_pass']} pass, {s['graded_fail']} "
         f"fail, {s['graded_other']} not graded (time-out, error).**",
         "",
@@ -473,7 +481,11 @@ def render_frontier(rows, meta) -> None:
              "included), with the peak resident set of the run's processes (workers included). "
              "A URDF case is the corpus chain with the same joints (the corpus's tip is the "
              "child link of the last movable joint), or the one that lists the case's tip among "
-             "its other leaves (tiago's index finger follows its thumb by a mimic joint).", "",
+             "its other leaves (tiago's index finger follows its thumb by a mimic joint). "
+             "A table of `frontier.py` above this section from a run before it recorded peak RSS "
+             "has no memory column: its figures are pending until `frontier.py` runs again; "
+             "`benchmarks/frontier_jobs.md` has them for the same chains with `--jobs 1` and "
+             "`--jobs 2`.", "",
              "| chain | joints | corpus row | shape | engine (s) | certificate (s) | whole (s) | "
              "peak RSS (MiB) | complete | within |", "| --- " * 10 + "|"]
     for name, joints, row, key in frontier_rows(rows):

@@ -93,7 +93,7 @@ def test_summary_counts_each_verdict_and_the_missing_chains():
     assert (s["certified"], s["undecided"], s["refused"], s["timeout"]) == (2, 1, 1, 1)
     assert s["within_target"] == 2          # a (4 s of 10) and b (40 s of 60); m is over 10 s
     assert (s["graded_pass"], s["graded_fail"], s["graded_other"]) == (2, 1, 1)
-    assert s["chains_missing"] == 6 and s["models"] == 1
+    assert s["chains_missing"] == 6 and s["models"] == 1 and s["with_target"] == 5
     meta = {"command": "whole_runs.py", "date": "today", "seed": 0, "timeout_s": 120.0,
             "python": "3.11", "machine": "x86_64", "cores": 2, "load": "3.0"}
     text = "\n".join(whole_runs.render_whole_section(rows, meta, s))
