@@ -344,7 +344,8 @@ def render_whole_section(rows, meta, s) -> list[str]:
     lines = [
         "## The whole run a user waits for, certificate included",
         "",
-        f"`{meta['command']}` ({meta['date']}): for each chain below and each model file of "
+        f"`{meta['command']}` ({meta['date']}): for each chain of the table above and each "
+        "model file of "
         "`kinematics_models/` and `kinematics_models/extra/`, in a fresh process, one at a "
         "time, `rankloci.load_model` and `rankloci.locus` as `rankloci locus` computes it "
         "(through `certified_locus`: engine, numeric self-check, certificate, recomputations; "
@@ -407,11 +408,24 @@ def render_whole_section(rows, meta, s) -> list[str]:
     return lines
 
 
+def _with_joints(row) -> dict:
+    """A model file's row that stopped before its matrix was known (a time-out) gets its
+    number of joints, and so its target, from the model."""
+    res = row["result"]
+    if row["kind"] != "model" or res.get("joints") is not None:
+        return row
+    import rankloci
+
+    opts = MODEL_OPTIONS.get(Path(row["key"]).name, {})
+    n = len(rankloci.load_model(str(HERE.parent / row["key"]), **opts).joints)
+    return row | {"result": res | {"joints": n, "target_s": target(n)}}
+
+
 def render(meta_run) -> None:
     """Merge the rows into corpus.json and write corpus.md again."""
     corpus = _corpus_module()
     data = json.loads((HERE / "corpus.json").read_text())
-    rows = load_rows()
+    rows = [_with_joints(r) for r in load_rows()]
     by_key = {r["key"]: r["result"] for r in rows if r["kind"] == "chain"}
     for c in data["chains"]:
         res = by_key.get(f"{c['file']}: {c['base']} -> {c['tip']}")
@@ -427,7 +441,17 @@ def render(meta_run) -> None:
     md = corpus.render_markdown(data["chains"], data["skipped_files"],
                                 data["paths_outside_joint_range"], data["meta"])
     whole = render_whole_section(rows, meta, s)
-    (HERE / "corpus.md").write_text(md.rstrip("\n") + "\n\n" + "\n".join(whole))
+    title, rest = md.split("\n", 1)
+    lead = (f"The columns from *whole run* on, and the last section, are the whole runs of "
+            f"`rankloci locus` with its certificate (`benchmarks/whole_runs.py`, "
+            f"{meta.get('date', '')}: one process at a time, niced, on {meta.get('cores', '?')} "
+            "cores of a machine loaded by other work at the same time; seconds of a loaded "
+            f"machine). {s['chains']} of the {len(data['chains'])} chains have one"
+            + (f", {s['chains_missing']} are pending" if s.get("chains_missing") else "")
+            + ". The columns before them grade the engine's first computation "
+            "(`benchmarks/corpus.py`), as described next.")
+    (HERE / "corpus.md").write_text(title + "\n\n" + lead + "\n" + rest.rstrip("\n")
+                                    + "\n\n" + "\n".join(whole))
     render_frontier(rows, meta)
 
 
