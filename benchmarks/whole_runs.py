@@ -502,7 +502,8 @@ def render_frontier(rows, meta) -> None:
              f"{meta.get('timeout_s', 120):g} s, default jobs, niced, one run at a time on "
              "the loaded 2-core machine; see `benchmarks/corpus.md` for how it is run): the "
              "same whole computation as `rankloci locus` (API call in a fresh process, imports "
-             "included), with the peak resident set of the run's processes (workers included). "
+             "included), with the peak resident set of the run's processes (workers included); "
+             "*shown*: the locus shown graded against Pinocchio (URDF chains). "
              "A URDF case is the corpus chain with the same joints (the corpus's tip is the "
              "child link of the last movable joint), or the one that lists the case's tip among "
              "its other leaves (tiago's index finger follows its thumb by a mimic joint). "
@@ -511,13 +512,14 @@ def render_frontier(rows, meta) -> None:
              "`benchmarks/frontier_jobs.md` has them for the same chains with `--jobs 1` and "
              "`--jobs 2`.", "",
              "| chain | joints | corpus row | shape | engine (s) | certificate (s) | whole (s) | "
-             "peak RSS (MiB) | complete | within |", "| --- " * 10 + "|"]
+             "peak RSS (MiB) | complete | within | shown |", "| --- " * 11 + "|"]
     for name, joints, row, key in frontier_rows(rows):
         if row is None:
             lines.append(f"| {name} | {joints} | {_cell(key or 'not in the corpus')} | pending "
-                         "| | | | | | |")
+                         "| | | | | | | |")
         else:
-            lines.append(f"| {name} | {joints} | {_cell(key)} | {_row_cells(row['result'])} |")
+            lines.append(f"| {name} | {joints} | {_cell(key)} | {_row_cells(row['result'])} | "
+                         f"{row['result'].get('grade', '')} |")
     lines += ["", FRONTIER_END]
     path = HERE / "frontier.md"
     text = path.read_text()
