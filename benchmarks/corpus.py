@@ -791,6 +791,23 @@ def _self_check_text(r) -> str:
             f"{shown} and fails grading: {_short(sc['reason'], 120)}")
 
 
+def _whole_cells(w) -> str:
+    """The whole-run cells of a chain's row (benchmarks/whole_runs.py), or *pending*."""
+    if w is None:
+        return " pending | | | | | | |"
+
+    def f(x, digits=1):
+        return "" if x is None else f"{x:.{digits}f}"
+
+    complete = {True: "true", None: "null", False: "false"}.get(w.get("complete"), "")
+    if w["status"] in ("timeout", "error"):
+        complete = w["status"]
+    shown = w.get("grade", "")
+    return (f" {f(w.get('whole_s'))} | {f(w.get('engine_s'))} | {f(w.get('certificate_s'))} | "
+            f"{f(w.get('peak_rss_mib'), 0)} | {complete} | {'yes' if w['within'] else 'no'} | "
+            f"{shown} |")
+
+
 def render_markdown(rows, skipped, outside, meta) -> str:
     """The corpus table as Markdown."""
     counts = {s: sum(r["status"] == s for r in rows) for s in ("pass", "fail", "timeout", "error")}
@@ -851,9 +868,14 @@ def render_markdown(rows, skipped, outside, meta) -> str:
                   f"({r['n']} joints): {_cell(_short(r['reason'], 200))}{_self_check_text(r)}"
                   for r in others]
         lines += [""]
+    # the whole runs of benchmarks/whole_runs.py, when they were merged into the rows
+    whole = any("whole" in r for r in rows)
+    extra_head = (" whole run (s) | engine (s) | certificate (s) | peak RSS (MiB) | complete | "
+                  "within target | shown |") if whole else ""
     lines += [
-        "| robot | file | chain | joints | task | time (s) | components | result | reason |",
-        "| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+        "| robot | file | chain | joints | task | time (s) | components | result | reason |"
+        + extra_head,
+        "| --- " * (9 + 7 * whole) + "|",
     ]
     for r in rows:
         t = f"{r['locus_s']:.2f}" if r.get("locus_s") is not None else ""
@@ -864,7 +886,8 @@ def render_markdown(rows, skipped, outside, meta) -> str:
             comps += " (degenerate)"
         lines.append(f"| {r['robot']} | {r['file']} | {_cell(r['base'])} -> {_cell(r['tip'])} | "
                      f"{r['n']} | {r['task']} | {t} | {comps} | {r['status']} | "
-                     f"{_cell(r['reason'])}{_cell(_self_check_text(r))} |")
+                     f"{_cell(r['reason'])}{_cell(_self_check_text(r))} |"
+                     + (_whole_cells(r.get("whole")) if whole else ""))
     lines += ["", "Files without chains in the corpus:", ""]
     lines += [f"- `{s['file']}`: {_cell(s['reason'])}" for s in skipped]
     lines += ["", f"{outside} root-to-leaf path(s) with fewer than {MIN_JOINTS} or more than "

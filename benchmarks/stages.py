@@ -133,6 +133,10 @@ def run_case(path, base, tip, augment, jobs) -> dict:
     return json.loads(proc.stdout.strip().splitlines()[-1])
 
 
+def _rss(mib) -> str:
+    return "pending" if mib is None else f"{mib:.0f}"
+
+
 def render_markdown(rows, meta) -> str:
     lines = [
         "# Where the time of a whole run goes",
@@ -147,20 +151,23 @@ def render_markdown(rows, meta) -> str:
         "",
         f"imports: {meta['imports']:.2f} s",
         "",
+        "*peak RSS*: the largest resident set of the process that runs the pipeline "
+        "(`getrusage`; worker processes, each a process of its own, are not in it).",
+        "",
         "| model | whole (s) | " + " | ".join(f"{s} (s)" for s in STAGES)
-        + " | other (s) | engine calls | components | complete |",
-        "| --- " * (len(STAGES) + 6) + "|",
+        + " | other (s) | engine calls | components | complete | peak RSS (MiB) |",
+        "| --- " * (len(STAGES) + 7) + "|",
     ]
     for r in rows:
         res = r["result"]
         if "error" in res:
-            lines.append(f"| {r['name']} | error: {res['error']} |" + " |" * (len(STAGES) + 5))
+            lines.append(f"| {r['name']} | error: {res['error']} |" + " |" * (len(STAGES) + 6))
             continue
         other = res["whole"] - sum(res["stages"].values())
         lines.append(f"| {r['name']} | {res['whole']:.1f} | "
                      + " | ".join(f"{res['stages'].get(s, 0.0):.1f}" for s in STAGES)
                      + f" | {other:.1f} | {res['engine_calls']} | {res['components']} | "
-                     f"{json.dumps(res['complete'])} |")
+                     f"{json.dumps(res['complete'])} | {_rss(res.get('peak_rss_mib'))} |")
     lines.append("")
     return "\n".join(lines)
 
