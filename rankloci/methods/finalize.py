@@ -122,17 +122,16 @@ def _component(ctx: Context, eqs, branch, pts) -> _Candidate:
     exact = ctx.modular.dimension(branch) if eqs_j else None
     if exact is not None:
         dim = exact
-    elif eqs_j:
-        f, syms = _equation_functions(ring, eqs_j, tm)
-        x0 = np.array([qv[v] for v in tm.variables] + [pv[p] for p in ring.params], dtype=float)
-        h = DIMENSION_STEP
-        grads = []
-        for j in range(len(tm.variables)):
-            xp, xm = x0.copy(), x0.copy()
-            xp[j] += h
-            xm[j] -= h
-            grads.append((np.array(f(*xp), dtype=float) - np.array(f(*xm), dtype=float)) / (2 * h))
-        dim = dimension_from_gradient(np.array(grads).T)
+    if eqs_j and (exact is None or exact < len(tm.variables) - len(eqs_j)):
+        # numerically at the sample point; also where the count modulo a prime is below the
+        # number of the component's own equations, which counts conditions of the branch
+        # that its equations no longer hold: where their gradients are independent at the
+        # (real) sample point, the zero set of the equations is a manifold of dimension
+        # N - k there, and that is the set reported (an 8-joint arm whose component at
+        # q7 = pi came out one dimension short, and was then dropped as inside larger ones)
+        numeric = _gradient_dimension(ring, eqs_j, tm, qv, pv)
+        if exact is None or numeric == len(tm.variables) - len(eqs_j):
+            dim = numeric
     # rank drop and lost directions at the sample point
     A = ctx.probe.values(ctx.M, g)
     n, m = A.shape
@@ -152,6 +151,21 @@ def _component(ctx: Context, eqs, branch, pts) -> _Candidate:
                      direction=(), direction_at_sample=dirs, sample=sample,
                      parameter_conditions=param_conds, for_model=for_model)
     return _Candidate(comp, branch, tuple(model_pts or pts))
+
+
+def _gradient_dimension(ring, eqs_j, tm, qv, pv) -> int:
+    """The local dimension of the zero set of ``eqs_j`` at the point (qv, pv), from the rank
+    of their gradient by central differences."""
+    f, _ = _equation_functions(ring, eqs_j, tm)
+    x0 = np.array([qv[v] for v in tm.variables] + [pv[p] for p in ring.params], dtype=float)
+    h = DIMENSION_STEP
+    grads = []
+    for j in range(len(tm.variables)):
+        xp, xm = x0.copy(), x0.copy()
+        xp[j] += h
+        xm[j] -= h
+        grads.append((np.array(f(*xp), dtype=float) - np.array(f(*xm), dtype=float)) / (2 * h))
+    return dimension_from_gradient(np.array(grads).T)
 
 
 def _without_excluded_factors(ctx: Context, branch) -> list:
