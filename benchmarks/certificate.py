@@ -115,16 +115,21 @@ def main(argv=None) -> int:
         row = measure(name, model, options)
         print(json.dumps(row), flush=True)
         rows.append(row)
+    write_results(rows, render, args.output)
+    return 0
+
+
+def write_results(rows, render, output) -> None:
+    """``render(rows, meta)`` to ``output`` and the rows with their meta beside it as JSON."""
     import os
 
     meta = {"date": time.strftime("%Y-%m-%d"),
             "machine": f"{platform.machine()}, {os.cpu_count()} cores",
             "python": platform.python_version()}
-    out = Path(args.output)
+    out = Path(output)
     out.write_text(render(rows, meta), encoding="utf-8")
     out.with_suffix(".json").write_text(json.dumps({"meta": meta, "rows": rows}, indent=1) + "\n",
                                         encoding="utf-8")
-    return 0
 
 
 if __name__ == "__main__":

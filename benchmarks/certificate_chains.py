@@ -21,8 +21,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import platform
 import re
 import time
 from collections import Counter
@@ -116,13 +114,12 @@ def main(argv=None) -> int:
         row = measure(name, model, tip)
         print(json.dumps(row), flush=True)
         rows.append(row)
-    meta = {"date": time.strftime("%Y-%m-%d"),
-            "machine": f"{platform.machine()}, {os.cpu_count()} cores",
-            "python": platform.python_version()}
-    out = Path(args.output)
-    out.write_text(render(rows, meta), encoding="utf-8")
-    out.with_suffix(".json").write_text(json.dumps({"meta": meta, "rows": rows}, indent=1) + "\n",
-                                        encoding="utf-8")
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from certificate import write_results
+
+    write_results(rows, render, args.output)
     return 0
 
 

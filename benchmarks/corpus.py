@@ -895,6 +895,22 @@ def render_markdown(rows, skipped, outside, meta) -> str:
     return "\n".join(lines)
 
 
+def select_chains(chains, robots: str | None, min_joints: int, max_per_robot: int | None):
+    """The chains of the robots named in ``robots`` (comma list; None: all) with at least
+    ``min_joints`` joints, and of each robot at most ``max_per_robot``, the shortest first."""
+    if robots:
+        wanted = set(robots.split(","))
+        chains = [c for c in chains if c.robot in wanted]
+    chains = [c for c in chains if c.n >= min_joints]
+    if max_per_robot:
+        kept = []
+        for robot in sorted({c.robot for c in chains}):
+            mine = sorted((c for c in chains if c.robot == robot), key=lambda c: c.n)
+            kept += mine[:max_per_robot]
+        chains = [c for c in chains if c in kept]
+    return chains
+
+
 def main(argv=None) -> int:
     sys.path.insert(0, str(HERE.parent))
     ap = argparse.ArgumentParser(description=__doc__,
@@ -927,16 +943,7 @@ def main(argv=None) -> int:
         print("example-robot-data is not installed (pip install -e '.[test]')", file=sys.stderr)
         return 2
     chains, skipped, outside = corpus(root)
-    if args.robots:
-        wanted = set(args.robots.split(","))
-        chains = [c for c in chains if c.robot in wanted]
-    chains = [c for c in chains if c.n >= args.min_joints]
-    if args.max_per_robot:
-        kept = []
-        for robot in sorted({c.robot for c in chains}):
-            mine = sorted((c for c in chains if c.robot == robot), key=lambda c: c.n)
-            kept += mine[: args.max_per_robot]
-        chains = [c for c in chains if c in kept]
+    chains = select_chains(chains, args.robots, args.min_joints, args.max_per_robot)
     print(f"{len(chains)} chains", file=sys.stderr, flush=True)
 
     def one(chain):

@@ -251,16 +251,7 @@ def chain_cases(args) -> list[dict]:
     if root is None:
         return []
     chains, _, _ = corpus.corpus(root)
-    if args.robots:
-        wanted = set(args.robots.split(","))
-        chains = [c for c in chains if c.robot in wanted]
-    chains = [c for c in chains if c.n >= args.min_joints]
-    if args.max_per_robot:
-        kept = []
-        for robot in sorted({c.robot for c in chains}):
-            kept += sorted((c for c in chains if c.robot == robot),
-                           key=lambda c: c.n)[: args.max_per_robot]
-        chains = [c for c in chains if c in kept]
+    chains = corpus.select_chains(chains, args.robots, args.min_joints, args.max_per_robot)
     return [{"kind": "chain", "key": f"{c.file}: {c.label}", "robot": c.robot, "file": c.file,
              "base": c.base, "tip": c.tip, "joints": c.n, "task": c.task,
              "path": str(root / c.file), "grade": True, "chain_joints": list(c.joints)}
