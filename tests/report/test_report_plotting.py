@@ -76,7 +76,10 @@ def test_locus_lines_on_a_heat_map_are_thin_and_told_apart():
     assert len(drawn) == 4
     looks = {(to_hex(ln.get_color()), ln.get_linestyle()) for ln in drawn}
     assert len({c for c, _ in looks}) == 4 and len({s for _, s in looks}) == 4
-    assert all(ln.get_linewidth() <= 0.7 for ln in drawn)
+    assert all(ln.get_linewidth() == F.CURVE_WIDTH for ln in drawn)
+    # thin: the colour and its dark edge together at most 1.2 pt, and the colour most of it
+    # (an edge as wide as the colour hid it: the lines looked black or dark red)
+    assert F.CURVE_WIDTH + F.CURVE_EDGE <= 1.2 and F.CURVE_EDGE <= F.CURVE_WIDTH / 2
     assert fig.axes[0].get_ylabel() == "q2 [m]" and fig.axes[0].get_xlabel() == "q1 [rad]"
 
 
