@@ -25,14 +25,22 @@ def solved_text(comp) -> str:
     return "; ".join(parts)
 
 
+def _signed(x, digits) -> str:
+    """``x`` with its sign and ``digits`` decimals; a value that rounds to zero has no sign
+    (its sign is that of rounding noise, which differs between machines), and a space in
+    its place keeps columns aligned."""
+    text = f"{float(x):+.{digits}f}"
+    return " " + text[1:] if float(text) == 0 else text
+
+
 def _vector(vec, digits=3) -> str:
-    return "[" + ", ".join(f"{x:+.{digits}f}" for x in vec) + "]"
+    return "[" + ", ".join(_signed(x, digits) for x in vec) + "]"
 
 
 def limits_text(check) -> str:
     """One line on whether a component meets the joint-limit box (a :class:`LimitCheck`)."""
     if check.meets is True:
-        where = ", ".join(f"{k}={v:+.4f}" for k, v in check.sample.items())
+        where = ", ".join(f"{k}={_signed(v, 4).strip()}" for k, v in check.sample.items())
         return f"within the joint limits: yes ({check.how}), e.g. at {where}"
     if check.meets is False:
         return f"within the joint limits: no ({check.how}: {check.reason})"
@@ -127,7 +135,7 @@ def _component_lines(i, c, row_labels):
     for vec in c.direction_at_sample:
         lab = f" over ({', '.join(row_labels)})" if row_labels and len(row_labels) == len(vec) else ""
         out.append(f"     at the sample point: {_vector(vec)}{lab}")
-    sample = ", ".join(f"{k}={v:+.4f}" for k, v in c.sample.items())
+    sample = ", ".join(f"{k}={_signed(v, 4).strip()}" for k, v in c.sample.items())
     out.append(f"     sample point: {sample}")
     return out
 
