@@ -623,6 +623,15 @@ HINT_ROUNDS = 2
 #: variable is eliminated per codimension above 1, and each elimination squares the degrees.
 MAX_CODIMENSION = 4
 
+#: The largest codimension decided on coordinate slices where a random subspace is beyond the
+#: elimination budgets (exact/witness.py, ``_CoordinatePlane``).  On a chain's J the minors
+#: have degree at most 4 per angle there: two eliminations from three variables reach degree
+#: 2 * 32 * 32 = 2048, within the budgets; from four variables the last reaches about 8
+#: million, beyond them, so codimension 4 is not tried.  Nor are slices used where a higher
+#: codimension can occur (6 x 9 and wider): the verdict could not pass, and the 84 slices of
+#: a 9R snake take about a minute.
+MAX_SLICE_CODIMENSION = 3
+
 #: The largest degree an elimination may reach (the square of the degree of the polynomials it
 #: eliminates from); beyond it the codimension is left undecided.  A resultant of two
 #: polynomials of degree 60 in few variables takes flint about a second.

@@ -86,7 +86,8 @@ import sympy as sp
 from ..errors import RanklociError
 from .certificate import CERTIFICATE_KIND, Certificate
 from ..tolerances import (MAX_CODIMENSION, MAX_ELIMINATION_DEGREE, MAX_ELIMINATION_TERMS,
-                          MAX_FIXED_DEGREE, MAX_HEIGHT, MAX_RELATION_HEIGHT, PRIME_BITS,
+                          MAX_FIXED_DEGREE, MAX_HEIGHT, MAX_RELATION_HEIGHT,
+                          MAX_SLICE_CODIMENSION, PRIME_BITS,
                           WITNESS_RETRIES as RETRIES)
 
 __all__ = ["Certificate", "NotCertifiable", "certify_components", "MAX_CODIMENSION",
@@ -318,6 +319,67 @@ class _Plane:
         return self.fctx.from_dict(terms).compose(*self.images, ctx=self.ctx)
 
 
+class _CoordinatePlane(_Plane):
+    """A coordinate slice of the chart: the variables ``free`` (indices into the angles, then
+    the other variables) are its coordinates, every other variable is fixed at a random value.
+
+    A maximal minor of a chain's J has a low degree in each angle (at most 4 in the half
+    angle, see docs/explanation/certificate.md): a slice keeps these degrees per coordinate,
+    where a random subspace adds them over every angle.  Every component of codimension c
+    meets the slices over some c free variables in isolated points, each a generic point of
+    it (among its coordinates there is a transcendence basis of its function field; the fixed
+    values are random).  Projections along coordinates are not generic:
+    :func:`_isolated` lifts several points per fibre, and stops with :class:`_Curves` where
+    a positive-dimensional part could hide a point."""
+
+    def __init__(self, forms: _Forms, P: int, roots, free, rng):
+        self.forms, self.P, self.c, self.free = forms, P, len(free), tuple(free)
+        self.ctx = flint.nmod_mpoly_ctx.get(tuple(f"u{k}" for k in range(self.c)), modulus=P)
+        u = self.ctx.gens()
+        self.u = u
+        where = {i: u[k] for k, i in enumerate(self.free)}
+
+        def value(i):
+            return where[i] if i in where else self.ctx.constant(int(rng.integers(1, P)))
+
+        na = len(forms.angles)
+        self.tau = [value(i) for i in range(na)]
+        images_C, images_S = [], []
+        for t in self.tau:
+            w = int(rng.integers(1, P))
+            inv = pow(1 + w * w, -1, P)
+            cp, sp_ = (1 - w * w) * inv % P, 2 * w * inv % P
+            images_C.append(cp - sp_ * t)
+            images_S.append(sp_ + cp * t)
+        self.images = (images_C + images_S + [value(na + j) for j in range(len(forms.others))]
+                       + [self.ctx.constant(r) for r in roots])
+        self.fctx = flint.nmod_mpoly_ctx.get(forms.ctx.names(), modulus=P)
+        self.infinity = [1 + t * t for t in self.tau]
+
+    def names(self) -> str:
+        variables = list(self.forms.angles) + list(self.forms.others)
+        return ", ".join(str(variables[i]) for i in self.free)
+
+    def restrict(self, p):
+        """A form over Q on the slice: the fixed variables are substituted first (flint's
+        substitution of constants), which leaves few terms to compose."""
+        cache = self.forms.__dict__.setdefault("_nmod", {})
+        hit = cache.get((id(p), self.P))
+        if hit is None or hit[0] is not p:
+            terms = {m: _mod(c, self.P) for m, c in zip(p.monoms(), p.coeffs())}
+            hit = (p, self.fctx.from_dict(terms) if terms else None)
+            cache[(id(p), self.P)] = hit
+        q = hit[1]
+        if q is None:
+            return self.ctx.constant(0)
+        names = self.fctx.names()
+        fixed = {names[g]: int(img.coeffs()[0]) if not img.is_zero() else 0
+                 for g, img in enumerate(self.images)
+                 if img.is_constant() and names[g] in q.context().names()}
+        q = q.subs(fixed)
+        return q.compose(*self.images, ctx=self.ctx)
+
+
 # --- determinants and points ----------------------------------------------------------------
 
 
@@ -427,6 +489,53 @@ class _TooLarge(RanklociError):
     """The elimination would exceed :data:`MAX_ELIMINATION_DEGREE`."""
 
 
+class _Curves(RanklociError):
+    """On a coordinate slice, the polynomials have a positive-dimensional common part below
+    the hypersurface one: a projection along a coordinate could map an isolated point onto
+    it, so the isolated points found are not proved to be all."""
+
+
+def _embedding(F, E):
+    """A map from the field F into the field E (whose degree is a multiple of F's): the
+    image of F's generator is a root of F's defining polynomial in E."""
+    if F.degree() == 1:
+        return lambda x: E(int(x))
+    ring = flint.fq_default_poly_ctx(E)
+    modulus = ring([E(int(c)) for c in F.modulus().coeffs()])
+    root = modulus.roots()[0][0]
+    powers = [E(1)]
+    for _ in range(F.degree() - 1):
+        powers.append(powers[-1] * root)
+
+    def image(x):
+        total = E(0)
+        for c, pw in zip(x.to_list(), powers):
+            if int(c):
+                total += E(int(c)) * pw
+        return total
+
+    return image
+
+
+def _fibre_points(common, F, coords, d, P):
+    """The points over ``coords`` (in F, an orbit of ``d`` points) where the squarefree
+    polynomial ``common`` (over F) in the next coordinate vanishes: one point per
+    irreducible factor, over an extension of F of the factor's degree."""
+    out = []
+    for fac, _ in common.factor()[1]:
+        e = fac.degree()
+        if e == 1:
+            c = fac.coeffs()
+            out.append((F, list(coords) + [-c[0] / c[1]], d))
+            continue
+        E = flint.fq_default_ctx(P, F.degree() * e)
+        image = _embedding(F, E)
+        ring = flint.fq_default_poly_ctx(E)
+        root = ring([image(c) for c in fac.coeffs()]).roots()[0][0]
+        out.append((E, [image(x) for x in coords] + [root], d * e))
+    return out
+
+
 def _univariate_points(f, P):
     """One representative point (a field element) per irreducible factor of ``f``."""
     out = []
@@ -463,7 +572,7 @@ def _at(p, coords, F, k):
     return flint.fq_default_poly_ctx(F)([coeffs.get(j, F(0)) for j in range(deg + 1)])
 
 
-def _isolated(polys, k, P, rng):
+def _isolated(polys, k, P, rng, *, coordinate=False, top=True, infinity=frozenset()):
     """The isolated common zeros of ``polys`` in the variables u0 .. u_{k-1} (the others
     absent), off the hypersurface of their gcd: (field, coords, orbit size) per Galois orbit.
 
@@ -472,9 +581,21 @@ def _isolated(polys, k, P, rng):
     isolated zeros of the resultants (recursively) are lifted back by the gcd of the
     polynomials at them, and the extraneous ones have none.  Positive-dimensional parts project
     to positive-dimensional parts, never to isolated points, at a generic projection (the
-    subspace is random)."""
+    subspace is random).
+
+    On a coordinate slice (``coordinate``) the projections are along coordinates.  There a
+    fibre may hold several points, which are lifted over extensions of the field; and a
+    positive-dimensional part below the hypersurface one raises :class:`_Curves`: it shows as
+    a common factor of the resultants (or a fibre where every polynomial vanishes), and an
+    isolated point whose fibre meets it would be divided out with it.  Without such a part the
+    common zeros off the hypersurface are finitely many, each projects to a common zero of the
+    resultants, and every one of them is found.  A variable absent from every polynomial (a
+    cylinder) leaves no isolated point at the top and is a positive-dimensional part below.
+    """
     polys = [p for p in polys if not p.is_zero()]
     if not polys:
+        if coordinate and not top:
+            raise _Curves("every resultant vanishes")
         raise _Degenerate("every polynomial vanishes")
     if k == 1:
         g = polys[0]
@@ -484,39 +605,206 @@ def _isolated(polys, k, P, rng):
     h = polys[0]
     for p in polys[1:]:
         h = h.gcd(p)
+    if coordinate and not top and not h.is_constant():
+        raise _Curves("the resultants have a common factor")
     reduced = [p / h for p in polys]
     if any(p.is_constant() for p in reduced) or len(reduced) < 2:
         return []
+    if coordinate:
+        used = [any(p.degrees()[j] for p in reduced) for j in range(k)]
+        if not all(used):
+            if top:
+                return []       # a cylinder: no isolated point
+            raise _Curves("a variable is absent from every resultant")
     var = f"u{k - 1}"
     combos = _combinations(reduced, k + 1, P, rng)
     deg = max(int(c.total_degree()) for c in combos)
     # the resultant has degree up to deg**2 in the k - 1 variables left: about
     # (deg**2)**(k - 1) / (k - 1)! terms
-    if deg * deg > MAX_ELIMINATION_DEGREE or \
-            (deg * deg) ** (k - 1) / math.factorial(k - 1) > MAX_ELIMINATION_TERMS:
+    degree, terms = deg * deg, (deg * deg) ** (k - 1) / math.factorial(k - 1)
+    if coordinate:
+        # per variable left, the resultant's degree is at most
+        # deg_last(f) deg_j(g) + deg_j(f) deg_last(g) (the Sylvester matrix)
+        dv = [max(int(c.degrees()[j]) for c in combos) for j in range(k)]
+        bounds = [2 * dv[k - 1] * dv[j] for j in range(k - 1)]
+        degree = min(degree, max(bounds))
+        terms = min(terms, math.prod(b + 1 for b in bounds))
+    if degree > MAX_ELIMINATION_DEGREE or terms > MAX_ELIMINATION_TERMS:
         raise _TooLarge(f"eliminating a variable from {k} with polynomials of degree {deg}")
     res = [combos[0].resultant(c, var) for c in combos[1:]]
     if all(r.is_zero() for r in res):
+        if coordinate:
+            raise _Curves("the combinations share a factor")
         raise _Degenerate("the combinations share a factor")
+    lines, taken_apart = [], False
+    if coordinate and top and k == 3:
+        # curves of a 3-dimensional slice that lie in planes u_j = a (components that fix a
+        # variable, as robots' do) are taken apart: the points off those planes come from
+        # the resultants off their lines, the points in them from each plane on its own
+        lines = _coordinate_lines([r for r in res if not r.is_zero()], P, infinity)
+        taken_apart = True      # the common factor of the resultants is lines only
     out = []
-    for F, coords, d in _isolated(res, k - 1, P, rng):
+    for F, coords, d in _isolated(res, k - 1, P, rng, coordinate=coordinate,
+                                  top=taken_apart):
         common = None
         for p in reduced:
             q = _at(p, coords, F, k - 1)
             common = q if common is None else common.gcd(q)
         if common is None or common.is_zero():
+            if coordinate and top:
+                # a line along the last coordinate: every point over coords lies on it, and
+                # no other point projects there
+                continue
+            if coordinate:
+                raise _Curves("a fibre on which every polynomial vanishes")
             raise _Degenerate("a projection that is not generic")
         if common.degree() <= 0:
             continue        # extraneous: a zero of the resultants that lifts to none
         common = common.radical()
-        if common.degree() > 1:
+        if common.degree() > 1 and not coordinate:
             raise _Degenerate(f"the projection does not separate the witness points "
                               f"({common.degree()} over one)")
-        c = common.coeffs()
-        point = list(coords) + [-c[0] / c[1]]
-        if _value(h, point, F).is_zero():
-            continue        # on the hypersurface part: not isolated
-        out.append((F, point, d))
+        if common.degree() > 1:
+            lifted = _fibre_points(common, F, coords, d, P)
+        else:
+            c = common.coeffs()
+            lifted = [(F, list(coords) + [-c[0] / c[1]], d)]
+        for F2, point, d2 in lifted:
+            if _value(h, point, F2).is_zero():
+                continue        # on the hypersurface part: not isolated
+            out.append((F2, point, d2))
+    if lines:
+        out += _in_planes(reduced, h, lines, P, rng)
+    return out
+
+
+def _isolated_in_some_order(polys, k, P, rng, angles=frozenset()):
+    """:func:`_isolated` on a coordinate slice, eliminating the coordinates in the first order
+    that meets no curve it cannot take apart: where one equation alone contains the variable
+    eliminated first, the polynomials have a curve at infinity over the zeros of its leading
+    coefficient, which every resultant has as a factor (a triangular system, as a component
+    that fixes one variable, then a second, then a third, is one).  ``angles``: the
+    coordinates that are angles' half-angle tangents (their values +-i are the circles' points
+    at infinity).  Points come back in the slice's own coordinates."""
+    last = None
+    ctx = polys[0].context()
+    gens = ctx.gens()
+    for order in itertools.permutations(range(k)):
+        # coordinate i of the elimination is the slice's coordinate order[i]
+        where = [0] * k
+        for i, j in enumerate(order):
+            where[j] = i
+        moved = [p.compose(*[gens[where[j]] for j in range(k)]) for p in polys] \
+            if list(order) != list(range(k)) else polys
+        try:
+            found = _isolated(moved, k, P, rng, coordinate=True,
+                              infinity={i for i, j in enumerate(order) if j in angles})
+        except _Curves as exc:
+            last = exc
+            continue
+        out = []
+        for F, coords, d in found:
+            point = [None] * k
+            for i, j in enumerate(order):
+                point[j] = coords[i]
+            out.append((F, point, d))
+        return out
+    raise last
+
+
+def _coordinate_lines(res, P, infinity=frozenset()):
+    """(j, a) for each line u_j = a of the common factor of the bivariate ``res`` (none when
+    it is constant); :class:`_Curves` when a factor is another curve, or a line over an
+    extension of GF(P).  Lines u_j = +-i of a coordinate in ``infinity`` (an angle's) are
+    the circle's points at infinity: every point over them is left out in the end, so they
+    are divided out and not taken apart."""
+    g = res[0]
+    for r in res[1:]:
+        g = g.gcd(r)
+    if g.is_constant():
+        return []
+    lines = []
+    rest = g
+    terms = g.to_dict()
+    for j in (0, 1):
+        # the content of g as a polynomial in the other variable: a polynomial in u_j alone
+        by_power: dict = {}
+        for mon, coeff in terms.items():
+            by_power.setdefault(mon[1 - j], {})[mon[j]] = int(coeff)
+        content = None
+        for part in by_power.values():
+            q = flint.nmod_poly([part.get(e, 0) for e in range(max(part) + 1)], P)
+            content = q if content is None else content.gcd(q)
+        if content is None or content.degree() <= 0:
+            continue
+        circle = flint.nmod_poly([1, 0, 1], P)
+        for fac, _ in content.factor()[1]:
+            if j in infinity and (circle % fac).is_zero():
+                line = sum((int(c) * rest.context().gens()[j] ** e
+                            for e, c in enumerate(fac.coeffs())), rest.context().constant(0))
+                while True:
+                    q, r = divmod(rest, line)
+                    if not r.is_zero():
+                        break
+                    rest = q
+                continue
+            if fac.degree() != 1:
+                raise _Curves("the resultants have a common factor in one variable whose "
+                              "roots lie outside GF(P)")
+            c = fac.coeffs()
+            a = -int(c[0]) * pow(int(c[1]), -1, P) % P
+            lines.append((j, a))
+            line = rest.context().gens()[j] - a
+            while True:
+                q, r = divmod(rest, line)
+                if not r.is_zero():
+                    break
+                rest = q
+    if not rest.is_constant():
+        raise _Curves("the resultants have a common factor that is no coordinate line")
+    return lines
+
+
+def _in_planes(reduced, h, lines, P, rng):
+    """The isolated common zeros of ``reduced`` (in u0, u1, u2, off the zeros of ``h``) that
+    lie in the planes u_j = a of ``lines``.
+
+    In a plane the polynomials are bivariate; their common factor there is the curves of the
+    slice in that plane, and the isolated zeros off it are found as on a 2-dimensional slice.
+    Every curve of the slice lies in one of the planes (:func:`_isolated` has checked it), so
+    a point is isolated in the slice when it is off the curves of every plane it lies in."""
+    ctx2 = flint.nmod_mpoly_ctx.get(("u0", "u1"), modulus=P)
+    v = ctx2.gens()
+    cuts = []
+    for j, a in lines:
+        others = [i for i in range(3) if i != j]
+        images = [None] * 3
+        images[j] = ctx2.constant(a)
+        images[others[0]], images[others[1]] = v
+        polys = [p.compose(*images, ctx=ctx2) for p in reduced]
+        polys = [p for p in polys if not p.is_zero()]
+        curve = polys[0] if polys else ctx2.constant(0)
+        for p in polys[1:]:
+            curve = curve.gcd(p)
+        points = _isolated(polys, 2, P, rng, coordinate=True, top=True) if polys else []
+        cuts.append((j, a, others, curve, points))
+    out, seen = [], set()
+    for j, a, others, _, points in cuts:
+        for F, coords, d in points:
+            point = [None] * 3
+            point[j] = F(a)
+            point[others[0]], point[others[1]] = coords
+            if _value(h, point, F).is_zero():
+                continue
+            if any(point[j2] == F(a2) and _value(curve2, [point[o] for o in others2], F).is_zero()
+                   for j2, a2, others2, curve2, _ in cuts if (j2, a2) != (j, a)):
+                continue        # on a curve of another plane: not isolated
+            if F.degree() == 1:
+                key = tuple(int(x) for x in point)
+                if key in seen:
+                    continue    # in two planes
+                seen.add(key)
+            out.append((F, point, d))
     return out
 
 
@@ -562,7 +850,12 @@ def _isolated_points(polys, plane, rng, avoid=()):
             if g.is_constant():
                 break
             curve = curve / g
-    raw = _isolated(polys, plane.c, P, rng)
+    if isinstance(plane, _CoordinatePlane):
+        na = len(plane.forms.angles)
+        raw = _isolated_in_some_order(polys, plane.c, P, rng,
+                                      angles={k for k, i in enumerate(plane.free) if i < na})
+    else:
+        raw = _isolated(polys, plane.c, P, rng)
     points = []
     for F, coords, d in raw:
         pt = _Point(F, coords, d)
@@ -854,6 +1147,11 @@ def _remembered(key, rng, compute):
     return value
 
 
+#: Decide codimension 3 on coordinate slices even where a random subspace is within the
+#: budgets (the tests compare the two on small matrices).
+_SLICES_FIRST = False
+
+
 def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline, progress, t0):
     findings = []
     counts = {}
@@ -864,6 +1162,22 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
             raise TimeoutError
 
     key = _rows_key(rows, forms, P, roots)
+
+    def take(c, sliced):
+        """Record what :func:`_by_slices` decided for codimension c; its degree sum."""
+        nonlocal total_uncovered
+        if c in codims:
+            counts[c] = sliced["count"]
+        findings.extend(sliced["findings"])
+        missing.extend(sliced["missing"])
+        total_uncovered += sliced["uncovered"]
+        if sliced["uncertain"]:
+            uncertain.append(c)
+        if sliced["uncovered"]:
+            findings.append(f"{sliced['uncovered']} of the {sliced['count']} witness points "
+                            f"of codimension {c} lie on no reported component: a component "
+                            f"of dimension {N - c} is missing")
+        return sliced["degree_sum"]
 
     def first_plane():
         line = _Plane(forms, P, roots, 1, rng)
@@ -910,9 +1224,21 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
             plane, Mp = _remembered(("plane", c, key), rng, restricted)
             # the determinants' degree, and whether the eliminations could stay in budget
             D = sum(max(int(x.total_degree()) for x in row) for row in Mp)
-            if c > 2 and D ** c / math.factorial(c) > MAX_ELIMINATION_TERMS:
-                findings.append(f"codimension {c} components are not certified: the "
-                                f"determinants would have degree up to {D} in {c} variables")
+            if c > 2 and (D ** c / math.factorial(c) > MAX_ELIMINATION_TERMS or _SLICES_FIRST):
+                sliced = {"undecided": f"codimension {c} components are not certified: "
+                                       f"coordinate slices are used up to codimension "
+                                       f"{MAX_SLICE_CODIMENSION}, and only where no higher "
+                                       f"codimension can occur"}
+                if c <= MAX_SLICE_CODIMENSION and max(codims) <= MAX_SLICE_CODIMENSION:
+                    progress(f"certificate: witness points of codimension {c} on "
+                             "coordinate slices")
+                    sliced = _by_slices(c, rows, comps, forms, n, m, N, codims, P, roots, rng,
+                                        key, check_time)
+                if "undecided" not in sliced:
+                    degree_sum += take(c, sliced)
+                    continue
+                findings.append(sliced["undecided"] + f" (on a random subspace the "
+                                f"determinants would have degree up to {D} in {c} variables)")
                 uncertain.append(c)
                 for k in comps:
                     if k.codim == c and not _by_pieces(k, rows, forms, P, roots, rng, n,
@@ -933,6 +1259,13 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
                                               lambda Hp=Hp, plane=plane:
                                               _isolated_points(Hp, plane, rng))
             except _TooLarge as exc:
+                sliced = (_by_slices(c, rows, comps, forms, n, m, N, codims, P, roots, rng, key,
+                                     check_time)
+                          if 2 < c <= MAX_SLICE_CODIMENSION and max(codims) <=
+                          MAX_SLICE_CODIMENSION else {"undecided": ""})
+                if "undecided" not in sliced:
+                    degree_sum += take(c, sliced)
+                    continue
                 findings.append(f"codimension {c} components are not certified: the "
                                 f"elimination is too large ({exc})")
                 uncertain.append(c)
@@ -1027,6 +1360,86 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
                        discovered_complex=found_complex, slices=slices,
                        discovered_merged=merged,
                        uncovered=total_uncovered)
+
+
+def _by_slices(c, rows, comps, forms, n, m, N, codims, P, roots, rng, key, check_time):
+    """Codimension ``c`` on the coordinate slices over every ``c`` of the variables, where a
+    random subspace would need too large an elimination (see :class:`_CoordinatePlane`).
+
+    Returns ``{"undecided": finding}`` when it cannot decide either (a slice whose elimination
+    meets a curve of the locus or is too large), else a dict: ``count`` (witness points of the locus, summed over
+    the slices), ``findings``, ``uncertain`` (whether a component stays uncertified),
+    ``missing`` ((c, slice, point) of the uncovered points), ``uncovered`` and
+    ``degree_sum``."""
+    mine = [k for k in comps if k.codim == c]
+    findings, missing = [], []
+    count = uncovered = degree_sum = 0
+    points_of = {k.label: 0 for k in mine}
+    open_ = {k.label for k in mine}         # components whose witness points are computed
+    checked = set()                         # components whose pieces were checked
+    uncertain = False
+    for free in itertools.combinations(range(N), c):
+        check_time()
+
+        def build(free=free):
+            plane = _CoordinatePlane(forms, P, roots, free, rng)
+            Mp = [[plane.restrict(x) for x in row] for row in rows]
+            return plane, Mp, _compressions(Mp, n, m, c + 1, P, rng)
+
+        plane, Mp, Hp = _remembered(("slice", c, free, key), rng, build)
+        degree_sum += sum(max(0, int(h.total_degree())) for h in Hp)
+        pts = []
+        if c in codims:
+            try:
+                pts, _ = _remembered(("slice points", c, free, key), rng,
+                                     lambda Hp=Hp, plane=plane: _isolated_points(Hp, plane, rng))
+            except (_Curves, _TooLarge) as exc:
+                return {"undecided": f"codimension {c} components are not certified: on the "
+                                     f"coordinate slice where {plane.names()} vary, {exc}"}
+        count += sum(p.degree for p in pts)
+        comp_eqs = {}
+        for k in mine:
+            eqs = [plane.restrict(e) for e in k.equations]
+            exc = [plane.restrict(e) for e in k.excluding]
+            comp_eqs[k.label] = (eqs, exc)
+            if k.label not in open_:
+                continue
+            degree_sum += sum(max(0, int(e.total_degree())) for e in eqs + exc)
+            try:
+                kp = _component_points(eqs, exc, plane, rng, k, findings)
+            except (_TooLarge, _Curves):
+                open_.discard(k.label)
+                if not _by_pieces(k, rows, forms, P, roots, rng, n, findings):
+                    uncertain = True
+                checked.add(k.label)
+                continue
+            if kp is None:
+                open_.discard(k.label)      # a finding was recorded
+                continue
+            points_of[k.label] += len(kp)
+            for pt in kp:
+                r = pt.rank(Mp)
+                if r != n - k.rank_drop:
+                    what = ("is regular" if r == n else f"has rank {r}, not {n - k.rank_drop}")
+                    findings.append(f"{k.label}: the matrix {what} at a witness "
+                                    f"point of the component")
+                    open_.discard(k.label)
+                    break
+        for pt in pts:
+            if not any(all(pt.value(e).is_zero() for e in comp_eqs[k.label][0])
+                       and not any(pt.value(x).is_zero() for x in comp_eqs[k.label][1])
+                       for k in mine):
+                uncovered += pt.degree
+                missing.append((c, plane, pt))
+    for k in mine:
+        if k.pieces is not None and k.label not in checked:
+            # the solved values are a claim too: each piece is singular as stated
+            findings.extend(_check_pieces(k, rows, forms, P, roots, rng, n))
+        if k.label in open_ and not points_of[k.label]:
+            findings.append(f"{k.label}: no point of dimension {N - c} (its equations off its "
+                            f"exclusions have a smaller dimension, or no point)")
+    return {"count": count, "findings": findings, "uncertain": uncertain, "missing": missing,
+            "uncovered": uncovered, "degree_sum": degree_sum}
 
 
 def _by_pieces(k, rows, forms, P, roots, rng, n, findings) -> bool:
