@@ -287,17 +287,27 @@ def _certified(locus, reference, seed, should_stop, progress, slice_compute=None
         from .certify import completed_component
 
         again = None
-        for offered in ([cert.discovered_merged] if cert.discovered_merged else []) + \
-                [cert.discovered]:
+        offers = ([cert.discovered_merged] if cert.discovered_merged else []) + \
+            ([cert.discovered] if cert.discovered else []) + \
+            ([()] if cert.discovered_complex else [])
+        for offered in offers:
             # the variables' values all at once first (sin q2 = sin q3 = 0), then one
-            # component per combination of values
+            # component per combination of values, then none: the components without real
+            # points alone (a combination of values the points do not share is no component)
             added = tuple(completed_component(c, reference, seed=seed) for c in offered)
             trial = dataclasses.replace(locus, components=locus.components + added)
             again = certify_locus(trial, reference, seed=seed, should_stop=should_stop,
                                   progress=progress, complex_only=cert.discovered_complex)
             if again.verdict == "passed":
                 break
-        if again.verdict != "failed" or again.uncovered < cert.uncovered:
+        # a trial is kept when it passed or left fewer points uncovered, and never when the
+        # certificate found one of the components it added unsound
+        first_added = len(locus.components) + 1
+        unsound = any(f.startswith((f"component {i}:", f"component {i} "))
+                      for f in again.findings
+                      for i in range(first_added, first_added + len(added)))
+        if again.verdict == "passed" or (not unsound and (
+                again.verdict != "failed" or again.uncovered < cert.uncovered)):
             notes = []
             if added:
                 notes.append(f"{len(added)} component{'s' * (len(added) != 1)} found from the "

@@ -1396,6 +1396,10 @@ def _by_slices(c, rows, comps, forms, n, m, N, codims, P, roots, rng, key, check
             except (_Curves, _TooLarge) as exc:
                 return {"undecided": f"codimension {c} components are not certified: on the "
                                      f"coordinate slice where {plane.names()} vary, {exc}"}
+            if pts is None:
+                return {"undecided": f"codimension {c} components are not certified: the "
+                                     f"matrix is rank deficient on the whole coordinate slice "
+                                     f"where {plane.names()} vary"}
         count += sum(p.degree for p in pts)
         comp_eqs = {}
         for k in mine:
@@ -1745,6 +1749,15 @@ def _discover(missing, forms, rows, n, N, P, rng):
                 Tsym, factors, has_pi = fixed[var]
                 choices.append([(var, f) for f in factors] + ([(var, "pi")] if has_pi else []))
         combos = list(itertools.product(*choices))
+        # one component per combination of values that a point has: the values of different
+        # points need not combine (q3 = 0 with q5 = 0 at one point, sin q4 = 499/156 with
+        # q5 = 0 at another)
+        had = set()
+        for small in points:
+            had.add(tuple((var, "pi") if small[var] == "pi"
+                          else (var, _factor_of(small[var], fixed[var][1], P))
+                          for var in variables if var in fixed))
+        combos = [combo for combo in combos if combo in had]
         if len(combos) > 1:
             # every combination at once, as one component (tried first by the caller)
             eqs, solved, real = [], {}, True
@@ -1775,6 +1788,21 @@ def _discover(missing, forms, rows, n, N, P, rng):
         # points then come in pairs q, pi - q or q, -q), at a number of Q(sqrt(d))
         found, found_complex = _trig_fixed(missing, forms, N, P)
     return tuple(found), tuple(found_complex), tuple(slices), tuple(merged)
+
+
+def _factor_of(key, factors, P):
+    """The polynomial among ``factors`` (over Q) whose roots mod P include those of ``key``
+    (a minimal polynomial over GF(P), coefficients low to high), or None."""
+    minimal = flint.nmod_poly([int(a) for a in key], P)
+    for g in factors:
+        coeffs = [sp.Rational(a) for a in reversed(g.all_coeffs())]
+        try:
+            values = [int(a.p) * pow(int(a.q), -1, P) % P for a in coeffs]
+        except ValueError:
+            continue
+        if (flint.nmod_poly(values, P) % minimal).is_zero():
+            return g
+    return None
 
 
 def _surd_relation(r, P, forms, roots):
