@@ -1,22 +1,23 @@
 """Benchmark: the certificate's codimension 3 on 6 x 8 chains, on coordinate slices.
 
-The certificate leaves codimension 3 of every 6 x 8 chain undecided: on a random subspace of
-dimension 3 the compressed maximal minors have degree 56 (pr2's left arm), and eliminating
-two variables with resultants squares that twice.  This script measures what a *coordinate
-slice* would cost instead: three variables free, every other one fixed at a random value of
-GF(P).  For each chain and each set of three free variables it records
+On a random subspace of dimension 3 the compressed maximal minors of a 6 x 8 chain have
+degree 56 (pr2's left arm), and eliminating two variables with resultants squares that
+twice: beyond the certificate's budgets.  The certificate decides codimension 3 there on
+*coordinate slices* instead (``rankloci.exact.witness._CoordinatePlane``): three variables
+free, every other one fixed at a random value of GF(P).  For each chain and each set of three
+free variables this script records
 
 - the degree of the compressions in each free variable once their common factor (the
   circles' points at infinity, 1 + t**2) is divided out;
 - the seconds to form the compressions, and to find their isolated zeros with the
-  certificate's own elimination (``rankloci.exact.witness``), and what that elimination said;
+  certificate's own elimination on the slice, and what it found;
 
 and, for the slice with the highest degrees, the same elimination after a random linear
 change of coordinates inside the slice (what makes projections generic again), with its
 witness points and seconds, measured without the certificate's elimination budgets.
 
-It measures a route the certificate does not take (the reasons are in
-``docs/explanation/certificate.md``, "Long chains"); nothing here is a certificate.  The
+Only the locus's witness points are measured here (the certificate also computes each
+component's own on every slice; ``docs/explanation/certificate.md``, "Long chains").  The
 chains need example-robot-data.  The figures go to ``benchmarks/coordinate_slices.md`` and
 ``.json``.  Usage::
 
@@ -111,7 +112,8 @@ def _solve(rows, n, m, forms, P, roots, free, rng, *, generic=False) -> dict:
     from rankloci.exact import witness as W
 
     t0 = time.perf_counter()
-    plane = _Slice(forms, P, roots, free, rng, generic=generic)
+    plane = (_Slice(forms, P, roots, free, rng, generic=True) if generic
+             else W._CoordinatePlane(forms, P, roots, free, rng))
     Mp = [[plane.restrict(x) for x in row] for row in rows]
     H = W._compressions(Mp, n, m, CODIMENSION + 1, P, rng)
     common = H[0]
@@ -127,7 +129,7 @@ def _solve(rows, n, m, forms, P, roots, free, rng, *, generic=False) -> dict:
     try:
         points, _ = W._isolated_points(H, plane, rng)
         outcome = f"{sum(p.degree for p in points)} witness points"
-    except (W._Degenerate, W._TooLarge) as exc:
+    except (W._Degenerate, W._TooLarge, W._Curves) as exc:
         outcome = f"{type(exc).__name__.strip('_').lower()}: {exc}"
     finally:
         W.MAX_ELIMINATION_DEGREE, W.MAX_ELIMINATION_TERMS = budgets
@@ -175,9 +177,11 @@ def write(results, out: Path, seed: int) -> None:
              "`benchmarks/coordinate_slices.py` (see its docstring). Each slice fixes every "
              "variable but three at random values of GF(P), P a 61-bit prime; *degrees*: of the "
              "compressed maximal minors in the three free variables once their common factor "
-             "(the circles' points at infinity) is divided out; *outcome*: what the "
-             "certificate's elimination (projections along the coordinates) said. A route "
-             "the certificate does not take; `docs/explanation/certificate.md` says why.", "",
+             "(the circles' points at infinity) is divided out; *outcome*: the witness points "
+             "the certificate's elimination on the slice found (projections along the "
+             "coordinates, several points per fibre lifted over field extensions, curves in "
+             "coordinate planes taken apart), or why it could not decide. "
+             "`docs/explanation/certificate.md` (\"Long chains\") says how.", "",
              f"Python {platform.python_version()} on {platform.machine()}, "
              f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, seed {seed}; a shared "
              "2-core machine (other work ran at the same time).", ""]
@@ -187,8 +191,8 @@ def write(results, out: Path, seed: int) -> None:
         lines += [f"## {r['chain']} ({r['shape']})", "",
                   f"- variables: {', '.join(r['variables'])}; those the minors depend on: "
                   f"{', '.join(entered)};",
-                  f"- the padded rows' degree on a random 3-dimensional subspace (what the "
-                  f"certificate refuses today): {r['padded_degree']};",
+                  f"- the padded rows' degree on a random 3-dimensional subspace (beyond the "
+                  f"budgets): {r['padded_degree']};",
                   f"- all {len(r['slices'])} coordinate slices: {r['coordinate_s']} s; the "
                   f"largest degrees {max(tuple(s['degrees']) for s in r['slices'])};",
                   f"- the same elimination after a random change of coordinates inside the "

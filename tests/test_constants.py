@@ -40,6 +40,8 @@ ALLOWED_NAMES = {
     "algebra/ring.py:MANY_GATHER": "how an evaluation is batched (speed only)",
     "numeric/functions.py:CHUNK_TERMS": "how a sum is compiled in pieces (same values)",
     "tree/context.py:MEMO_MAX_TERMS": "size of the determinant and factor memos (speed only)",
+    "exact/witness.py:SLICE_MEMO_SIZE": "size of the memo of coordinate slices (speed only: "
+                                        "a slice's random stream is its own)",
     "tree/probe.py:_MATRIX_CACHE": "size of a cache (speed only)",
     "tree/probe.py:_POLY_CACHE": "size of a cache (speed only)",
     "api/calls.py:_MAX_CACHED": "loci kept by is_singular (speed only)",

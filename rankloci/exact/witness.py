@@ -62,10 +62,13 @@ codimension whose determinants or eliminations exceed the budgets
 (``MAX_ELIMINATION_DEGREE``, ``MAX_ELIMINATION_TERMS``) is left undecided,
 and so is a codimension above ``MAX_CODIMENSION``; the result names each one
 and why.  In practice codimensions 3 and 4 are decided for small matrices
-(planar4r, 2 x 4) and left undecided on long chains, whose determinants on a
-subspace have degree 70 to 80 (mobile10, 6 x 10; the 9R snake, 6 x 9); a
-component of such a codimension given in solved form is still checked for
-soundness at a point of each of its pieces.  Expressions must be
+(planar4r, 2 x 4).  Where a subspace of dimension 3 is beyond the budgets and
+no higher codimension can occur (6 x 8 chains), codimension 3 is decided on
+coordinate slices instead (:class:`_CoordinatePlane`), which keep the minors'
+low degree in each variable.  Codimension 4 stays undecided on long chains,
+whose determinants on a subspace have degree 70 to 80 (mobile10, 6 x 10; the
+9R snake, 6 x 9); a component of such a codimension given in solved form is
+still checked for soundness at a point of each of its pieces.  Expressions must be
 polynomials in sines and cosines of rational multiples of the angles (half
 angles included), the other variables and square roots of integers.
 """
@@ -1120,6 +1123,12 @@ def _real_part_claims(components, variables, angles, N):
 _MEMO: dict = {}
 _MEMO_LOCK = threading.Lock()
 
+#: The coordinate slices of the loci certified last (planes, compressions, the locus's witness
+#: points, or the reason none were found), by matrix, prime and free variables: a 6 x 8 chain
+#: has 56 slices of codimension 3, and a recomputation certifies the same matrix again.
+_SLICE_MEMO: dict = {}
+SLICE_MEMO_SIZE = 256
+
 
 def _rows_key(rows, forms, P, roots):
     """The exact inputs of the locus's planes: the matrix's forms, their variables, the prime,
@@ -1380,26 +1389,40 @@ def _by_slices(c, rows, comps, forms, n, m, N, codims, P, roots, rng, key, check
     uncertain = False
     for free in itertools.combinations(range(N), c):
         check_time()
+        # each slice has its own random stream, drawn from the prime and its variables: the
+        # slices of the locus (planes, compressions, witness points) do not depend on the
+        # components, and a certificate of another locus of the same matrix (a recomputation)
+        # takes them from the memo
+        srng = np.random.default_rng([P % 2 ** 63, c, *free])
 
-        def build(free=free):
-            plane = _CoordinatePlane(forms, P, roots, free, rng)
+        def build(free=free, srng=srng):
+            plane = _CoordinatePlane(forms, P, roots, free, srng)
             Mp = [[plane.restrict(x) for x in row] for row in rows]
-            return plane, Mp, _compressions(Mp, n, m, c + 1, P, rng)
-
-        plane, Mp, Hp = _remembered(("slice", c, free, key), rng, build)
-        degree_sum += sum(max(0, int(h.total_degree())) for h in Hp)
-        pts = []
-        if c in codims:
+            Hp = _compressions(Mp, n, m, c + 1, P, srng)
+            if c not in codims:
+                return plane, Mp, Hp, []
             try:
-                pts, _ = _remembered(("slice points", c, free, key), rng,
-                                     lambda Hp=Hp, plane=plane: _isolated_points(Hp, plane, rng))
-            except (_Curves, _TooLarge) as exc:
-                return {"undecided": f"codimension {c} components are not certified: on the "
-                                     f"coordinate slice where {plane.names()} vary, {exc}"}
-            if pts is None:
-                return {"undecided": f"codimension {c} components are not certified: the "
-                                     f"matrix is rank deficient on the whole coordinate slice "
-                                     f"where {plane.names()} vary"}
+                return plane, Mp, Hp, _isolated_points(Hp, plane, srng)[0]
+            except (_Curves, _TooLarge) as failure:
+                return plane, Mp, Hp, failure
+
+        with _MEMO_LOCK:
+            hit = _SLICE_MEMO.get((key, c, free))
+        if hit is None:
+            hit = build()
+            with _MEMO_LOCK:
+                if len(_SLICE_MEMO) >= SLICE_MEMO_SIZE:
+                    _SLICE_MEMO.pop(next(iter(_SLICE_MEMO)))
+                _SLICE_MEMO[(key, c, free)] = hit
+        plane, Mp, Hp, pts = hit
+        degree_sum += sum(max(0, int(h.total_degree())) for h in Hp)
+        if isinstance(pts, Exception):
+            return {"undecided": f"codimension {c} components are not certified: on the "
+                                 f"coordinate slice where {plane.names()} vary, {pts}"}
+        if pts is None:
+            return {"undecided": f"codimension {c} components are not certified: the "
+                                 f"matrix is rank deficient on the whole coordinate slice "
+                                 f"where {plane.names()} vary"}
         count += sum(p.degree for p in pts)
         comp_eqs = {}
         for k in mine:
