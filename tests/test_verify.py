@@ -158,3 +158,33 @@ def test_the_base_locus_certificate_knows_components_without_real_points(robots)
     assert locus.base.certificate.complex_components
     assert len(locus.base.components) == 5
     assert any("without real points" in n and "17*sin(q6) + 22" in n for n in locus.base.notes)
+
+
+@pytest.mark.parametrize("findings, numeric_ok, expected", [
+    # witness points of codimension 3 (coordinate slices) on no component, nothing else: the
+    # complex locus has more, the real one is undecided
+    (("8 of the 176 witness points of codimension 3 lie on no reported component: a "
+      "component of dimension 5 is missing",), True, None),
+    (("8 of the 176 witness points of codimension 3 lie on no reported component: a "
+      "component of dimension 5 is missing",
+      "component 1 (dimension 5) is not certified: its witness points need too large an "
+      "elimination, and it is not given in solved form"), True, None),
+    # ... but not when the numeric check found the locus wrong
+    (("8 of the 176 witness points of codimension 3 lie on no reported component: a "
+      "component of dimension 5 is missing",), False, False),
+    # of codimension 1 or 2 they refuse the locus, as does any unsound component
+    (("2 of the 8 witness points of codimension 2 lie on no reported component: a "
+      "component of dimension 4 is missing",), True, False),
+    (("8 of the 176 witness points of codimension 3 lie on no reported component: a "
+      "component of dimension 5 is missing",
+      "component 13: the matrix is regular at a witness point of the component"), True, False),
+])
+def test_points_of_codimension_three_on_no_component_leave_the_real_locus_undecided(
+        findings, numeric_ok, expected):
+    from rankloci.exact.certificate import Certificate
+    from rankloci.verify import _complete
+
+    cert = Certificate("failed", prime=2305843009213693951, seed=0, codimensions=(1, 2, 3),
+                       findings=findings)
+    assert _complete(cert, numeric_ok) is expected
+    assert _complete(dataclasses.replace(cert, verdict="passed", findings=()), True) is True
