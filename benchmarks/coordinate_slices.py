@@ -60,60 +60,11 @@ def _matrix(path, base, tip):
     return (M.T if M.rows > M.cols else M), tm
 
 
-class _Slice:
-    """The chart of the certificate (a random rotation per angle) on a coordinate slice:
-    the variables ``free`` are the coordinates (or, ``generic``, random affine functions of
-    them), the others random constants."""
-
-    def __init__(self, forms, P, roots, free, rng, *, generic=False):
-        import flint
-
-        self.P, self.c = P, len(free)
-        self.ctx = flint.nmod_mpoly_ctx.get(tuple(f"u{k}" for k in range(self.c)), modulus=P)
-        u = self.ctx.gens()
-
-        def rand():
-            return int(rng.integers(1, P))
-
-        def coordinate(k):
-            if not generic:
-                return u[k]
-            return self.ctx.constant(rand()) + sum((rand() * x for x in u), self.ctx.constant(0))
-
-        where = {i: coordinate(k) for k, i in enumerate(free)}
-        na = len(forms.angles)
-
-        def value(i):
-            return where[i] if i in where else self.ctx.constant(rand())
-
-        self.tau = [value(i) for i in range(na)]
-        images_C, images_S = [], []
-        for t in self.tau:
-            w = rand()
-            inv = pow(1 + w * w, -1, P)
-            cp, sp_ = (1 - w * w) * inv % P, 2 * w * inv % P
-            images_C.append(cp - sp_ * t)
-            images_S.append(sp_ + cp * t)
-        self.images = (images_C + images_S + [value(na + j) for j in range(len(forms.others))]
-                       + [self.ctx.constant(r) for r in roots])
-        self.fctx = flint.nmod_mpoly_ctx.get(forms.ctx.names(), modulus=P)
-        self.infinity = [1 + t * t for t in self.tau]
-
-    def restrict(self, p):
-        from rankloci.exact.witness import _mod
-
-        terms = {m: _mod(c, self.P) for m, c in zip(p.monoms(), p.coeffs())}
-        if not terms:
-            return self.ctx.constant(0)
-        return self.fctx.from_dict(terms).compose(*self.images, ctx=self.ctx)
-
-
 def _solve(rows, n, m, forms, P, roots, free, rng, *, generic=False) -> dict:
     from rankloci.exact import witness as W
 
     t0 = time.perf_counter()
-    plane = (_Slice(forms, P, roots, free, rng, generic=True) if generic
-             else W._CoordinatePlane(forms, P, roots, free, rng))
+    plane = W._CoordinatePlane(forms, P, roots, free, rng, mixed=generic)
     Mp = [[plane.restrict(x) for x in row] for row in rows]
     H = W._compressions(Mp, n, m, CODIMENSION + 1, P, rng)
     common = H[0]

@@ -281,6 +281,20 @@ def _mod(q, P):
     return int(q.p) * pow(den, -1, P) % P
 
 
+def _chart(tau, P, rand):
+    """The images of C_i and S_i (half-angle cosine and sine, up to a common factor) of the
+    angles whose chart coordinates are ``tau``: q = psi + 2 atan(t), with a random rotation
+    psi of each chart, (cos psi, sin psi) from a random tangent drawn by ``rand()``."""
+    images_C, images_S = [], []
+    for t in tau:
+        w = rand()
+        inv = pow(1 + w * w, -1, P)
+        cp, sp_ = (1 - w * w) * inv % P, 2 * w * inv % P
+        images_C.append(cp - sp_ * t)
+        images_S.append(sp_ + cp * t)
+    return images_C, images_S
+
+
 class _Plane:
     """A random affine subspace of dimension c in the chart, and forms restricted to it."""
 
@@ -298,14 +312,7 @@ class _Plane:
 
         na = len(forms.angles)
         self.tau = [affine() for _ in range(na)]
-        images_C, images_S = [], []
-        for t in self.tau:
-            # a random rotation psi of the chart: (cos psi, sin psi) from a random tangent
-            w = rand()
-            inv = pow(1 + w * w, -1, P)
-            cp, sp_ = (1 - w * w) * inv % P, 2 * w * inv % P
-            images_C.append(cp - sp_ * t)
-            images_S.append(sp_ + cp * t)
+        images_C, images_S = _chart(self.tau, P, rand)
         images = images_C + images_S + [affine() for _ in forms.others]
         images += [self.ctx.constant(r) for r in roots]
         self.images = images
@@ -335,25 +342,27 @@ class _CoordinatePlane(_Plane):
     :func:`_isolated` lifts several points per fibre, and stops with :class:`_Curves` where
     a positive-dimensional part could hide a point."""
 
-    def __init__(self, forms: _Forms, P: int, roots, free, rng):
+    def __init__(self, forms: _Forms, P: int, roots, free, rng, *, mixed=False):
         self.forms, self.P, self.c, self.free = forms, P, len(free), tuple(free)
         self.ctx = flint.nmod_mpoly_ctx.get(tuple(f"u{k}" for k in range(self.c)), modulus=P)
         u = self.ctx.gens()
         self.u = u
-        where = {i: u[k] for k, i in enumerate(self.free)}
+        #: ``mixed``: the free variables are random affine functions of the coordinates (a
+        #: random subspace of the slice, where projections are generic, at a higher degree)
+        self.mixed = mixed
+        if mixed:
+            where = {i: self.ctx.constant(int(rng.integers(1, P)))
+                     + sum((int(rng.integers(1, P)) * x for x in u), self.ctx.constant(0))
+                     for i in self.free}
+        else:
+            where = {i: u[k] for k, i in enumerate(self.free)}
 
         def value(i):
             return where[i] if i in where else self.ctx.constant(int(rng.integers(1, P)))
 
         na = len(forms.angles)
         self.tau = [value(i) for i in range(na)]
-        images_C, images_S = [], []
-        for t in self.tau:
-            w = int(rng.integers(1, P))
-            inv = pow(1 + w * w, -1, P)
-            cp, sp_ = (1 - w * w) * inv % P, 2 * w * inv % P
-            images_C.append(cp - sp_ * t)
-            images_S.append(sp_ + cp * t)
+        images_C, images_S = _chart(self.tau, P, lambda: int(rng.integers(1, P)))
         self.images = (images_C + images_S + [value(na + j) for j in range(len(forms.others))]
                        + [self.ctx.constant(r) for r in roots])
         self.fctx = flint.nmod_mpoly_ctx.get(forms.ctx.names(), modulus=P)
@@ -853,7 +862,7 @@ def _isolated_points(polys, plane, rng, avoid=()):
             if g.is_constant():
                 break
             curve = curve / g
-    if isinstance(plane, _CoordinatePlane):
+    if isinstance(plane, _CoordinatePlane) and not plane.mixed:
         na = len(plane.forms.angles)
         raw = _isolated_in_some_order(polys, plane.c, P, rng,
                                       angles={k for k, i in enumerate(plane.free) if i < na})
@@ -1306,13 +1315,9 @@ def _certify(rows, comps, forms, n, m, N, codims, P, roots, rng, seed, deadline,
                                 f"equations off its exclusions have a smaller dimension, or "
                                 f"no point)")
                 continue
-            for pt in pts:
-                r = pt.rank(Mp)
-                if r != n - k.rank_drop:
-                    what = ("is regular" if r == n else f"has rank {r}, not {n - k.rank_drop}")
-                    findings.append(f"{k.label}: the matrix {what} at a witness "
-                                    f"point of the component")
-                    break
+            wrong = _rank_finding(k, pts, Mp, n)
+            if wrong:
+                findings.append(wrong)
             check_time()
         # completeness: every witness point of the locus on a component of this codimension
         uncovered = 0
@@ -1444,14 +1449,10 @@ def _by_slices(c, rows, comps, forms, n, m, N, codims, P, roots, rng, key, check
                 open_.discard(k.label)      # a finding was recorded
                 continue
             points_of[k.label] += len(kp)
-            for pt in kp:
-                r = pt.rank(Mp)
-                if r != n - k.rank_drop:
-                    what = ("is regular" if r == n else f"has rank {r}, not {n - k.rank_drop}")
-                    findings.append(f"{k.label}: the matrix {what} at a witness "
-                                    f"point of the component")
-                    open_.discard(k.label)
-                    break
+            wrong = _rank_finding(k, kp, Mp, n)
+            if wrong:
+                findings.append(wrong)
+                open_.discard(k.label)
         for pt in pts:
             if not any(all(pt.value(e).is_zero() for e in comp_eqs[k.label][0])
                        and not any(pt.value(x).is_zero() for x in comp_eqs[k.label][1])
@@ -1467,6 +1468,17 @@ def _by_slices(c, rows, comps, forms, n, m, N, codims, P, roots, rng, key, check
                             f"exclusions have a smaller dimension, or no point)")
     return {"count": count, "findings": findings, "uncertain": uncertain, "missing": missing,
             "uncovered": uncovered, "degree_sum": degree_sum}
+
+
+def _rank_finding(k, points, Mp, n):
+    """The finding of the first of the component's witness ``points`` at which the matrix
+    (``Mp``, on their plane) does not have rank n - rank drop, or None."""
+    for pt in points:
+        r = pt.rank(Mp)
+        if r != n - k.rank_drop:
+            what = "is regular" if r == n else f"has rank {r}, not {n - k.rank_drop}"
+            return f"{k.label}: the matrix {what} at a witness point of the component"
+    return None
 
 
 def _by_pieces(k, rows, forms, P, roots, rng, n, findings) -> bool:
