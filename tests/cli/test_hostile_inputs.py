@@ -468,9 +468,12 @@ def test_interrupted_report_leaves_no_build_folder(tmp_path, sig):
 
     # mobile10: its locus alone takes seconds, so the signal comes while the child computes
     # (an SSRMS report could finish within the second waited below)
+    # SIGINT at its default in the child: a shell that starts the tests in the background
+    # ignores it, and an ignored SIGINT is inherited (Python then installs no handler)
     proc = subprocess.Popen([sys.executable, "-m", "rankloci", "report", "mobile10", "-o", "out",
                              "--format", "md", "--quiet"], cwd=tmp_path,
-                            stderr=subprocess.PIPE, text=True)
+                            stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     deadline = time.monotonic() + 60
     while not any(p.name.startswith(".out.tmp-") for p in tmp_path.iterdir()):
         assert proc.poll() is None and time.monotonic() < deadline, proc.stderr.read()
