@@ -335,7 +335,9 @@ def render_whole_section(rows, meta, s) -> list[str]:
     lines = [
         "## The whole run a user waits for, certificate included",
         "",
-        f"`{meta['command']}` ({meta['date']}): for each chain of the table above and each "
+        f"`{meta['command']}` ({meta['date']}"
+        + (f"; {meta['rerun']}" if meta.get("rerun") else "")
+        + "): for each chain of the table above and each "
         "model file of "
         "`kinematics_models/` and `kinematics_models/extra/`, in a fresh process, one at a "
         "time, `rankloci.load_model` and `rankloci.locus` as `rankloci locus` computes it "
@@ -489,7 +491,8 @@ def render_frontier(rows, meta) -> None:
     """The frontier chains' whole runs, between markers in frontier.md."""
     _cell = _corpus_module()._cell
     lines = [FRONTIER_BEGIN, "", "## The frontier chains in the corpus-wide whole runs", "",
-             f"From `benchmarks/whole_runs.py` ({meta.get('date', '')}, time limit "
+             f"From `benchmarks/whole_runs.py` ({meta.get('date', '')}"
+             + (f"; {meta['rerun']}" if meta.get("rerun") else "") + ", time limit "
              f"{meta.get('timeout_s', 120):g} s, default jobs, niced, one run at a time on "
              "the loaded 2-core machine; see `benchmarks/corpus.md` for how it is run): the "
              "same whole computation as `rankloci locus` (API call in a fresh process, imports "
