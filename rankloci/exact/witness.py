@@ -1439,9 +1439,12 @@ def _by_slices(c, rows, comps, forms, n, m, N, codims, P, roots, rng, key, check
             degree_sum += sum(max(0, int(e.total_degree())) for e in eqs + exc)
             try:
                 kp = _component_points(eqs, exc, plane, rng, k, findings)
-            except (_TooLarge, _Curves):
+            except (_TooLarge, _Curves) as failure:
                 open_.discard(k.label)
-                if not _by_pieces(k, rows, forms, P, roots, rng, n, findings):
+                why = (f"meet a curve outside the coordinate planes on the slice where "
+                       f"{plane.names()} vary" if isinstance(failure, _Curves)
+                       else "need too large an elimination")
+                if not _by_pieces(k, rows, forms, P, roots, rng, n, findings, why):
                     uncertain = True
                 checked.add(k.label)
                 continue
@@ -1481,14 +1484,15 @@ def _rank_finding(k, points, Mp, n):
     return None
 
 
-def _by_pieces(k, rows, forms, P, roots, rng, n, findings) -> bool:
+def _by_pieces(k, rows, forms, P, roots, rng, n, findings,
+               why="need too large an elimination") -> bool:
     """Check a component whose witness points are out of reach at its pieces, when it is in
     solved form (findings extended); False when it is not, and it stays uncertified."""
     if k.pieces is not None:
         findings.extend(_check_pieces(k, rows, forms, P, roots, rng, n))
         return True
     findings.append(f"{k.label} (dimension {k.dimension}) is not certified: its witness "
-                    "points need too large an elimination, and it is not given in solved form")
+                    f"points {why}, and it is not given in solved form")
     return False
 
 
