@@ -145,3 +145,31 @@ def test_an_eight_joint_arm_is_certified_and_a_missing_component_refused(robots)
         break
     else:
         pytest.fail("no component of codimension 3")
+
+
+def test_a_slice_gives_the_points_of_a_random_subspace_of_it():
+    """planar4r's slice where q2, q3, q4 vary: the elimination along its coordinates finds the
+    witness points that the random subspace's own elimination finds after a random change of
+    coordinates inside the slice (generic projections), 8 (q2, q3, q4 in {0, pi})."""
+    tm, _, _ = _planar4r()
+    forms = witness._Forms(tuple(tm.angles), (), [])
+    rows = forms.homogeneous_rows(sp.Matrix(tm.matrix))
+    rng = np.random.default_rng(0)
+    P, roots = witness._random_prime(rng, [])
+    found = {}
+    for mixed in (False, True):
+        plane = witness._CoordinatePlane(forms, P, roots, (1, 2, 3), rng, mixed=mixed)
+        Mp = [[plane.restrict(x) for x in row] for row in rows]
+        points, _ = witness._isolated_points(witness._compressions(Mp, 2, 4, 4, P, rng), plane,
+                                             rng)
+        # the points as tan(q / 2) of the free angles, "pi" where cos(q / 2) = 0 (the charts'
+        # coordinates differ between the two)
+        na = len(forms.angles)
+
+        def half_tangent(pt, i, plane=plane, na=na):
+            C, S = pt.value(plane.images[i]), pt.value(plane.images[na + i])
+            return "pi" if C.is_zero() else str(int(S / C))
+
+        found[mixed] = sorted(tuple(half_tangent(pt, i) for i in (1, 2, 3)) for pt in points)
+    assert len(found[False]) == 8
+    assert found[False] == found[True]
