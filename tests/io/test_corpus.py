@@ -401,3 +401,25 @@ def test_the_table_of_the_long_chains_says_it_holds_only_them():
     assert "Only the chains with 8 or more joints." in long
     full = corpus.render_markdown([row], [], 0, meta | {"min_joints": corpus.MIN_JOINTS})
     assert "or more joints" not in full
+
+
+@pytest.mark.slow
+def test_a_certified_eight_joint_locus_agrees_with_pinocchio(robots, chains):
+    """pr2's left arm from its footprint (6 x 8, a prismatic lift and seven revolute joints):
+    codimension 3 is decided on coordinate slices and the locus `rankloci locus` shows is
+    certified complete.  Pinocchio's Jacobian, which nobody here wrote, agrees: every component
+    is singular at its points, and every singular configuration probed lies on a component."""
+    import rankloci
+    from rankloci.api.calls import certified_locus
+
+    chain = chains[("pr2_description/urdf/pr2.urdf", "l_wrist_roll_link")]
+    path = robots / chain.file
+    model = rankloci.load_model(path, base_link=chain.base, tip=chain.tip)
+    locus, tm = certified_locus(model, task=chain.task, seed=SEED)
+    assert locus.complete is True, locus.certificate.findings
+    assert locus.certificate.witness_points[3] > 0
+    ref = corpus.PinocchioJacobian(path.read_text(encoding="utf-8"), chain.joints, chain.tip,
+                                   chain.task)
+    graded = corpus.grade(model, tm, locus, ref, np.random.default_rng(SEED))
+    assert graded["ok"], graded["reason"]
+    assert graded["completeness"]["singular"] >= 1, "no singular point probed: a weak test"
